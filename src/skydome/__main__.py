@@ -1,0 +1,3 @@
+from skydome.cli.main import run
+
+run()

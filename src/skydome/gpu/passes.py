@@ -1,0 +1,55 @@
+"""Full-screen fragment passes: a compiled program, its empty vertex array, and a draw call."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from skydome.gpu.shaders import build_program
+
+
+class FullscreenPass:
+    """A fragment shader drawn over a whole framebuffer (or over layers of a layered one).
+
+    ``textures`` maps sampler uniform names to textures; they are bound to consecutive
+    units on each draw. Uniforms not used by the shader are ignored (the compiler may
+    remove them), so passes can share one uniform dictionary.
+    """
+
+    def __init__(self, ctx, fragment: str, defines: dict[str, object] | None = None, *,
+                 source: str | None = None, layered: bool = False):
+        self.ctx = ctx
+        self.program = build_program(ctx, fragment, defines, source=source, layered=layered)
+        self.vao = ctx.vertex_array(self.program, [])
+        self.layered = layered
+
+    def set_uniforms(self, uniforms: dict[str, object]) -> None:
+        for name, value in uniforms.items():
+            member = self.program.get(name, None)
+            if member is None:
+                continue
+            if isinstance(value, np.ndarray):
+                value = tuple(value.astype(float).ravel()) if value.size > 1 else float(value)
+            member.value = value
+
+    def draw(self, fbo, uniforms: dict[str, object] | None = None, textures: dict | None = None,
+             layers: tuple[int, int] | None = None) -> None:
+        """Draw into ``fbo``; for a layered pass ``layers=(first, count)``."""
+        self.set_uniforms(uniforms or {})
+        for unit, (name, tex) in enumerate((textures or {}).items()):
+            member = self.program.get(name, None)
+            if member is None:
+                continue
+            tex.use(location=unit)
+            member.value = unit
+        fbo.use()
+        if self.layered:
+            first, count = layers or (0, 1)
+            self.program["u_layer0"].value = first
+            self.vao.render(moderngl.TRIANGLES, vertices=3, instances=count)
+        else:
+            self.vao.render(moderngl.TRIANGLES, vertices=3)
+
+    def release(self) -> None:
+        self.vao.release()
+        self.program.release()

@@ -1,0 +1,162 @@
+"""Shader library: GLSL files under ``skydome/shaders`` with ``#include`` and ``#define`` injection.
+
+Drivers disagree on honouring source-string numbers in ``#line``, so each included file
+instead gets its own block of line numbers (``#line FILE_INDEX*100000 + LINE``); compiler
+messages such as ``0:100012(5): error`` (Mesa) or ``0(100012) : error`` (NVIDIA) are
+mapped back to ``file.glsl:12``.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+from importlib import resources
+from pathlib import Path
+
+from skydome.errors import GLError
+
+SHADER_DIR = Path(str(resources.files("skydome") / "shaders"))
+VERSION_LINE = "#version 330 core"
+_LINE_BLOCK = 100000
+_INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
+
+
+@lru_cache(maxsize=None)
+def _read(name: str) -> str:
+    path = SHADER_DIR / name
+    if not path.is_file():
+        raise GLError(f"shader file not found: {name} (looked in {SHADER_DIR})")
+    return path.read_text()
+
+
+class ShaderSource:
+    """A fully expanded shader with the table that maps source-string numbers to files."""
+
+    def __init__(self, text: str, files: list[str]):
+        self.text = text
+        self.files = files
+
+    def locate(self, message: str) -> str:
+        """Rewrite driver messages 'S:L(C)' / 'S(L)' into 'file.glsl:line'."""
+
+        def sub(m: re.Match) -> str:
+            idx, line = divmod(int(m.group(2)), _LINE_BLOCK)
+            name = self.files[idx] if idx < len(self.files) else f"<string {idx}>"
+            return f"{name}:{line}"
+
+        message = re.sub(r"\b(\d+):(\d+)\(\d+\)", sub, message)  # Mesa
+        return re.sub(r"\b(\d+)\((\d+)\)", sub, message)  # NVIDIA / AMD
+
+
+def expand(name: str, defines: dict[str, object] | None = None, source: str | None = None) -> ShaderSource:
+    """Expand shader ``name`` (or the given ``source`` text, labelled ``name``).
+
+    Adds ``#version 330 core``, then one ``#define KEY VALUE`` per entry of ``defines``,
+    then the file with its ``#include "x.glsl"`` lines replaced (each file once).
+    """
+    files: list[str] = ["<defines>"]
+    seen: set[str] = set()
+    out = [VERSION_LINE]
+    for key, value in (defines or {}).items():
+        if isinstance(value, bool):
+            value = int(value)
+        if isinstance(value, float):
+            value = repr(value) if "e" not in repr(value) else f"{value:.9e}"
+        out.append(f"#define {key} {value}")
+
+    def emit(fname: str, text: str) -> None:
+        seen.add(fname)
+        files.append(fname)
+        idx = len(files) - 1
+        out.append(f"#line {idx * _LINE_BLOCK + 1}")
+        for lineno, line in enumerate(text.splitlines(), start=1):
+            if line.strip().startswith("#version"):
+                out.append("")
+                continue
+            m = _INCLUDE.match(line)
+            if m:
+                inc = m.group(1)
+                if inc not in seen:
+                    emit(inc, _read(inc))
+                out.append(f"#line {idx * _LINE_BLOCK + lineno + 1}")
+            else:
+                out.append(line)
+
+    emit(name, source if source is not None else _read(name))
+    return ShaderSource("\n".join(out) + "\n", files)
+
+
+FULLSCREEN_VS = """#version 330 core
+// Full-screen triangle; v_uv in [0,1]^2 over the viewport, no vertex buffer needed.
+out vec2 v_uv;
+void main() {
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    v_uv = p;
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+LAYERED_VS = """#version 330 core
+out vec2 vs_uv;
+void main() {
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    vs_uv = p;
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+# One triangle per instance, routed to layer gl_InstanceID + u_layer0 of a layered target.
+LAYERED_GS = """#version 330 core
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+in vec2 vs_uv[];
+flat in int vs_instance[];
+out vec2 v_uv;
+flat out int v_layer;
+uniform int u_layer0;
+void main() {
+    for (int i = 0; i < 3; ++i) {
+        v_uv = vs_uv[i];
+        v_layer = u_layer0 + vs_instance[i];
+        gl_Layer = v_layer;
+        gl_Position = gl_in[i].gl_Position;
+        EmitVertex();
+    }
+    EndPrimitive();
+}
+"""
+
+LAYERED_VS_INSTANCED = """#version 330 core
+out vec2 vs_uv;
+flat out int vs_instance;
+void main() {
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    vs_uv = p;
+    vs_instance = gl_InstanceID;
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+
+def build_program(ctx, fragment: str, defines: dict[str, object] | None = None, *,
+                  source: str | None = None, layered: bool = False):
+    """Compile a full-screen fragment program from the shader library.
+
+    ``fragment`` names a file under ``skydome/shaders`` (or labels ``source``). With
+    ``layered=True`` a geometry shader routes instance i to layer ``u_layer0 + i`` and the
+    fragment shader receives ``flat in int v_layer``. Compile errors raise GLError naming
+    the file and line.
+    """
+    src = expand(fragment, defines, source)
+    try:
+        if layered:
+            return ctx.program(
+                vertex_shader=LAYERED_VS_INSTANCED,
+                geometry_shader=LAYERED_GS,
+                fragment_shader=src.text,
+            )
+        return ctx.program(vertex_shader=FULLSCREEN_VS, fragment_shader=src.text)
+    except Exception as exc:
+        msg = src.locate(str(exc)).strip()
+        lines = [ln for ln in msg.splitlines() if ln.strip() and "=" * 5 not in ln and "-" * 5 not in ln]
+        raise GLError(f"shader {fragment} failed to compile: {' | '.join(lines[:6])}") from None

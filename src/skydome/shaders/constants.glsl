@@ -1,0 +1,2 @@
+// Physical and mathematical constants shared by all shaders.
+const float PI = 3.14159265358979;
