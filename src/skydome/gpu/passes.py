@@ -28,9 +28,13 @@ class FullscreenPass:
             member = self.program.get(name, None)
             if member is None:
                 continue
-            if isinstance(value, np.ndarray):
-                value = tuple(value.astype(float).ravel()) if value.size > 1 else float(value)
-            member.value = value
+            if isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
+                # Vectors, matrices and arrays of floats: raw float32 bytes, in declared order.
+                # The compiler may shorten an array to the elements the shader can reach.
+                n = member.array_length * member.dimension
+                member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
+            else:
+                member.value = value
 
     def draw(self, fbo, uniforms: dict[str, object] | None = None, textures: dict | None = None,
              layers: tuple[int, int] | None = None) -> None:

@@ -1,2 +1,3 @@
-// Physical and mathematical constants shared by all shaders.
+// Mathematical constants shared by all shaders.
 const float PI = 3.14159265358979;
+const float INV_PI = 0.318309886183791;

@@ -1,0 +1,48 @@
+"""The transmittance table on the GPU: column densities from (r, mu) to the top."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from skydome.atmosphere.params import AtmosphereParams
+from skydome.atmosphere.uniforms import geometry_uniforms
+from skydome.gpu import FullscreenPass
+
+DEFAULT_SIZE = (256, 64)
+#: Simpson intervals per texel (even).
+DEFAULT_STEPS = 500
+
+
+class TransmittanceTable:
+    """An RGBA32F texture of column densities (Rayleigh, Mie, absorption), in km.
+
+    Sampled in GLSL through ``transmittance_lut.glsl`` (``column_to_top``). Depends only on
+    the radii and density profiles, not on wavelengths.
+    """
+
+    def __init__(self, ctx, params: AtmosphereParams, size: tuple[int, int] = DEFAULT_SIZE,
+                 steps: int = DEFAULT_STEPS):
+        self.ctx = ctx
+        self.params = params
+        self.size = (int(size[0]), int(size[1]))
+        self.texture = ctx.texture(self.size, 4, dtype="f4")
+        self.texture.filter = (ctx.LINEAR, ctx.LINEAR)
+        self.texture.repeat_x = self.texture.repeat_y = False
+        fbo = ctx.framebuffer(color_attachments=[self.texture])
+        fill = FullscreenPass(ctx, "transmittance_pass.glsl", {"TRANSMITTANCE_STEPS": int(steps)})
+        fbo.viewport = (0, 0, *self.size)
+        fill.draw(fbo, {**geometry_uniforms(params), "u_transmittance_size": self.size})
+        ctx.finish()
+        fill.release()
+        fbo.release()
+
+    def uniforms(self) -> dict[str, object]:
+        return {"u_transmittance_size": self.size}
+
+    def read(self) -> np.ndarray:
+        """The table as (height, width, 3) float32 column densities in km (row 0 = r bottom)."""
+        data = np.frombuffer(self.texture.read(), dtype=np.float32)
+        return data.reshape(self.size[1], self.size[0], 4)[..., :3].copy()
+
+    def release(self) -> None:
+        self.texture.release()

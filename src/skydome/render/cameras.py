@@ -1,0 +1,138 @@
+"""Cameras: how pixels map to view directions in the observer's ENU frame.
+
+The per-pixel mapping itself lives in ``shaders/camera.glsl``; these classes hold and
+validate the parameters and give the shader its uniforms.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from skydome.errors import ParameterError, check_range
+
+#: Largest frame side accepted (pixels); bigger frames exceed typical GL texture limits.
+MAX_SIDE = 16384
+
+
+def direction_from_angles(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
+    """Unit ENU vector (x east, y north, z up) from elevation and azimuth (from north via east)."""
+    el, az = math.radians(elevation_deg), math.radians(azimuth_deg)
+    return np.array([math.sin(az) * math.cos(el), math.cos(az) * math.cos(el), math.sin(el)])
+
+
+def check_size(width: int, height: int) -> tuple[int, int]:
+    """Validate a frame size; returns it as ints."""
+    for name, v in (("width", width), ("height", height)):
+        if not isinstance(v, (int, np.integer)) or not 1 <= v <= MAX_SIDE:
+            raise ParameterError(f"frame {name} = {v} must be an integer in [1, {MAX_SIDE}]")
+    return int(width), int(height)
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Base class; ``model`` selects the mapping in camera.glsl."""
+
+    model = -1
+    name = ""
+
+    def frame_size(self, width: int, height: int) -> tuple[int, int]:
+        """Size of the image this camera renders for a requested ``width`` x ``height``."""
+        return check_size(width, height)
+
+    def uniforms(self, width: int, height: int) -> dict[str, object]:
+        return {"u_resolution": (float(width), float(height))}
+
+
+@dataclass(frozen=True)
+class PerspectiveCamera(Camera):
+    """Pinhole camera. ``fov_deg`` is the horizontal field of view; ``yaw_deg`` the azimuth of
+    the view direction (from north through east), ``pitch_deg`` its elevation, ``roll_deg`` a
+    rotation about the view direction (positive tilts the camera's up vector towards
+    its right, so the scene turns counter-clockwise in the image)."""
+
+    fov_deg: float = 90.0
+    yaw_deg: float = 0.0
+    pitch_deg: float = 0.0
+    roll_deg: float = 0.0
+    model = 0
+    name = "perspective"
+
+    def __post_init__(self):
+        check_range("fov", self.fov_deg, 0.01, 179.0, "deg")
+        check_range("pitch", self.pitch_deg, -90.0, 90.0, "deg")
+        check_range("yaw", self.yaw_deg, -360.0, 360.0, "deg")
+        check_range("roll", self.roll_deg, -360.0, 360.0, "deg")
+
+    def basis(self) -> np.ndarray:
+        """3x3 matrix with columns right, up, forward in ENU."""
+        forward = direction_from_angles(self.pitch_deg, self.yaw_deg)
+        # At the zenith/nadir the horizontal reference is the yaw direction itself.
+        ref = np.array([0.0, 0.0, 1.0])
+        if abs(forward[2]) > 0.999999:
+            ref = -np.sign(forward[2]) * direction_from_angles(0.0, self.yaw_deg)
+        right = np.cross(forward, ref)
+        right /= np.linalg.norm(right)
+        up = np.cross(right, forward)
+        c, s = math.cos(math.radians(self.roll_deg)), math.sin(math.radians(self.roll_deg))
+        right, up = c * right - s * up, s * right + c * up
+        return np.stack([right, up, forward], axis=1)
+
+    def uniforms(self, width: int, height: int) -> dict[str, object]:
+        return {
+            **super().uniforms(width, height),
+            # GLSL mat3 is column-major: pass the columns one after the other.
+            "u_camera_basis": tuple(self.basis().T.ravel()),
+            "u_tan_half_fov": math.tan(math.radians(self.fov_deg) / 2.0),
+        }
+
+
+@dataclass(frozen=True)
+class FisheyeCamera(Camera):
+    """Equidistant 180-degree fisheye looking at the zenith: centre = zenith, the inscribed
+    circle = horizon, north up and east left (as seen looking up). Pixels outside are 0."""
+
+    model = 1
+    name = "fisheye"
+
+
+@dataclass(frozen=True)
+class EquirectCamera(Camera):
+    """Equirectangular 360x180 environment map: azimuth 0 (north) at the left edge increasing
+    eastward, zenith at the top row, nadir at the bottom."""
+
+    model = 2
+    name = "equirect"
+
+
+@dataclass(frozen=True)
+class CubemapCamera(Camera):
+    """Six square faces side by side (+X east, -X west, +Y north, -Y south, +Z up, -Z down),
+    each seen from inside with up = zenith (and north at the top for the up/down faces).
+    The requested height is the face size; the image is 6·height wide."""
+
+    model = 3
+    name = "cubemap"
+
+    def frame_size(self, width: int, height: int) -> tuple[int, int]:
+        check_size(width, height)
+        return check_size(6 * int(height), int(height))
+
+
+CAMERAS = {
+    "perspective": PerspectiveCamera,
+    "fisheye": FisheyeCamera,
+    "equirect": EquirectCamera,
+    "cubemap": CubemapCamera,
+}
+
+
+def make_camera(name: str, **kwargs) -> Camera:
+    """Camera by name; only the perspective camera takes fov/yaw/pitch/roll."""
+    if name not in CAMERAS:
+        raise ParameterError(f"unknown camera {name!r}; choose one of {', '.join(CAMERAS)}")
+    if name != "perspective":
+        return CAMERAS[name]()
+    return PerspectiveCamera(**kwargs)

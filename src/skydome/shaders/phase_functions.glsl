@@ -1,0 +1,12 @@
+// Phase functions (sr^-1), nu = cosine of the scattering angle.
+#include "constants.glsl"
+
+// Rayleigh: 3/(16 pi) (1 + nu^2).
+float rayleigh_phase(float nu) { return 3.0 / (16.0 * PI) * (1.0 + nu * nu); }
+
+// Cornette-Shanks (1992) Mie approximation (seed 001 ch. 2):
+// 3/(8 pi) (1 - g^2)(1 + nu^2) / ((2 + g^2)(1 + g^2 - 2 g nu)^(3/2)).
+float cornette_shanks_phase(float nu, float g) {
+    float k = 3.0 / (8.0 * PI) * (1.0 - g * g) / (2.0 + g * g);
+    return k * (1.0 + nu * nu) / pow(max(1.0 + g * g - 2.0 * g * nu, 1e-8), 1.5);
+}
