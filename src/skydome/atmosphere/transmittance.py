@@ -8,7 +8,7 @@ from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.uniforms import geometry_uniforms
 from skydome.gpu import FullscreenPass
 
-DEFAULT_SIZE = (256, 64)
+DEFAULT_SIZE = (512, 128)
 #: Simpson intervals per texel (even).
 DEFAULT_STEPS = 500
 

@@ -26,9 +26,11 @@ def profile_uniform(profiles: tuple[DensityProfile, ...]) -> list[float]:
 
 def geometry_uniforms(params: AtmosphereParams) -> dict[str, object]:
     """Radii (km) and density profiles: what the transmittance table depends on."""
+    bottom, top = params.bottom_radius_m / M_PER_KM, params.top_radius_m / M_PER_KM
     return {
-        "u_bottom_radius": params.bottom_radius_m / M_PER_KM,
-        "u_top_radius": params.top_radius_m / M_PER_KM,
+        "u_bottom_radius": bottom,
+        "u_top_radius": top,
+        "u_horizon_length": (top * top - bottom * bottom) ** 0.5,
         "u_profile": profile_uniform(
             (params.rayleigh_density, params.mie_density, params.absorption_density)
         ),

@@ -121,6 +121,35 @@ class CubemapCamera(Camera):
         return check_size(6 * int(height), int(height))
 
 
+@dataclass(frozen=True, eq=False)
+class DirectionsCamera(Camera):
+    """One pixel per given direction: ``directions`` is (H, W, 3) or (N, 3) of ENU vectors
+    (N directions render as an N x 1 frame). For sampling the sky in chosen directions."""
+
+    directions: np.ndarray = None
+    model = 4
+    name = "directions"
+
+    def __post_init__(self):
+        d = np.asarray(self.directions, dtype=np.float64)
+        if d.ndim == 2:
+            d = d[None]
+        if d.ndim != 3 or d.shape[-1] != 3 or not np.all(np.isfinite(d)):
+            raise ParameterError(f"directions must be a finite (H, W, 3) or (N, 3) array, got shape {d.shape}")
+        norm = np.linalg.norm(d, axis=-1, keepdims=True)
+        if np.any(norm == 0):
+            raise ParameterError("directions must be non-zero vectors")
+        check_size(d.shape[1], d.shape[0])
+        object.__setattr__(self, "directions", d / norm)
+
+    def frame_size(self, width: int | None = None, height: int | None = None) -> tuple[int, int]:
+        return self.directions.shape[1], self.directions.shape[0]
+
+    def texture_data(self) -> bytes:
+        """RGB32F texel data, rows bottom-up as GL stores them."""
+        return np.ascontiguousarray(self.directions[::-1], dtype="f4").tobytes()
+
+
 CAMERAS = {
     "perspective": PerspectiveCamera,
     "fisheye": FisheyeCamera,

@@ -11,18 +11,21 @@ from skydome.atmosphere.transmittance import TransmittanceTable
 from skydome.atmosphere.uniforms import M_PER_KM, geometry_uniforms, spectral_uniforms
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass, shared_context
-from skydome.render.cameras import Camera
+from skydome.render.cameras import Camera, DirectionsCamera
 from skydome.render.frame import Frame
 from skydome.spectra import spectral_to_rgbs_matrix, wavelengths
 
 #: Largest camera altitude accepted (m): 1e8 m is far beyond the Moon's orbit / 4.
 MAX_ALTITUDE_M = 1e8
+#: Cameras closer to the ground are raised to this height (m): float32 positions in km are
+#: resolved to about 0.5 m at the planet radius.
+MIN_ALTITUDE_M = 1.0
 
 
 def camera_position_km(params: AtmosphereParams, altitude_m: float) -> tuple[float, float, float]:
     """Planet-centred camera position (km) for an altitude above the ground, ENU axes."""
     h = check_range("altitude", altitude_m, 0.0, MAX_ALTITUDE_M, "m")
-    return (0.0, 0.0, (params.bottom_radius_m + max(h, 0.01)) / M_PER_KM)
+    return (0.0, 0.0, (params.bottom_radius_m + max(h, MIN_ALTITUDE_M)) / M_PER_KM)
 
 
 def check_sun_direction(sun_direction) -> np.ndarray:
@@ -109,7 +112,14 @@ class SingleScatteringRenderer:
             "u_camera_position": camera_position_km(self.params, altitude_m),
             "u_sun_direction": tuple(sun),
         }
-        fpass.draw(fbo, uniforms, {"u_transmittance_lut": self.transmittance.texture})
+        textures = {"u_transmittance_lut": self.transmittance.texture}
+        direction_map = None
+        if isinstance(camera, DirectionsCamera):
+            direction_map = self.ctx.texture((w, h), 3, camera.texture_data(), dtype="f4")
+            textures["u_direction_map"] = direction_map
+        fpass.draw(fbo, uniforms, textures)
+        if direction_map is not None:
+            direction_map.release()
         data = np.frombuffer(fbo.read(components=4, dtype="f4"), dtype=np.float32)
         data = data.reshape(h, w, 4)[::-1].copy()  # GL rows are bottom-up
         info = {

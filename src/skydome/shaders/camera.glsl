@@ -2,13 +2,15 @@
 // CAMERA_MODEL: 0 perspective, 1 fisheye (equidistant, 180 deg, zenith at the centre,
 // north up, east left as seen looking up), 2 equirectangular (azimuth 0 = north at the left
 // edge increasing eastward, zenith at the top), 3 cubemap strip of six square faces
-// (+X east, -X west, +Y north, -Y south, +Z up, -Z down).
+// (+X east, -X west, +Y north, -Y south, +Z up, -Z down), 4 a direction per pixel given
+// by a texture (u_direction_map).
 // frag_xy is gl_FragCoord.xy (origin bottom-left; images are flipped to top-first on read).
 #include "constants.glsl"
 
 uniform vec2 u_resolution;       // pixels
 uniform mat3 u_camera_basis;     // columns: right, up, forward (perspective)
 uniform float u_tan_half_fov;    // tan(horizontal fov / 2) (perspective)
+uniform sampler2D u_direction_map;  // unit directions, one texel per pixel (model 4)
 
 vec3 cube_face_direction(int face, vec2 p) {
     // p in [-1, 1]^2, x right and y up on the face image.
@@ -42,6 +44,9 @@ bool camera_ray(vec2 frag_xy, out vec3 dir) {
     float az = uv.x * 2.0 * PI;
     float el = (uv.y - 0.5) * PI;
     dir = vec3(sin(az) * cos(el), cos(az) * cos(el), sin(el));
+    return true;
+#elif CAMERA_MODEL == 4
+    dir = normalize(texelFetch(u_direction_map, ivec2(frag_xy), 0).xyz);
     return true;
 #else
     float face_size = u_resolution.y;

@@ -8,14 +8,12 @@
 
 uniform float u_sun_angular_radius;  // rad
 
-// Column densities between the ray start (r0, mu0) and the point at distance t along it,
-// given the start's column to the boundary `c0` (column_to_top(r0, mu0), or
-// column_to_top(r0, -mu0) for rays that hit the ground).
+// Column densities between the ray start and a point on the ray at radius r_t where the
+// ray's direction cosine is mu_t, given the start's column to the boundary `c0`
+// (column_to_top(r0, mu0), or column_to_top(r0, -mu0) for rays that hit the ground).
 // T(x -> y) = T(x -> top) / T(y -> top) for rays that do not hit the ground, and with the
 // directions reversed for rays that do (Bruneton 2017, GetTransmittance).
-vec3 column_between(float r0, float mu0, vec3 c0, float t, bool hits_ground) {
-    float r_t = clamp(sqrt(t * t + 2.0 * r0 * mu0 * t + r0 * r0), u_bottom_radius, u_top_radius);
-    float mu_t = clamp_cosine((r0 * mu0 + t) / r_t);
+vec3 column_between(vec3 c0, float r_t, float mu_t, bool hits_ground) {
     vec3 c = hits_ground ? column_to_top(r_t, -mu_t) - c0 : c0 - column_to_top(r_t, mu_t);
     return max(c, vec3(0.0));
 }
@@ -27,7 +25,7 @@ vec3 column_to_sun(float r, float mu_s) {
 
 // Radiance per unit solar irradiance for the ray from `position` (km, planet centred) along
 // unit `dir`, Sun towards unit `sun`. `offset` in [0,1) places the samples in their
-// segments (0.5 = midpoint). Writes NUM_GROUPS vec4s.
+// segments (0.5 = midpoint) in the quadratic sample spacing. Writes NUM_GROUPS vec4s.
 void single_scattering(vec3 position, vec3 dir, vec3 sun, int samples, float offset,
                        out vec4 radiance[NUM_GROUPS]) {
     for (int g = 0; g < NUM_GROUPS; ++g) radiance[g] = vec4(0.0);
@@ -49,18 +47,23 @@ void single_scattering(vec3 position, vec3 dir, vec3 sun, int samples, float off
     float mu = clamp_cosine(dot(position, dir) / r);
     bool hits_ground = ray_hits_ground(r, mu);
     float length_km = hits_ground ? distance_to_bottom(r, mu) : distance_to_top(r, mu);
-    float dt = length_km / float(samples);
+    // Samples are spaced quadratically, t = L u^2 with u uniform, denser near the camera where
+    // the air is densest (looking up) and the ray is lowest (looking along the horizon):
+    // integral f dt = integral f(L u^2) 2 L u du, by the rectangle rule in u.
+    float du = 1.0 / float(samples);
 
     vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
     float phase_r = rayleigh_phase(nu);
     float phase_m = cornette_shanks_phase(nu, u_mie_g);
     for (int i = 0; i < samples; ++i) {
-        float t = (float(i) + offset) * dt;
+        float u = (float(i) + offset) * du;
+        float t = length_km * u * u;
+        float dt = 2.0 * length_km * u * du;
         vec3 p = position + dir * t;
-        float r_t = length(p);
+        float r_t = clamp(length(p), u_bottom_radius, u_top_radius);
         vec3 c_sun = column_to_sun(r_t, dot(p, sun) / r_t);
         if (c_sun.x < 0.0) continue;  // in the planet's shadow
-        vec3 c = column_between(r, mu, c0, t, hits_ground) + c_sun;
+        vec3 c = column_between(c0, r_t, clamp_cosine(dot(p, dir) / r_t), hits_ground) + c_sun;
         vec3 d = densities(r_t - u_bottom_radius) * dt;
         for (int g = 0; g < NUM_GROUPS; ++g) {
             vec4 scattering = u_rayleigh_scattering[g] * (d.x * phase_r) + u_mie_scattering[g] * (d.y * phase_m);
@@ -68,7 +71,11 @@ void single_scattering(vec3 position, vec3 dir, vec3 sun, int samples, float off
         }
     }
 
-    vec3 c_view = hits_ground ? column_between(r, mu, c0, length_km, true) : c0;
+    vec3 c_view = c0;
+    if (hits_ground) {
+        vec3 p = position + dir * length_km;
+        c_view = column_between(c0, u_bottom_radius, clamp_cosine(dot(p, dir) / length(p)), true);
+    }
     if (hits_ground) {
         // Lambertian ground lit by the attenuated Sun: albedo / pi * T_sun * cos(sun zenith).
         vec3 p = position + dir * length_km;

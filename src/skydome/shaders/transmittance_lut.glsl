@@ -7,12 +7,13 @@
 
 uniform sampler2D u_transmittance_lut;
 uniform vec2 u_transmittance_size;  // (width, height) in texels
+uniform float u_horizon_length;     // sqrt(top^2 - bottom^2), km: the horizon distance from the top
 
 float texcoord_from_unit(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
 float unit_from_texcoord(float u, float n) { return (u - 0.5 / n) / (1.0 - 1.0 / n); }
 
 vec2 transmittance_uv(float r, float mu) {
-    float H = sqrt(u_top_radius * u_top_radius - u_bottom_radius * u_bottom_radius);
+    float H = u_horizon_length;
     float rho = safe_sqrt(r * r - u_bottom_radius * u_bottom_radius);
     float d = distance_to_top(r, mu);
     float d_min = u_top_radius - r;
@@ -26,7 +27,7 @@ vec2 transmittance_uv(float r, float mu) {
 void transmittance_r_mu(vec2 uv, out float r, out float mu) {
     float x_mu = unit_from_texcoord(uv.x, u_transmittance_size.x);
     float x_r = unit_from_texcoord(uv.y, u_transmittance_size.y);
-    float H = sqrt(u_top_radius * u_top_radius - u_bottom_radius * u_bottom_radius);
+    float H = u_horizon_length;
     float rho = H * x_r;
     r = sqrt(rho * rho + u_bottom_radius * u_bottom_radius);
     float d_min = u_top_radius - r;

@@ -1,0 +1,163 @@
+"""Float64 NumPy reference of the transmittance and single-scattering integrals.
+
+Slow and obvious, for tests only (DESIGN rule 2). Column densities are integrated with
+Gauss-Legendre quadrature on many sub-intervals (converged to ~1e-9 relative), so they
+check the GPU's transmittance table; the single-scattering sum uses the same sample
+positions as ``single_scattering.glsl`` (quadratic spacing, offset 0.5), so the two agree
+up to the table's interpolation and float32 rounding.
+
+Units: metres, per-metre coefficients; radiance per unit solar irradiance (sr^-1).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from skydome.atmosphere.params import AtmosphereParams
+
+_GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(8)
+
+
+def densities(params: AtmosphereParams, altitude_m) -> np.ndarray:
+    """Relative densities (..., 3) of Rayleigh, Mie and absorbing constituents."""
+    h = np.asarray(altitude_m, float)
+    return np.stack(
+        [
+            params.rayleigh_density.density(h),
+            params.mie_density.density(h),
+            params.absorption_density.density(h),
+        ],
+        axis=-1,
+    )
+
+
+def distance_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
+    r, mu = np.asarray(r, float), np.asarray(mu, float)
+    disc = r * r * (mu * mu - 1.0) + params.top_radius_m**2
+    return np.maximum(-r * mu + np.sqrt(np.maximum(disc, 0.0)), 0.0)
+
+
+def distance_to_bottom(params: AtmosphereParams, r, mu) -> np.ndarray:
+    r, mu = np.asarray(r, float), np.asarray(mu, float)
+    disc = r * r * (mu * mu - 1.0) + params.bottom_radius_m**2
+    return np.maximum(-r * mu - np.sqrt(np.maximum(disc, 0.0)), 0.0)
+
+
+def ray_hits_ground(params: AtmosphereParams, r, mu) -> np.ndarray:
+    r, mu = np.asarray(r, float), np.asarray(mu, float)
+    return (mu < 0.0) & (r * r * (mu * mu - 1.0) + params.bottom_radius_m**2 >= 0.0)
+
+
+def column(params: AtmosphereParams, r, mu, length_m, intervals: int = 400) -> np.ndarray:
+    """Column densities (..., 3) in metres from radius r along cosine mu over length_m."""
+    r, mu, length = np.broadcast_arrays(*(np.asarray(x, float) for x in (r, mu, length_m)))
+    edges = np.linspace(0.0, 1.0, intervals + 1)
+    a, b = edges[:-1], edges[1:]
+    # Gauss-Legendre nodes on each sub-interval of [0, 1], scaled by the length.
+    s = (0.5 * (b - a))[:, None] * _GL_NODES[None, :] + (0.5 * (a + b))[:, None]
+    w = ((0.5 * (b - a))[:, None] * _GL_WEIGHTS[None, :]).ravel()
+    t = length[..., None] * s.ravel()
+    rt = np.sqrt(t * t + 2.0 * r[..., None] * mu[..., None] * t + r[..., None] ** 2)
+    d = densities(params, rt - params.bottom_radius_m)
+    return np.einsum("...kc,k->...c", d, w) * length[..., None]
+
+
+def column_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
+    """Column densities (..., 3), metres, from (r, mu) to the top of the atmosphere."""
+    return column(params, r, mu, distance_to_top(params, r, mu))
+
+
+def vertical_transmittance(params: AtmosphereParams, wavelengths_nm, altitude_m: float = 0.0) -> np.ndarray:
+    """Transmittance of the vertical path from an altitude to the top, per wavelength."""
+    c = params.coefficients(wavelengths_nm)
+    col = column_to_top(params, params.bottom_radius_m + altitude_m, 1.0)
+    tau = c["rayleigh_scattering"] * col[0] + c["mie_extinction"] * col[1] + c["absorption_extinction"] * col[2]
+    return np.exp(-tau)
+
+
+def _optical_depth(coef: dict, col: np.ndarray) -> np.ndarray:
+    """(..., N) optical depth of column densities (..., 3)."""
+    return (
+        col[..., 0:1] * coef["rayleigh_scattering"]
+        + col[..., 1:2] * coef["mie_extinction"]
+        + col[..., 2:3] * coef["absorption_extinction"]
+    )
+
+
+def rayleigh_phase(nu):
+    return 3.0 / (16.0 * np.pi) * (1.0 + nu * nu)
+
+
+def cornette_shanks_phase(nu, g: float):
+    k = 3.0 / (8.0 * np.pi) * (1.0 - g * g) / (2.0 + g * g)
+    return k * (1.0 + nu * nu) / (1.0 + g * g - 2.0 * g * nu) ** 1.5
+
+
+def single_scattering(params: AtmosphereParams, wavelengths_nm, position_m, directions, sun,
+                      samples: int = 16, offset: float = 0.5, sun_disk: bool = True) -> np.ndarray:
+    """Radiance per unit solar irradiance (n_rays, n_wavelengths), sr^-1.
+
+    position_m: (3,) planet-centred camera position; directions: (n, 3) unit view rays;
+    sun: (3,) unit direction to the Sun. Same model as single_scattering.glsl: in-scattering
+    by Rayleigh and Mie, Earth's shadow, absorption, the Lambertian ground lit by the
+    attenuated Sun, and the Sun's uniform disk.
+    """
+    coef = params.coefficients(wavelengths_nm)
+    dirs = np.atleast_2d(np.asarray(directions, float))
+    dirs = dirs / np.linalg.norm(dirs, axis=-1, keepdims=True)
+    sun = np.asarray(sun, float) / np.linalg.norm(sun)
+    n_rays, n_wl = len(dirs), len(coef["rayleigh_scattering"])
+    out = np.zeros((n_rays, n_wl))
+    Rb, Rt = params.bottom_radius_m, params.top_radius_m
+    nu = dirs @ sun
+    alpha = params.sun_angular_radius_rad
+    disk = (nu > np.cos(alpha)) & sun_disk
+    disk_radiance = 1.0 / (np.pi * np.sin(alpha) ** 2)
+
+    # Move cameras outside the atmosphere to the entry point.
+    pos = np.broadcast_to(np.asarray(position_m, float), dirs.shape).copy()
+    r = np.linalg.norm(pos, axis=-1)
+    b = np.einsum("ij,ij->i", pos, dirs)
+    disc = b * b - (r * r - Rt * Rt)
+    outside = r > Rt
+    miss = outside & ((disc < 0) | (-b + np.sqrt(np.maximum(disc, 0)) < 0))
+    t_entry = np.where(outside & ~miss, np.maximum(-b - np.sqrt(np.maximum(disc, 0)), 0), 0.0)
+    pos = pos + dirs * t_entry[:, None]
+    r = np.where(outside, Rt, r)
+    out[miss & disk] = disk_radiance
+    live = ~miss
+    mu = np.clip(np.einsum("ij,ij->i", pos, dirs) / r, -1, 1)
+    ground = ray_hits_ground(params, r, mu)
+    length = np.where(ground, distance_to_bottom(params, r, mu), distance_to_top(params, r, mu))
+    phase_r = rayleigh_phase(nu)
+    phase_m = cornette_shanks_phase(nu, params.mie_g)
+    du = 1.0 / samples
+    for i in range(samples):
+        u = (i + offset) * du
+        t = length * u * u
+        dt = 2.0 * length * u * du
+        p = pos + dirs * t[:, None]
+        rt = np.linalg.norm(p, axis=-1)
+        mu_s = np.einsum("ij,j->i", p, sun) / rt
+        lit = live & ~ray_hits_ground(params, rt, mu_s)
+        col = column(params, r, mu, t) + column_to_top(params, rt, mu_s)
+        d = densities(params, rt - Rb) * dt[:, None]
+        scat = d[:, 0:1] * coef["rayleigh_scattering"] * phase_r[:, None] + d[:, 1:2] * coef[
+            "mie_scattering"
+        ] * phase_m[:, None]
+        out += np.where(lit[:, None], scat * np.exp(-_optical_depth(coef, col)), 0.0)
+
+    col_view = column(params, r, mu, length)
+    # Ground: albedo / pi * cos(sun zenith) * T(ground -> sun) * T(camera -> ground).
+    pg = pos + dirs * length[:, None]
+    mu_sg = np.einsum("ij,j->i", pg / np.linalg.norm(pg, axis=-1, keepdims=True), sun)
+    sunlit = live & ground & (mu_sg > 0)
+    col_g = column_to_top(params, np.full(n_rays, Rb), np.clip(mu_sg, 0, 1)) + col_view
+    out += np.where(
+        sunlit[:, None],
+        coef["ground_albedo"] / np.pi * mu_sg[:, None] * np.exp(-_optical_depth(coef, col_g)),
+        0.0,
+    )
+    seen = live & ~ground & disk
+    out += np.where(seen[:, None], disk_radiance * np.exp(-_optical_depth(coef, col_view)), 0.0)
+    return out
