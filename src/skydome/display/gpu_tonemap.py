@@ -1,0 +1,146 @@
+"""GPU tone mapping: an RGBA32F frame texture -> an 8-bit sRGB image, with ``tonemap.glsl``.
+
+Row order: NumPy frames have row 0 at the top of the image; GL textures and framebuffers have
+row 0 at the bottom. The flip happens only at the CPU/GPU boundary, in :func:`upload_frame`
+(NumPy -> texture) and :func:`read_rgb8` (framebuffer -> NumPy). A texture rendered by a GL
+pass (e.g. the sky renderer's float target) is already in GL order and is used as is.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from skydome.display.tonemap import (
+    as_array,
+    check_exposure_scale,
+    check_frame,
+    get_operator,
+)
+from skydome.errors import ParameterError
+from skydome.gpu import FullscreenPass, shared_context
+from skydome.spectra import SRGB_LUMINANCE
+
+
+def upload_frame(ctx, frame: np.ndarray):
+    """Upload a NumPy frame (H, W, 4) or (H, W, 3), row 0 at the top, as an RGBA32F texture
+    in GL row order (row 0 = bottom). Nearest filtering. The caller releases the texture."""
+    a = check_frame(frame)
+    h, w = a.shape[:2]
+    rgba = np.zeros((h, w, 4), dtype=np.float32)
+    rgba[..., : a.shape[-1]] = a
+    tex = ctx.texture((w, h), 4, np.ascontiguousarray(rgba[::-1]).tobytes(), dtype="f4")
+    tex.filter = (ctx.NEAREST, ctx.NEAREST)
+    return tex
+
+
+def read_rgb8(fbo, width: int, height: int) -> np.ndarray:
+    """Read an RGBA8 framebuffer back as uint8 (H, W, 3), row 0 at the top of the image."""
+    data = np.frombuffer(
+        fbo.read(viewport=(0, 0, width, height), components=3, alignment=1), dtype=np.uint8
+    )
+    return data.reshape(height, width, 3)[::-1].copy()  # GL rows are bottom-up
+
+
+class GpuToneMapper:
+    """Runs ``tonemap.glsl``: one compiled program for all operators, RGBA8 targets cached
+    per size. Also usable by the viewer: :meth:`draw` renders into any framebuffer.
+
+    Args:
+        ctx: a moderngl context (default: the shared headless one).
+        quantize: snap outputs to 8-bit code values in the shader (exact round(255 v) in an
+            RGBA8 target, whatever the driver's float -> unorm rounding). Keep it on for
+            8-bit targets.
+    """
+
+    def __init__(self, ctx=None, *, quantize: bool = True):
+        self.ctx = ctx or shared_context()
+        self.pass_ = FullscreenPass(self.ctx, "tonemap.glsl", {"TONEMAP_QUANTIZE": int(quantize)})
+        self._targets: dict[tuple[int, int], tuple] = {}
+
+    def uniforms(self, name: str, exposure_scale: float, **params: float) -> dict[str, object]:
+        """The uniforms of ``tonemap.glsl`` for an operator, exposure and parameters
+        (validated as in :func:`skydome.display.tonemap.tonemap`)."""
+        op = get_operator(name)
+        checked = op.check_params(params)
+        return {
+            "u_operator": op.gl_id,
+            "u_exposure": check_exposure_scale(exposure_scale),
+            "u_luminance_weights": tuple(float(x) for x in SRGB_LUMINANCE),
+            **op.gl_uniforms(checked),
+        }
+
+    def draw(
+        self,
+        texture,
+        fbo,
+        viewport: tuple[int, int],
+        name: str,
+        exposure_scale: float,
+        **params: float,
+    ) -> None:
+        """Tone-map ``texture`` (RGBA32F, GL row order) into ``fbo`` over ``viewport`` =
+        (width, height) pixels (nearest-neighbour resampling if sizes differ)."""
+        w, h = viewport
+        fbo.viewport = (0, 0, w, h)
+        uniforms = {**self.uniforms(name, exposure_scale, **params), "u_viewport": (w, h)}
+        self.pass_.draw(fbo, uniforms, {"u_hdr": texture})
+
+    def _target(self, width: int, height: int):
+        if (width, height) not in self._targets:
+            tex = self.ctx.texture((width, height), 4, dtype="f1")
+            self._targets[(width, height)] = (tex, self.ctx.framebuffer(color_attachments=[tex]))
+        return self._targets[(width, height)]
+
+    def render(self, source, name: str, exposure_scale: float, **params: float) -> np.ndarray:
+        """Tone-map ``source`` and read it back as uint8 (H, W, 3), row 0 at the top.
+
+        ``source`` is a NumPy frame (H, W, 4) in cd/m^2 (row 0 at the top; uploaded with
+        :func:`upload_frame`; a ``Frame`` object's ``.data`` too) or a moderngl RGBA float
+        texture in GL row order.
+        """
+        if isinstance(getattr(source, "data", None), np.ndarray):
+            source = as_array(source)
+        if isinstance(source, np.ndarray):
+            texture = upload_frame(self.ctx, source)
+            owned = True
+        elif hasattr(source, "size") and hasattr(source, "use"):
+            texture, owned = source, False
+        else:
+            raise ParameterError(
+                f"tone-map source must be a NumPy frame or a moderngl texture, got "
+                f"{type(source).__name__}"
+            )
+        try:
+            w, h = texture.size
+            _, fbo = self._target(w, h)
+            self.draw(texture, fbo, (w, h), name, exposure_scale, **params)
+            return read_rgb8(fbo, w, h)
+        finally:
+            if owned:
+                texture.release()
+
+    def release(self) -> None:
+        """Free the program and the cached targets."""
+        for tex, fbo in self._targets.values():
+            fbo.release()
+            tex.release()
+        self._targets.clear()
+        self.pass_.release()
+
+
+_mappers: dict[int, GpuToneMapper] = {}
+
+
+def gpu_tonemap(
+    source, name: str, exposure_scale: float, *, ctx=None, **params: float
+) -> np.ndarray:
+    """GPU twin of :func:`skydome.display.tonemap.tonemap`: uint8 (H, W, 3), row 0 at the top.
+
+    ``source`` is a NumPy frame or an RGBA32F texture (GL row order). The mapper for each
+    context is created once and reused.
+    """
+    ctx = ctx or shared_context()
+    mapper = _mappers.get(id(ctx))
+    if mapper is None or mapper.ctx is not ctx:
+        mapper = _mappers[id(ctx)] = GpuToneMapper(ctx)
+    return mapper.render(source, name, exposure_scale, **params)

@@ -1,0 +1,81 @@
+// Tone mapping pass: HDR frame (R, G, B in cd/m^2, A scotopic) -> sRGB-encoded display colour.
+// Twin of skydome/display/tonemap.py (the float64 reference); the operator is chosen by
+// u_operator = ToneMapOperator.gl_id, so one program serves all operators.
+//
+// Define TONEMAP_QUANTIZE 1 to snap the output to 8-bit code values in the shader, so that an
+// RGBA8 target stores round(255 v) whichever float -> unorm rounding the driver uses.
+#include "srgb.glsl"
+
+#ifndef TONEMAP_QUANTIZE
+#define TONEMAP_QUANTIZE 0
+#endif
+
+uniform sampler2D u_hdr;            // RGBA32F, GL rows (row 0 = bottom of the image)
+uniform vec2 u_viewport;            // target size in pixels
+uniform int u_operator;             // 0 linear, 1 exponential, 2 reinhard, 3 hvs, 4 filmic
+uniform float u_exposure;           // exposure scale, m^2/cd (skydome.display.exposure)
+uniform vec3 u_luminance_weights;   // SRGB_LUMINANCE (seed 001 eq. 5.3)
+uniform float u_exp_k;              // exponential: T_s of seed 000 eq. 4.14
+uniform float u_inv_white_sq;       // reinhard: 1 / L_white^2 (0 for L_white = inf)
+uniform float u_hvs_a;              // hvs: a, b of seed 003 eq. 7
+uniform float u_hvs_b;
+uniform float u_hvs_x_scale;        // hvs: I_max / white (exposed luminance -> x)
+uniform float u_filmic_pre_scale;   // filmic: input scale before the fit
+
+out vec4 frag;
+
+const float INV_LN10 = 0.434294481903252;
+
+// C_d = (C / L) * L_d (seed 001 eq. 5.4); C / L <= 1 / min weight, so no overflow.
+vec3 scale_by_luminance(vec3 c, float lum, float lum_display) {
+    return lum > 0.0 ? c / lum * lum_display : vec3(0.0);
+}
+
+// Seed 000 eq. 4.14, per channel.
+vec3 tm_exponential(vec3 c) { return 1.0 - exp(-u_exp_k * c); }
+
+// Seed 001 eq. 5.2 as a ratio L_d / L = (1 + L / Lw^2) / (1 + L): no L*L overflow in float32.
+vec3 tm_reinhard(vec3 c) {
+    float lum = dot(c, u_luminance_weights);
+    return c * ((1.0 + lum * u_inv_white_sq) / (1.0 + lum));
+}
+
+// Seed 003 eq. 7 / 255 on x = I_max L / white; its output is a display code value.
+vec3 tm_hvs(vec3 c) {
+    float lum = dot(c, u_luminance_weights);
+    float x = u_hvs_x_scale * lum;
+    float f = x >= u_hvs_a + 1.0 ? log(x - u_hvs_a) * INV_LN10 + u_hvs_b
+                                 : -log(u_hvs_a + 2.0 - x) * INV_LN10 + u_hvs_b;
+    return scale_by_luminance(c, lum, srgb_decode(clamp(f, 0.0, 1.0)));
+}
+
+// Narkowicz 2016, ACES filmic fit, per channel.
+vec3 tm_filmic(vec3 c) {
+    vec3 x = c * u_filmic_pre_scale;
+    return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+}
+
+vec3 tonemap_display_linear(vec3 exposed) {
+    vec3 c = max(exposed, vec3(0.0));  // negative (out-of-gamut) components -> 0
+    vec3 d;
+    if (u_operator == 1) d = tm_exponential(c);
+    else if (u_operator == 2) d = tm_reinhard(c);
+    else if (u_operator == 3) d = tm_hvs(c);
+    else if (u_operator == 4) d = tm_filmic(c);
+    else d = c;
+    return clamp(d, 0.0, 1.0);
+}
+
+void main() {
+    // Nearest source texel; exact (no filtering) when target and source have the same size.
+    ivec2 size = textureSize(u_hdr, 0);
+    ivec2 src = min(ivec2(gl_FragCoord.xy * vec2(size) / u_viewport), size - 1);
+    vec3 hdr = texelFetch(u_hdr, src, 0).rgb;
+    vec3 v = srgb_encode(tonemap_display_linear(hdr * u_exposure));
+#if TONEMAP_QUANTIZE
+    // round(255 v), stored as (k + 0.25) / 255: both round-to-nearest and truncating
+    // float -> unorm8 conversions then give k.
+    v = (floor(v * 255.0 + 0.5) + 0.25) / 255.0;
+#endif
+    frag = vec4(v, 1.0);
+}
