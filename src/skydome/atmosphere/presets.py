@@ -10,7 +10,9 @@ from skydome.atmosphere.params import AtmosphereParams, DensityProfile, Spectrum
 from skydome.errors import ParameterError
 from skydome.spectra.tables import ozone_cross_section, solar_irradiance
 
-_GRID_NM = np.arange(360.0, 831.0, 10.0)
+#: Spectra of the presets are tabulated every 5 nm (the tables hold 10 nm bin means at the
+#: bin centres, 365, 375, ... nm, which this grid contains).
+_GRID_NM = np.arange(360.0, 831.0, 5.0)
 
 #: Rayleigh scattering of air at sea level, beta(λ) = K / λ_µm^4 with K = 1.24062e-6 m^-1
 #: (Bruneton 2017 demo; gives 5.802e-6, 13.558e-6, 33.1e-6 m^-1 at 680, 550, 440 nm,

@@ -8,9 +8,9 @@ from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.uniforms import geometry_uniforms
 from skydome.gpu import FullscreenPass
 
-DEFAULT_SIZE = (512, 128)
+DEFAULT_SIZE = (1024, 256)
 #: Simpson intervals per texel (even).
-DEFAULT_STEPS = 500
+DEFAULT_STEPS = 300
 
 
 class TransmittanceTable:
