@@ -15,11 +15,15 @@ def ctx():
     return shared_context()
 
 
-@functools.lru_cache(maxsize=None)
-def single_renderer(atmosphere: str = "earth", spectral: str = "fast", samples: int = 16, jitter: bool = False):
+@functools.cache
+def single_renderer(
+    atmosphere: str = "earth", spectral: str = "fast", samples: int = 16, jitter: bool = False
+):
     from skydome.render.single import SingleScatteringRenderer
 
-    return SingleScatteringRenderer(preset(atmosphere), spectral=spectral, view_samples=samples, jitter=jitter)
+    return SingleScatteringRenderer(
+        preset(atmosphere), spectral=spectral, view_samples=samples, jitter=jitter
+    )
 
 
 @pytest.fixture(scope="session")

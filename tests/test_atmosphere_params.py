@@ -12,7 +12,9 @@ def test_earth_matches_seed_001_appendix_b():
     c = p.coefficients([680.0, 550.0, 440.0])
     # Appendix B: Rayleigh (5.802, 13.558, 33.100)e-3 /km; Mie 3.996e-3 scattering,
     # 0.444e-3 absorption; g 0.8; radii 6360 km, height 100 km; albedo 0.3.
-    np.testing.assert_allclose(c["rayleigh_scattering"], [5.802e-6, 13.558e-6, 33.100e-6], rtol=2e-3)
+    np.testing.assert_allclose(
+        c["rayleigh_scattering"], [5.802e-6, 13.558e-6, 33.100e-6], rtol=2e-3
+    )
     np.testing.assert_allclose(c["mie_scattering"], 3.996e-6)
     np.testing.assert_allclose(c["mie_extinction"] - c["mie_scattering"], 0.444e-6, rtol=1e-9)
     # Ozone (0.650, 1.881, 0.085)e-3 /km "at 680, 550, 440 nm": these are Bruneton's 10 nm
@@ -25,7 +27,9 @@ def test_earth_matches_seed_001_appendix_b():
     h = np.array([0.0, 8000.0, 1200.0, 10e3, 25e3, 32.5e3, 40e3, 60e3])
     np.testing.assert_allclose(p.rayleigh_density.density(h), np.exp(-h / 8000.0), rtol=1e-12)
     np.testing.assert_allclose(p.mie_density.density(h), np.exp(-h / 1200.0), rtol=1e-12)
-    np.testing.assert_allclose(p.absorption_density.density(h), np.maximum(0, 1 - np.abs(h - 25e3) / 15e3), atol=1e-12)
+    np.testing.assert_allclose(
+        p.absorption_density.density(h), np.maximum(0, 1 - np.abs(h - 25e3) / 15e3), atol=1e-12
+    )
 
 
 def test_ozone_column_is_300_dobson():

@@ -17,8 +17,11 @@ def test_context_reports_renderer(ctx):
 
 
 def test_include_and_defines_expand():
-    src = expand("probe.glsl", {"ANSWER": 42, "SCALE": 0.5, "FLAG": True},
-                 source='#include "constants.glsl"\n#include "constants.glsl"\nvoid main() {}\n')
+    src = expand(
+        "probe.glsl",
+        {"ANSWER": 42, "SCALE": 0.5, "FLAG": True},
+        source='#include "constants.glsl"\n#include "constants.glsl"\nvoid main() {}\n',
+    )
     assert src.text.startswith("#version 330 core\n")
     assert "#define ANSWER 42" in src.text and "#define SCALE 0.5" in src.text
     assert "#define FLAG 1" in src.text
@@ -36,8 +39,12 @@ def test_error_in_included_file_names_that_file(ctx):
     with pytest.raises(GLError, match=r"transmittance_lut\.glsl:\d+"):
         # NUM_GROUPS is not needed, but the table code needs nothing undefined; break it by
         # defining one of its names as a macro that makes its declaration invalid.
-        FullscreenPass(ctx, "probe.glsl", {"u_transmittance_size": "1.0"},
-                       source='#include "transmittance_lut.glsl"\nout vec4 c;\nvoid main() { c = vec4(0); }\n')
+        FullscreenPass(
+            ctx,
+            "probe.glsl",
+            {"u_transmittance_size": "1.0"},
+            source='#include "transmittance_lut.glsl"\nout vec4 c;\nvoid main() { c = vec4(0); }\n',
+        )
 
 
 def test_missing_shader_file():
@@ -46,7 +53,11 @@ def test_missing_shader_file():
 
 
 def test_fullscreen_pass_writes_every_pixel(ctx):
-    p = FullscreenPass(ctx, "probe.glsl", source="out vec4 c;\nvoid main() { c = vec4(gl_FragCoord.xy, 1.0, 1.0); }\n")
+    p = FullscreenPass(
+        ctx,
+        "probe.glsl",
+        source="out vec4 c;\nvoid main() { c = vec4(gl_FragCoord.xy, 1.0, 1.0); }\n",
+    )
     tex = ctx.texture((37, 23), 4, dtype="f4")
     fbo = ctx.framebuffer(color_attachments=[tex])
     fbo.clear(-1.0, -1.0, -1.0, -1.0)

@@ -5,7 +5,6 @@ import math
 import numpy as np
 import pytest
 
-from skydome.atmosphere import preset
 from skydome.atmosphere import reference_single as ref
 from skydome.render.cameras import (
     DirectionsCamera,
@@ -19,13 +18,17 @@ from skydome.spectra import LINEAR_SRGB_TO_XYZ, SRGB_LUMINANCE, spectral_to_rgbs
 
 
 def render_dirs(renderer, dirs, sun, altitude_m=0.0):
-    return renderer.render(DirectionsCamera(dirs), 0, 0, sun_direction=sun, altitude_m=altitude_m).data[0]
+    return renderer.render(
+        DirectionsCamera(dirs), 0, 0, sun_direction=sun, altitude_m=altitude_m
+    ).data[0]
 
 
 def reference_rgbs(renderer, dirs, sun, altitude_m):
     p = renderer.params
     pos = np.array(camera_position_km(p, altitude_m)) * 1000.0
-    spectral = ref.single_scattering(p, renderer.wavelengths_nm, pos, dirs, sun, samples=renderer.view_samples)
+    spectral = ref.single_scattering(
+        p, renderer.wavelengths_nm, pos, dirs, sun, samples=renderer.view_samples
+    )
     return spectral @ spectral_to_rgbs_matrix(renderer.wavelengths_nm).T
 
 
@@ -52,7 +55,10 @@ def test_gl_matches_float64_reference(renderer_factory, altitude_m):
         sun = rng.normal(size=3)
         sun[2] = abs(sun[2]) if trial < 3 else -0.05 * abs(sun[2])  # one twilight Sun
         sun /= np.linalg.norm(sun)
-        edge = np.abs(np.degrees(np.arccos(np.clip(dirs @ sun, -1, 1))) - math.degrees(r.params.sun_angular_radius_rad))
+        edge = np.abs(
+            np.degrees(np.arccos(np.clip(dirs @ sun, -1, 1)))
+            - math.degrees(r.params.sun_angular_radius_rad)
+        )
         keep = edge > 0.5
         got = to_xyzs(render_dirs(r, dirs[keep], sun, altitude_m).astype(np.float64))
         want = to_xyzs(reference_rgbs(r, dirs[keep], sun, altitude_m))
@@ -121,7 +127,9 @@ def test_sun_disk_integrates_to_solar_irradiance(renderer_factory):
     d_omega = (2 * t / n) ** 2 / (1 + xx**2 + yy**2) ** 1.5
     cos_theta = 1 / np.sqrt(1 + xx**2 + yy**2)
     illuminance = float(np.sum(frame.luminance * cos_theta * d_omega))
-    want = SRGB_LUMINANCE @ (spectral_to_rgbs_matrix(r.wavelengths_nm)[:3] @ np.ones(len(r.wavelengths_nm)))
+    want = SRGB_LUMINANCE @ (
+        spectral_to_rgbs_matrix(r.wavelengths_nm)[:3] @ np.ones(len(r.wavelengths_nm))
+    )
     assert illuminance == pytest.approx(want, rel=0.01)
 
 
@@ -193,8 +201,12 @@ def test_fisheye_and_equirect_agree():
     def px(yy, xx):
         return eq[np.clip(yy, 0, 1023), xx % 2048]
 
-    interp = (px(y0, x0) * (1 - fx) * (1 - fy) + px(y0, x0 + 1) * fx * (1 - fy)
-              + px(y0 + 1, x0) * (1 - fx) * fy + px(y0 + 1, x0 + 1) * fx * fy)
+    interp = (
+        px(y0, x0) * (1 - fx) * (1 - fy)
+        + px(y0, x0 + 1) * fx * (1 - fy)
+        + px(y0 + 1, x0) * (1 - fx) * fy
+        + px(y0 + 1, x0 + 1) * fx * fy
+    )
     np.testing.assert_allclose(fish[inside][keep], interp[keep], rtol=0.01)
 
 
@@ -214,8 +226,13 @@ def test_camera_geometry():
     assert fish[1, 50, 1] > 0.99  # top = north horizon
     assert fish[50, 1, 0] > 0.99  # left = east (looking up)
     assert fish[0, 0, 3] == 0.0  # corners are outside the 180 deg circle
-    persp = r.render(PerspectiveCamera(fov_deg=90, yaw_deg=90, pitch_deg=0), 101, 51, sun_direction=sun,
-                     directions=True).data
+    persp = r.render(
+        PerspectiveCamera(fov_deg=90, yaw_deg=90, pitch_deg=0),
+        101,
+        51,
+        sun_direction=sun,
+        directions=True,
+    ).data
     np.testing.assert_allclose(persp[25, 50, :3], [1.0, 0.0, 0.0], atol=0.01)  # centre = east
     assert persp[25, 100, 1] < -0.6  # right edge of an east view is south
 
@@ -233,7 +250,9 @@ def test_no_nan_every_pixel_written():
         ]:
             w, h = cam.frame_size(64, 32)
             r._target(w, h)[1].clear(float("nan"), float("nan"), float("nan"), float("nan"))
-            data = r.render(cam, 64, 32, sun_direction=direction_from_angles(el, 33.0), altitude_m=alt).data
+            data = r.render(
+                cam, 64, 32, sun_direction=direction_from_angles(el, 33.0), altitude_m=alt
+            ).data
             assert np.all(np.isfinite(data)), (atmosphere, cam.name)
             assert np.all(data >= 0.0)
 

@@ -58,7 +58,10 @@ def test_spectral_modes_reproduce_fine_integration(mode):
     fine = np.arange(360.0, 831.0)
     wl = wavelengths(mode)
     for airmass in (1.0, 3.0, 10.0):
-        f = lambda w: (w / 550.0) ** -4 * np.exp(-airmass * 0.1 * (w / 550.0) ** -4)  # noqa: E731
+
+        def f(w, airmass=airmass):
+            return (w / 550.0) ** -4 * np.exp(-airmass * 0.1 * (w / 550.0) ** -4)
+
         ref = spectral_to_rgbs_matrix(fine) @ f(fine)
         got = spectral_to_rgbs_matrix(wl) @ f(wl)
         np.testing.assert_allclose(got, ref, rtol=tol)

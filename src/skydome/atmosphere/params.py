@@ -34,7 +34,7 @@ class Spectrum:
         v = tuple(float(x) for x in self.values)
         if len(wl) != len(v) or not wl:
             raise ParameterError("a Spectrum needs as many values as wavelengths (at least one)")
-        if any(b <= a for a, b in zip(wl, wl[1:])):
+        if any(b <= a for a, b in zip(wl, wl[1:], strict=False)):
             raise ParameterError(f"Spectrum wavelengths must increase, got {wl}")
         if not all(math.isfinite(x) for x in v):
             raise ParameterError(f"Spectrum values must be finite, got {v}")
@@ -156,19 +156,37 @@ class AtmosphereParams:
     def __post_init__(self):
         check_range("bottom_radius_m", self.bottom_radius_m, 1e3, 1e8, "m")
         check_range(
-            "top_radius_m", self.top_radius_m, self.bottom_radius_m + 1e3, self.bottom_radius_m * 1.5, "m"
+            "top_radius_m",
+            self.top_radius_m,
+            self.bottom_radius_m + 1e3,
+            self.bottom_radius_m * 1.5,
+            "m",
         )
         check_range("mie_g", self.mie_g, -0.999, 0.999)
         check_range("sun_angular_radius_rad", self.sun_angular_radius_rad, 1e-5, 0.2, "rad")
         check_range("mu_s_min", self.mu_s_min, -1.0, 0.0)
-        for name in ("rayleigh_scattering", "mie_scattering", "absorption_extinction", "solar_irradiance"):
+        for name in (
+            "rayleigh_scattering",
+            "mie_scattering",
+            "absorption_extinction",
+            "solar_irradiance",
+        ):
             spec: Spectrum = getattr(self, name)
             if min(spec.values) < 0:
                 raise ParameterError(f"{name} must be >= 0 everywhere, got {spec.values}")
-        if any(e < s - 1e-15 for e, s in zip(self.mie_extinction.at(_CHECK_NM), self.mie_scattering.at(_CHECK_NM))):
-            raise ParameterError("mie_extinction must be >= mie_scattering (absorption cannot be negative)")
+        if any(
+            e < s - 1e-15
+            for e, s in zip(
+                self.mie_extinction.at(_CHECK_NM), self.mie_scattering.at(_CHECK_NM), strict=True
+            )
+        ):
+            raise ParameterError(
+                "mie_extinction must be >= mie_scattering (absorption cannot be negative)"
+            )
         if min(self.ground_albedo.values) < 0 or max(self.ground_albedo.values) > 1:
-            raise ParameterError(f"ground_albedo must be within [0, 1], got {self.ground_albedo.values}")
+            raise ParameterError(
+                f"ground_albedo must be within [0, 1], got {self.ground_albedo.values}"
+            )
 
     @property
     def atmosphere_height_m(self) -> float:

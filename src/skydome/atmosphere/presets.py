@@ -143,4 +143,6 @@ def preset(name: str) -> AtmosphereParams:
     try:
         return PRESETS[name]()
     except KeyError:
-        raise ParameterError(f"unknown atmosphere preset {name!r}; choose one of {', '.join(PRESETS)}") from None
+        raise ParameterError(
+            f"unknown atmosphere preset {name!r}; choose one of {', '.join(PRESETS)}"
+        ) from None

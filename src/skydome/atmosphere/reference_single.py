@@ -67,11 +67,17 @@ def column_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
     return column(params, r, mu, distance_to_top(params, r, mu))
 
 
-def vertical_transmittance(params: AtmosphereParams, wavelengths_nm, altitude_m: float = 0.0) -> np.ndarray:
+def vertical_transmittance(
+    params: AtmosphereParams, wavelengths_nm, altitude_m: float = 0.0
+) -> np.ndarray:
     """Transmittance of the vertical path from an altitude to the top, per wavelength."""
     c = params.coefficients(wavelengths_nm)
     col = column_to_top(params, params.bottom_radius_m + altitude_m, 1.0)
-    tau = c["rayleigh_scattering"] * col[0] + c["mie_extinction"] * col[1] + c["absorption_extinction"] * col[2]
+    tau = (
+        c["rayleigh_scattering"] * col[0]
+        + c["mie_extinction"] * col[1]
+        + c["absorption_extinction"] * col[2]
+    )
     return np.exp(-tau)
 
 
@@ -93,8 +99,16 @@ def cornette_shanks_phase(nu, g: float):
     return k * (1.0 + nu * nu) / (1.0 + g * g - 2.0 * g * nu) ** 1.5
 
 
-def single_scattering(params: AtmosphereParams, wavelengths_nm, position_m, directions, sun,
-                      samples: int = 16, offset: float = 0.5, sun_disk: bool = True) -> np.ndarray:
+def single_scattering(
+    params: AtmosphereParams,
+    wavelengths_nm,
+    position_m,
+    directions,
+    sun,
+    samples: int = 16,
+    offset: float = 0.5,
+    sun_disk: bool = True,
+) -> np.ndarray:
     """Radiance per unit solar irradiance (n_rays, n_wavelengths), sr^-1.
 
     position_m: (3,) planet-centred camera position; directions: (n, 3) unit view rays;
@@ -142,9 +156,10 @@ def single_scattering(params: AtmosphereParams, wavelengths_nm, position_m, dire
         lit = live & ~ray_hits_ground(params, rt, mu_s)
         col = column(params, r, mu, t) + column_to_top(params, rt, mu_s)
         d = densities(params, rt - Rb) * dt[:, None]
-        scat = d[:, 0:1] * coef["rayleigh_scattering"] * phase_r[:, None] + d[:, 1:2] * coef[
-            "mie_scattering"
-        ] * phase_m[:, None]
+        scat = (
+            d[:, 0:1] * coef["rayleigh_scattering"] * phase_r[:, None]
+            + d[:, 1:2] * coef["mie_scattering"] * phase_m[:, None]
+        )
         out += np.where(lit[:, None], scat * np.exp(-_optical_depth(coef, col)), 0.0)
 
     col_view = column(params, r, mu, length)

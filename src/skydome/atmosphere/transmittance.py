@@ -20,8 +20,13 @@ class TransmittanceTable:
     the radii and density profiles, not on wavelengths.
     """
 
-    def __init__(self, ctx, params: AtmosphereParams, size: tuple[int, int] = DEFAULT_SIZE,
-                 steps: int = DEFAULT_STEPS):
+    def __init__(
+        self,
+        ctx,
+        params: AtmosphereParams,
+        size: tuple[int, int] = DEFAULT_SIZE,
+        steps: int = DEFAULT_STEPS,
+    ):
         self.ctx = ctx
         self.params = params
         self.size = (int(size[0]), int(size[1]))

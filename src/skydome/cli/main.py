@@ -24,6 +24,7 @@ app = typer.Typer(
 # Command modules, each with a register(app) function. Add new ones here.
 COMMAND_MODULES = [
     "skydome.cli.info_cmd",
+    "skydome.cli.render_cmd",
 ]
 
 for _name in COMMAND_MODULES:

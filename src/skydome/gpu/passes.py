@@ -16,8 +16,15 @@ class FullscreenPass:
     remove them), so passes can share one uniform dictionary.
     """
 
-    def __init__(self, ctx, fragment: str, defines: dict[str, object] | None = None, *,
-                 source: str | None = None, layered: bool = False):
+    def __init__(
+        self,
+        ctx,
+        fragment: str,
+        defines: dict[str, object] | None = None,
+        *,
+        source: str | None = None,
+        layered: bool = False,
+    ):
         self.ctx = ctx
         self.program = build_program(ctx, fragment, defines, source=source, layered=layered)
         self.vao = ctx.vertex_array(self.program, [])
@@ -36,8 +43,13 @@ class FullscreenPass:
             else:
                 member.value = value
 
-    def draw(self, fbo, uniforms: dict[str, object] | None = None, textures: dict | None = None,
-             layers: tuple[int, int] | None = None) -> None:
+    def draw(
+        self,
+        fbo,
+        uniforms: dict[str, object] | None = None,
+        textures: dict | None = None,
+        layers: tuple[int, int] | None = None,
+    ) -> None:
         """Draw into ``fbo``; for a layered pass ``layers=(first, count)``."""
         self.set_uniforms(uniforms or {})
         for unit, (name, tex) in enumerate((textures or {}).items()):

@@ -9,7 +9,7 @@ mapped back to ``file.glsl:12``.
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+from functools import cache
 from importlib import resources
 from pathlib import Path
 
@@ -21,7 +21,7 @@ _LINE_BLOCK = 100000
 _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
 
 
-@lru_cache(maxsize=None)
+@cache
 def _read(name: str) -> str:
     path = SHADER_DIR / name
     if not path.is_file():
@@ -48,7 +48,9 @@ class ShaderSource:
         return re.sub(r"\b(\d+)\((\d+)\)", sub, message)  # NVIDIA / AMD
 
 
-def expand(name: str, defines: dict[str, object] | None = None, source: str | None = None) -> ShaderSource:
+def expand(
+    name: str, defines: dict[str, object] | None = None, source: str | None = None
+) -> ShaderSource:
     """Expand shader ``name`` (or the given ``source`` text, labelled ``name``).
 
     Adds ``#version 330 core``, then one ``#define KEY VALUE`` per entry of ``defines``,
@@ -138,8 +140,14 @@ void main() {
 """
 
 
-def build_program(ctx, fragment: str, defines: dict[str, object] | None = None, *,
-                  source: str | None = None, layered: bool = False):
+def build_program(
+    ctx,
+    fragment: str,
+    defines: dict[str, object] | None = None,
+    *,
+    source: str | None = None,
+    layered: bool = False,
+):
     """Compile a full-screen fragment program from the shader library.
 
     ``fragment`` names a file under ``skydome/shaders`` (or labels ``source``). With
@@ -158,5 +166,7 @@ def build_program(ctx, fragment: str, defines: dict[str, object] | None = None, 
         return ctx.program(vertex_shader=FULLSCREEN_VS, fragment_shader=src.text)
     except Exception as exc:
         msg = src.locate(str(exc)).strip()
-        lines = [ln for ln in msg.splitlines() if ln.strip() and "=" * 5 not in ln and "-" * 5 not in ln]
+        lines = [
+            ln for ln in msg.splitlines() if ln.strip() and "=" * 5 not in ln and "-" * 5 not in ln
+        ]
         raise GLError(f"shader {fragment} failed to compile: {' | '.join(lines[:6])}") from None

@@ -135,7 +135,9 @@ class DirectionsCamera(Camera):
         if d.ndim == 2:
             d = d[None]
         if d.ndim != 3 or d.shape[-1] != 3 or not np.all(np.isfinite(d)):
-            raise ParameterError(f"directions must be a finite (H, W, 3) or (N, 3) array, got shape {d.shape}")
+            raise ParameterError(
+                f"directions must be a finite (H, W, 3) or (N, 3) array, got shape {d.shape}"
+            )
         norm = np.linalg.norm(d, axis=-1, keepdims=True)
         if np.any(norm == 0):
             raise ParameterError("directions must be non-zero vectors")

@@ -32,7 +32,9 @@ def check_sun_direction(sun_direction) -> np.ndarray:
     s = np.asarray(sun_direction, dtype=np.float64).reshape(-1)
     n = float(np.linalg.norm(s)) if s.shape == (3,) and np.all(np.isfinite(s)) else 0.0
     if n == 0.0:
-        raise ParameterError(f"sun direction must be a finite non-zero 3-vector, got {sun_direction!r}")
+        raise ParameterError(
+            f"sun direction must be a finite non-zero 3-vector, got {sun_direction!r}"
+        )
     return s / n
 
 
@@ -51,8 +53,15 @@ class SingleScatteringRenderer:
         ctx: a moderngl context (default: the shared headless one).
     """
 
-    def __init__(self, params: AtmosphereParams, *, spectral="accurate", view_samples: int = 16,
-                 jitter: bool = True, ctx=None):
+    def __init__(
+        self,
+        params: AtmosphereParams,
+        *,
+        spectral="accurate",
+        view_samples: int = 16,
+        jitter: bool = True,
+        ctx=None,
+    ):
         if not isinstance(view_samples, (int, np.integer)) or not 1 <= view_samples <= 4096:
             raise ParameterError(f"samples = {view_samples} must be an integer in [1, 4096]")
         self.params = params
@@ -93,8 +102,16 @@ class SingleScatteringRenderer:
             self._targets[(width, height)] = (tex, self.ctx.framebuffer(color_attachments=[tex]))
         return self._targets[(width, height)]
 
-    def render(self, camera: Camera, width: int, height: int, *, sun_direction,
-               altitude_m: float = 0.0, directions: bool = False) -> Frame:
+    def render(
+        self,
+        camera: Camera,
+        width: int,
+        height: int,
+        *,
+        sun_direction,
+        altitude_m: float = 0.0,
+        directions: bool = False,
+    ) -> Frame:
         """Render a frame (cd/m^2). ``sun_direction`` is a unit ENU vector.
 
         With ``directions=True`` the frame holds each pixel's view direction (xyz, w = 1 where

@@ -9,7 +9,7 @@ Sources (see the header lines of each CSV in ``skydome/data``):
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 from importlib import resources
 
 import numpy as np
@@ -20,7 +20,7 @@ WAVELENGTH_MIN_NM = 360.0
 WAVELENGTH_MAX_NM = 830.0
 
 
-@lru_cache(maxsize=None)
+@cache
 def _table(name: str) -> np.ndarray:
     text = (resources.files("skydome") / "data" / name).read_text()
     rows = [ln for ln in text.splitlines() if ln and not ln.startswith("#")][1:]
@@ -29,9 +29,11 @@ def _table(name: str) -> np.ndarray:
 
 def _check_wavelengths(wavelengths_nm) -> np.ndarray:
     wl = np.asarray(wavelengths_nm, dtype=np.float64)
-    if not np.all(np.isfinite(wl)) or wl.min(initial=WAVELENGTH_MIN_NM) < WAVELENGTH_MIN_NM or wl.max(
-        initial=WAVELENGTH_MAX_NM
-    ) > WAVELENGTH_MAX_NM:
+    if (
+        not np.all(np.isfinite(wl))
+        or wl.min(initial=WAVELENGTH_MIN_NM) < WAVELENGTH_MIN_NM
+        or wl.max(initial=WAVELENGTH_MAX_NM) > WAVELENGTH_MAX_NM
+    ):
         raise ParameterError(
             f"wavelengths must lie in [{WAVELENGTH_MIN_NM:g}, {WAVELENGTH_MAX_NM:g}] nm, got {wavelengths_nm}"
         )

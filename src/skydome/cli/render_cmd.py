@@ -1,0 +1,157 @@
+"""``skydome render``: render a sky to EXR / PNG / NPY files."""
+
+from __future__ import annotations
+
+import re
+import time
+
+import typer
+
+from skydome.errors import ParameterError, check_range
+
+#: Frames larger than this many pixels are refused (a 16k x 8k equirect is 128 Mpixel).
+MAX_PIXELS = 134_217_728
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """Parse 'WxH' (e.g. 1280x720) into positive ints."""
+    m = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text or "")
+    if not m:
+        raise ParameterError(f"--size {text!r} must look like WIDTHxHEIGHT, e.g. 1280x720")
+    w, h = int(m.group(1)), int(m.group(2))
+    if w < 1 or h < 1 or w > 16384 or h > 16384 or w * h > MAX_PIXELS:
+        raise ParameterError(
+            f"--size {text} must have sides in [1, 16384] pixels and at most {MAX_PIXELS} pixels"
+        )
+    return w, h
+
+
+def parse_exposure(text: str) -> float | None:
+    """'auto' -> None, else an EV100 number."""
+    if text.strip().lower() == "auto":
+        return None
+    try:
+        ev = float(text)
+    except ValueError:
+        raise ParameterError(
+            f"--exposure {text!r} must be 'auto' or an EV100 number such as 14.5"
+        ) from None
+    return check_range("--exposure", ev, -20.0, 40.0, "EV")
+
+
+def register(app: typer.Typer) -> None:
+    @app.command()
+    def render(
+        sun_elevation: float = typer.Option(
+            30.0, "--sun-elevation", help="Sun elevation above the horizon, degrees (-90..90)."
+        ),
+        sun_azimuth: float = typer.Option(
+            180.0, "--sun-azimuth", help="Sun azimuth from north through east, degrees."
+        ),
+        altitude: float = typer.Option(
+            1.7, "--altitude", help="Camera altitude above the ground, metres."
+        ),
+        camera: str = typer.Option(
+            "perspective", "--camera", help="perspective | fisheye | equirect | cubemap."
+        ),
+        size: str = typer.Option(
+            "1280x720", "--size", help="WIDTHxHEIGHT in pixels (cubemap: face size from HEIGHT)."
+        ),
+        fov: float = typer.Option(
+            90.0, "--fov", help="Horizontal field of view of the perspective camera, degrees."
+        ),
+        yaw: float = typer.Option(
+            None,
+            "--yaw",
+            help="View azimuth from north through east, degrees (default: the Sun's).",
+        ),
+        pitch: float = typer.Option(15.0, "--pitch", help="View elevation, degrees."),
+        roll: float = typer.Option(
+            0.0, "--roll", help="Camera roll about the view direction, degrees."
+        ),
+        atmosphere: str = typer.Option(
+            "earth", "--atmosphere", help="Preset: earth | earth_nishita | hazy | mars."
+        ),
+        model: str = typer.Option("single", "--model", help="Scattering model: single."),
+        samples: int = typer.Option(16, "--samples", help="Ray-march samples per view ray."),
+        spectral: str = typer.Option(
+            "accurate", "--spectral", help="Wavelength set: accurate (16) | fast (4)."
+        ),
+        exposure: str = typer.Option(
+            "auto", "--exposure", help="'auto' or EV100 (e.g. 15 for noon)."
+        ),
+        compensation: float = typer.Option(
+            0.0, "--exposure-compensation", help="EV added to the exposure."
+        ),
+        tonemap: str = typer.Option(
+            "filmic", "--tonemap", help="filmic | reinhard | exponential | hvs | linear."
+        ),
+        output: list[str] = typer.Option(
+            ["sky.png"], "-o", "--output", help="Output file(s): .png, .exr, .npy; repeatable."
+        ),
+    ) -> None:
+        """Render a sky in absolute units (cd/m^2) and write it as PNG (tone mapped), EXR or NPY."""
+        from rich.console import Console
+
+        from skydome.atmosphere import preset
+        from skydome.display import (
+            TONEMAPS,
+            auto_exposure,
+            ev100_to_scale,
+            gpu_tonemap,
+            scale_to_ev100,
+        )
+        from skydome.io import WRITERS, check_output_path, write_outputs
+        from skydome.render import MODELS, get_renderer, make_camera
+        from skydome.render.cameras import direction_from_angles
+
+        # Validate everything before any work, so bad input writes nothing.
+        el = check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
+        az = check_range("--sun-azimuth", sun_azimuth, -360.0, 360.0, "deg")
+        width, height = parse_size(size)
+        ev = parse_exposure(exposure)
+        check_range("--exposure-compensation", compensation, -20.0, 20.0, "EV")
+        if tonemap not in TONEMAPS:
+            raise ParameterError(
+                f"unknown tone map {tonemap!r}; choose one of {', '.join(TONEMAPS)}"
+            )
+        if model not in MODELS:
+            raise ParameterError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
+        params = preset(atmosphere)
+        kwargs = {
+            "fov_deg": fov,
+            "yaw_deg": az if yaw is None else yaw,
+            "pitch_deg": pitch,
+            "roll_deg": roll,
+        }
+        cam = make_camera(camera, **kwargs)
+        paths = [check_output_path(p) for p in output]
+        if len({str(p.resolve()) for p in paths}) != len(paths):
+            raise ParameterError("the same output path is given twice")
+
+        console = Console(soft_wrap=True)
+        renderer = get_renderer(model, params, spectral=spectral, samples=samples)
+        frame = renderer.render(
+            cam, width, height, sun_direction=direction_from_angles(el, az), altitude_m=altitude
+        )
+        scale = (
+            auto_exposure(frame, compensation_ev=compensation, clip_percentile=99.5)
+            if ev is None
+            else ev100_to_scale(ev, compensation)
+        )
+        t0 = time.perf_counter()
+        ldr = (
+            gpu_tonemap(frame, tonemap, scale)
+            if any(not WRITERS[p.suffix.lower()].hdr for p in paths)
+            else None
+        )
+        tone_ms = (time.perf_counter() - t0) * 1e3
+        metadata = {**frame.info, "exposure_ev100": scale_to_ev100(scale), "tonemap": tonemap}
+        written = write_outputs(paths, frame.data, ldr, metadata=metadata)
+        h, w = frame.shape
+        for p in written:
+            console.print(f"wrote [bold]{p}[/bold] ({w}x{h})")
+        console.print(
+            f"frame {frame.info['render_ms']:.1f} ms ({model}, {camera}, {params.name}), tone map {tone_ms:.1f} ms, "
+            f"exposure EV100 {scale_to_ev100(scale):.2f}"
+        )

@@ -1,0 +1,69 @@
+"""One call from settings to a frame: the library's front door for scripts and the CLI."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from skydome.atmosphere import AtmosphereParams, preset
+from skydome.errors import ParameterError, check_range
+from skydome.render.cameras import Camera, PerspectiveCamera, direction_from_angles
+from skydome.render.frame import Frame
+
+MODELS = ("single",)
+
+
+@lru_cache(maxsize=8)
+def _renderer(model: str, params: AtmosphereParams, spectral, samples: int, jitter: bool):
+    if model == "single":
+        from skydome.render.single import SingleScatteringRenderer
+
+        return SingleScatteringRenderer(
+            params, spectral=spectral, view_samples=samples, jitter=jitter
+        )
+    raise ParameterError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
+
+
+def get_renderer(
+    model: str = "single",
+    atmosphere: str | AtmosphereParams = "earth",
+    *,
+    spectral: str = "accurate",
+    samples: int = 16,
+    jitter: bool = True,
+):
+    """A renderer for a model and atmosphere, cached so that repeated frames reuse its GL state."""
+    params = preset(atmosphere) if isinstance(atmosphere, str) else atmosphere
+    if model not in MODELS:
+        raise ParameterError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
+    spectral_key = spectral if isinstance(spectral, str) else tuple(spectral)
+    return _renderer(model, params, spectral_key, int(samples), bool(jitter))
+
+
+def render_sky(
+    *,
+    sun_elevation_deg: float = 30.0,
+    sun_azimuth_deg: float = 180.0,
+    altitude_m: float = 1.7,
+    camera: Camera | None = None,
+    width: int = 1280,
+    height: int = 720,
+    atmosphere: str | AtmosphereParams = "earth",
+    model: str = "single",
+    spectral: str = "accurate",
+    samples: int = 16,
+    jitter: bool = True,
+) -> Frame:
+    """Render the sky for a Sun position and camera; returns a Frame in cd/m^2.
+
+    Example::
+
+        frame = render_sky(sun_elevation_deg=5, sun_azimuth_deg=250,
+                           camera=PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10))
+    """
+    el = check_range("sun elevation", sun_elevation_deg, -90.0, 90.0, "deg")
+    az = check_range("sun azimuth", sun_azimuth_deg, -360.0, 360.0, "deg")
+    renderer = get_renderer(model, atmosphere, spectral=spectral, samples=samples, jitter=jitter)
+    cam = camera or PerspectiveCamera(fov_deg=90.0, yaw_deg=az, pitch_deg=15.0)
+    return renderer.render(
+        cam, width, height, sun_direction=direction_from_angles(el, az), altitude_m=altitude_m
+    )
