@@ -91,8 +91,9 @@ def log_average_luminance(
 ) -> float:
     """Log-average luminance (cd/m^2), Reinhard et al. 2002 eq. 1, unbiased by delta.
 
-    ``L_avg = exp(mean(log(delta + L))) - delta`` over the finite pixels (NaN and +-Inf are
-    ignored; negative luminances count as 0). Subtracting delta again removes eq. 1's bias,
+    ``L_avg = exp(mean(log(delta + L))) - delta`` over the finite, lit pixels (NaN and +-Inf
+    are ignored, and so are pixels with L <= 0: pixels outside a fisheye's circle, empty
+    space, unlit ground, which carry no light for the eye to adapt to). Subtracting delta again removes eq. 1's bias,
     so a uniform frame of luminance L gives exactly L; for L >> delta it changes nothing.
     The result is at least ``delta`` (an all-black frame gives delta).
 
@@ -108,7 +109,9 @@ def log_average_luminance(
     lum = lum[np.isfinite(lum)]
     if lum.size == 0:
         raise ParameterError("cannot expose a frame with no finite pixels")
-    lum = np.maximum(lum, 0.0)
+    lum = lum[lum > 0.0]
+    if lum.size == 0:
+        return d
     if clip_percentile is not None:
         p = check_range("clip percentile", clip_percentile, 1e-9, 100.0, "%")
         lum = np.minimum(lum, np.percentile(lum, p))

@@ -90,7 +90,11 @@ class SingleScatteringRenderer:
     def _pass(self, camera: Camera, directions: bool = False) -> FullscreenPass:
         key = (camera.model, directions)
         if key not in self._passes:
-            defines = {"NUM_GROUPS": self.groups, "CAMERA_MODEL": camera.model}
+            defines = {
+                "NUM_GROUPS": self.groups,
+                "CAMERA_MODEL": camera.model,
+                "PROFILE_VALUES": ", ".join(f"{v:.9e}" for v in self.uniforms["u_profile"]),
+            }
             if directions:
                 defines["OUTPUT_DIRECTIONS"] = 1
             self._passes[key] = FullscreenPass(self.ctx, "sky_single.glsl", defines)

@@ -7,21 +7,28 @@ uniform float u_top_radius;      // top of the atmosphere, km
 // Density profiles of Rayleigh (0), Mie (1) and absorbing (2) constituents: two layers
 // each of (width, exp_term, exp_scale, linear_term, constant_term), units km and 1/km,
 // at u_profile[10 * constituent + 5 * layer + k]. Bruneton 2017, DensityProfileLayer.
+// With PROFILE_VALUES defined (30 comma-separated literals) the profiles are compile-time
+// constants, which lets the compiler drop unused terms (a measurable gain on CPU renderers).
+#ifdef PROFILE_VALUES
+const float PROFILE[30] = float[30](PROFILE_VALUES);
+#else
 uniform float u_profile[30];
+#define PROFILE u_profile
+#endif
 
 float clamp_cosine(float mu) { return clamp(mu, -1.0, 1.0); }
 float safe_sqrt(float a) { return sqrt(max(a, 0.0)); }
 
 float layer_density(int base, float altitude) {
-    float d = u_profile[base + 3] * altitude + u_profile[base + 4];
-    // Skip the exponential of purely linear layers (the ozone tent): a uniform branch.
-    if (u_profile[base + 1] != 0.0) d += u_profile[base + 1] * exp(u_profile[base + 2] * altitude);
+    float d = PROFILE[base + 3] * altitude + PROFILE[base + 4];
+    // Skip the exponential of purely linear layers (the ozone tent).
+    if (PROFILE[base + 1] != 0.0) d += PROFILE[base + 1] * exp(PROFILE[base + 2] * altitude);
     return clamp(d, 0.0, 1.0);
 }
 
 float profile_density(int constituent, float altitude) {
     int base = 10 * constituent;
-    return altitude < u_profile[base] ? layer_density(base, altitude) : layer_density(base + 5, altitude);
+    return altitude < PROFILE[base] ? layer_density(base, altitude) : layer_density(base + 5, altitude);
 }
 
 // Relative densities (Rayleigh, Mie, absorption) at an altitude in km.

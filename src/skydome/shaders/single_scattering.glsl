@@ -73,13 +73,11 @@ void single_scattering(vec3 position, vec3 dir, vec3 sun, int samples, float off
 
     vec3 c_view = c0;
     if (hits_ground) {
-        vec3 p = position + dir * length_km;
-        c_view = column_between(c0, u_bottom_radius, clamp_cosine(dot(p, dir) / length(p)), true);
-    }
-    if (hits_ground) {
-        // Lambertian ground lit by the attenuated Sun: albedo / pi * T_sun * cos(sun zenith).
+        // Lambertian ground lit by the attenuated Sun: albedo / pi * T_sun * cos(sun zenith),
+        // seen through the atmosphere.
         vec3 p = position + dir * length_km;
         vec3 n = normalize(p);
+        c_view = column_between(c0, u_bottom_radius, clamp_cosine(dot(n, dir)), true);
         float mu_s = dot(n, sun);
         vec3 c_sun = column_to_sun(u_bottom_radius, mu_s);
         if (c_sun.x >= 0.0 && mu_s > 0.0) {

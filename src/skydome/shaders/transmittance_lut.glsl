@@ -39,5 +39,5 @@ void transmittance_r_mu(vec2 uv, out float r, out float mu) {
 
 // Column densities (km) from (r, mu) to the top; the ray must not hit the ground.
 vec3 column_to_top(float r, float mu) {
-    return texture(u_transmittance_lut, transmittance_uv(r, mu)).rgb;
+    return textureLod(u_transmittance_lut, transmittance_uv(r, mu), 0.0).rgb;
 }

@@ -1,0 +1,56 @@
+"""Render the README gallery into docs/gallery/ (small PNGs, auto exposure, filmic).
+
+Usage: python tools/make_gallery.py [--model single] [--size 480x270]
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from skydome.display import auto_exposure, ev100_to_scale, tonemap
+from skydome.io import write_outputs
+from skydome.render import FisheyeCamera, PerspectiveCamera, render_sky
+
+OUT = Path(__file__).resolve().parents[1] / "docs" / "gallery"
+
+# name: (sun elevation, sun azimuth, camera altitude m, camera or None, atmosphere)
+# Exposure is automatic except where an EV100 is given: a sunset over a ground that single
+# scattering leaves unlit drags the log-average far below the sky.
+EV100 = {"sunset": 10.7}
+VIEWS = {
+    "noon": (60.0, 180.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=150, pitch_deg=20), "earth"),
+    "sun10": (10.0, 250.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=15), "earth"),
+    "sunset": (0.0, 270.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=270, pitch_deg=15), "earth"),
+    "sun-4": (-4.0, 270.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=270, pitch_deg=15), "earth"),
+    "altitude10km": (20.0, 200.0, 10_000.0, PerspectiveCamera(fov_deg=100, yaw_deg=200, pitch_deg=0), "earth"),
+    "space1000km": (15.0, 90.0, 1_000_000.0, PerspectiveCamera(fov_deg=100, yaw_deg=60, pitch_deg=-28), "earth"),
+    "mars": (25.0, 180.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=170, pitch_deg=15), "mars"),
+    "fisheye": (30.0, 135.0, 1.7, FisheyeCamera(), "earth"),
+}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--model", default="single")
+    ap.add_argument("--size", default="480x270")
+    ap.add_argument("--only", default="", help="comma-separated view names")
+    args = ap.parse_args()
+    w, h = (int(v) for v in args.size.split("x"))
+    OUT.mkdir(parents=True, exist_ok=True)
+    names = [n for n in VIEWS if not args.only or n in args.only.split(",")]
+    for name in names:
+        el, az, alt, cam, atmosphere = VIEWS[name]
+        size = (h, h) if isinstance(cam, FisheyeCamera) else (w, h)
+        frame = render_sky(sun_elevation_deg=el, sun_azimuth_deg=az, altitude_m=alt, camera=cam,
+                           width=size[0], height=size[1], atmosphere=atmosphere, model=args.model)
+        ev = EV100.get(name)
+        scale = auto_exposure(frame, clip_percentile=99.5) if ev is None else ev100_to_scale(ev)
+        ldr = tonemap(frame, "filmic", scale)
+        path = OUT / f"{args.model}-{name}.png"
+        write_outputs([path], frame.data, ldr, metadata=frame.info)
+        print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+
+
+if __name__ == "__main__":
+    main()
