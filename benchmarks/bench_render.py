@@ -35,7 +35,9 @@ def main() -> None:
     for s in filter(None, args.sizes.split(",")):
         w, h = (int(v) for v in s.split("x"))
         cases.append((s, PerspectiveCamera(fov_deg=90.0, yaw_deg=200.0, pitch_deg=15.0), w, h))
-    renderer = get_renderer(args.model, preset("earth"), spectral=args.spectral, samples=args.samples)
+    renderer = get_renderer(
+        args.model, preset("earth"), spectral=args.spectral, samples=args.samples
+    )
     print(f"# device: {gl_info(renderer.ctx).describe()}")
     print(f"# model {args.model}, spectral {args.spectral}, {args.samples} samples per view ray")
     sun = direction_from_angles(25.0, 200.0)

@@ -23,8 +23,20 @@ VIEWS = {
     "sun10": (10.0, 250.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=15), "earth"),
     "sunset": (0.0, 270.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=270, pitch_deg=15), "earth"),
     "sun-4": (-4.0, 270.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=270, pitch_deg=15), "earth"),
-    "altitude10km": (20.0, 200.0, 10_000.0, PerspectiveCamera(fov_deg=100, yaw_deg=200, pitch_deg=0), "earth"),
-    "space1000km": (15.0, 90.0, 1_000_000.0, PerspectiveCamera(fov_deg=100, yaw_deg=60, pitch_deg=-28), "earth"),
+    "altitude10km": (
+        20.0,
+        200.0,
+        10_000.0,
+        PerspectiveCamera(fov_deg=100, yaw_deg=200, pitch_deg=0),
+        "earth",
+    ),
+    "space1000km": (
+        15.0,
+        90.0,
+        1_000_000.0,
+        PerspectiveCamera(fov_deg=100, yaw_deg=60, pitch_deg=-28),
+        "earth",
+    ),
     "mars": (25.0, 180.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=170, pitch_deg=15), "mars"),
     "fisheye": (30.0, 135.0, 1.7, FisheyeCamera(), "earth"),
 }
@@ -42,8 +54,16 @@ def main() -> None:
     for name in names:
         el, az, alt, cam, atmosphere = VIEWS[name]
         size = (h, h) if isinstance(cam, FisheyeCamera) else (w, h)
-        frame = render_sky(sun_elevation_deg=el, sun_azimuth_deg=az, altitude_m=alt, camera=cam,
-                           width=size[0], height=size[1], atmosphere=atmosphere, model=args.model)
+        frame = render_sky(
+            sun_elevation_deg=el,
+            sun_azimuth_deg=az,
+            altitude_m=alt,
+            camera=cam,
+            width=size[0],
+            height=size[1],
+            atmosphere=atmosphere,
+            model=args.model,
+        )
         ev = EV100.get(name)
         scale = auto_exposure(frame, clip_percentile=99.5) if ev is None else ev100_to_scale(ev)
         ldr = tonemap(frame, "filmic", scale)
