@@ -123,9 +123,9 @@ class SingleScatteringRenderer:
         """
         w, h = camera.frame_size(width, height)
         sun = check_sun_direction(sun_direction)
-        t0 = time.perf_counter()
-        fpass = self._pass(camera, directions)
+        fpass = self._pass(camera, directions)  # compiled once per camera model
         tex, fbo = self._target(w, h)
+        t0 = time.perf_counter()
         fbo.viewport = (0, 0, w, h)
         uniforms = {
             **self.uniforms,
