@@ -65,3 +65,16 @@ def test_fullscreen_pass_writes_every_pixel(ctx):
     data = np.frombuffer(fbo.read(components=4, dtype="f4"), dtype=np.float32).reshape(23, 37, 4)
     assert np.all(data[..., 2] == 1.0)
     np.testing.assert_array_equal(data[0, :, 0], np.arange(37) + 0.5)  # pixel centres
+
+
+def test_no_context_raises_install_hint(monkeypatch):
+    import moderngl
+
+    from skydome.gpu import create_context
+
+    def fail(**kwargs):
+        raise Exception("eglGetDisplay failed")
+
+    monkeypatch.setattr(moderngl, "create_context", fail)
+    with pytest.raises(GLError, match="libegl1 libgl1-mesa-dri"):
+        create_context()
