@@ -61,9 +61,14 @@ void single_scattering(vec3 position, vec3 dir, vec3 sun, int samples, float off
         float dt = 2.0 * length_km * u * du;
         vec3 p = position + dir * t;
         float r_t = clamp(length(p), u_bottom_radius, u_top_radius);
-        vec3 c_sun = column_to_sun(r_t, dot(p, sun) / r_t);
-        if (c_sun.x < 0.0) continue;  // in the planet's shadow
-        vec3 c = column_between(c0, r_t, clamp_cosine(dot(p, dir) / r_t), hits_ground) + c_sun;
+        float mu_s = dot(p, sun) / r_t;
+        if (ray_hits_ground(r_t, mu_s)) continue;  // in the planet's shadow
+        // Column sample -> Sun, and sample -> boundary along the view ray (reversed for rays
+        // that hit the ground), from one radius: T(camera -> sample) = T(c0) / T(sample).
+        float mu_t = clamp_cosine(dot(p, dir) / r_t);
+        vec3 c_sun, c_t;
+        columns_to_top(r_t, mu_s, hits_ground ? -mu_t : mu_t, c_sun, c_t);
+        vec3 c = max(hits_ground ? c_t - c0 : c0 - c_t, vec3(0.0)) + c_sun;
         vec3 d = densities(r_t - u_bottom_radius) * dt;
         for (int g = 0; g < NUM_GROUPS; ++g) {
             vec4 scattering = u_rayleigh_scattering[g] * (d.x * phase_r) + u_mie_scattering[g] * (d.y * phase_m);

@@ -37,6 +37,22 @@ void transmittance_r_mu(vec2 uv, out float r, out float mu) {
     mu = clamp_cosine(mu);
 }
 
+// Texture u for direction cosine mu at radius r, given rho = sqrt(r^2 - bottom^2): lets two
+// lookups at the same radius share the square root.
+float transmittance_u(float r, float rho, float mu) {
+    float d = distance_to_top(r, mu);
+    float d_min = u_top_radius - r;
+    return texcoord_from_unit((d - d_min) / max(rho + u_horizon_length - d_min, 1e-6), u_transmittance_size.x);
+}
+
+// Columns to the top from one radius along two directions (neither may hit the ground).
+void columns_to_top(float r, float mu_a, float mu_b, out vec3 column_a, out vec3 column_b) {
+    float rho = safe_sqrt(r * r - u_bottom_radius * u_bottom_radius);
+    float v = texcoord_from_unit(rho / u_horizon_length, u_transmittance_size.y);
+    column_a = textureLod(u_transmittance_lut, vec2(transmittance_u(r, rho, mu_a), v), 0.0).rgb;
+    column_b = textureLod(u_transmittance_lut, vec2(transmittance_u(r, rho, mu_b), v), 0.0).rgb;
+}
+
 // Column densities (km) from (r, mu) to the top; the ray must not hit the ground.
 vec3 column_to_top(float r, float mu) {
     return textureLod(u_transmittance_lut, transmittance_uv(r, mu), 0.0).rgb;
