@@ -1,0 +1,90 @@
+"""Top-of-atmosphere irradiance and illuminance of the Sun, Moon, planets and stars.
+
+Units: W/m^2 (irradiance), lux (illuminance, on a surface normal to the light), all
+outside the atmosphere; the renderer applies extinction.
+
+Sun
+    Total solar irradiance 1361 W/m^2 at 1 au (Kopp & Lean 2011, GRL 38, L01706).
+    Illuminance 132,700 lx at 1 au: the ASTM G-173 extraterrestrial spectrum weighted
+    with the CIE photopic V(lambda) and 683 lm/W (133,200 lx) scaled from its 1366.1 W/m^2
+    to 1361 W/m^2, so that it is consistent with the spectral data the renderer uses
+    (``skydome.spectra``; checked in the tests). Darula, Kittler & Gueymard (2005, LEUKOS
+    1:3) give 133,800 lx. Both scale as 1/r^2.
+Stars and planets
+    E = 10^(-0.4 (m + 14.18)) lx for a V magnitude m (the conversion used across skydome;
+    m = 0 gives 2.14e-6 lx). Note that with this constant the Sun's V = -26.74 would give
+    106 klx rather than the 133 klx above: the magnitude zero point and the solar
+    spectrum are independent calibrations that differ by 0.2 mag.
+Moon
+    V magnitude from Allen's phase law (Astrophysical Quantities, 3rd ed., 1973, sec. 66;
+    the form used by the USNO): V = -12.73 + 0.026 |i| + 4e-9 i^4 (i in degrees) at mean
+    distances (384,400 km, 1 au), plus 5 log10(Delta/384,400 km * r/1 au); valid for
+    |i| < 150 deg. Converted to lux with the stellar constant (full Moon 0.26 lx).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "SOLAR_CONSTANT_W_M2",
+    "SOLAR_ILLUMINANCE_1AU_LX",
+    "MAGNITUDE_ZERO_POINT",
+    "sun_irradiance_w_m2",
+    "sun_illuminance_lux",
+    "magnitude_to_lux",
+    "lux_to_magnitude",
+    "moon_magnitude",
+    "moon_illuminance_lux",
+]
+
+SOLAR_CONSTANT_W_M2 = 1361.0
+SOLAR_ILLUMINANCE_1AU_LX = 132_700.0
+MAGNITUDE_ZERO_POINT = 14.18  # E[lx] = 10^(-0.4 (m + 14.18))
+MOON_MEAN_DISTANCE_KM = 384_400.0
+
+
+def sun_irradiance_w_m2(distance_au: Any) -> np.ndarray:
+    """Total solar irradiance (W/m^2) at ``distance_au`` from the Sun."""
+    d = np.asarray(distance_au, dtype=float)
+    return SOLAR_CONSTANT_W_M2 / (d * d)
+
+
+def sun_illuminance_lux(distance_au: Any) -> np.ndarray:
+    """Solar illuminance (lux) at ``distance_au`` from the Sun."""
+    d = np.asarray(distance_au, dtype=float)
+    return SOLAR_ILLUMINANCE_1AU_LX / (d * d)
+
+
+def magnitude_to_lux(vmag: Any) -> np.ndarray:
+    """Illuminance (lux) of a point source of V magnitude ``vmag``."""
+    return 10.0 ** (-0.4 * (np.asarray(vmag, dtype=float) + MAGNITUDE_ZERO_POINT))
+
+
+def lux_to_magnitude(lux: Any) -> np.ndarray:
+    """V magnitude of a point source giving ``lux``."""
+    return -2.5 * np.log10(np.asarray(lux, dtype=float)) - MAGNITUDE_ZERO_POINT
+
+
+def moon_magnitude(
+    phase_angle_rad: Any, distance_km: Any, sun_distance_au: Any = 1.0
+) -> np.ndarray:
+    """V magnitude of the Moon (Allen's phase law, see the module doc).
+
+    ``phase_angle_rad``: Sun-Moon-observer angle; ``distance_km``: observer-Moon
+    distance; ``sun_distance_au``: Sun-Moon distance. Beyond |i| = 150 deg (a crescent
+    within 30 deg of the Sun, unseen in daylight) the law is extrapolated.
+    """
+    i = np.abs(np.degrees(np.asarray(phase_angle_rad, dtype=float)))
+    d = np.asarray(distance_km, dtype=float) / MOON_MEAN_DISTANCE_KM
+    r = np.asarray(sun_distance_au, dtype=float)
+    return -12.73 + 0.026 * i + 4e-9 * i**4 + 5.0 * np.log10(d * r)
+
+
+def moon_illuminance_lux(
+    phase_angle_rad: Any, distance_km: Any, sun_distance_au: Any = 1.0
+) -> np.ndarray:
+    """Illuminance (lux) from the Moon outside the atmosphere (earthshine not included)."""
+    return magnitude_to_lux(moon_magnitude(phase_angle_rad, distance_km, sun_distance_au))
