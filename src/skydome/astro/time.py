@@ -350,10 +350,10 @@ class Time:
         return us.astype(np.int64).astype("datetime64[us]")
 
     def iso(self) -> np.ndarray:
-        """UTC as ISO 8601 strings with a 'Z' suffix, to the second."""
-        return np.array(
-            [str(s) + "Z" for s in self.to_datetime64().astype("datetime64[s]").ravel()]
-        ).reshape(self.shape)
+        """UTC as ISO 8601 strings with a 'Z' suffix, rounded to the second."""
+        sec = np.round((self.jd_utc - UNIX_EPOCH_JD) * SECONDS_PER_DAY).astype(np.int64)
+        strings = [str(s) + "Z" for s in sec.astype("datetime64[s]").ravel()]
+        return np.array(strings).reshape(self.shape)
 
     def __repr__(self) -> str:
         if self.jd_tt.ndim == 0:
