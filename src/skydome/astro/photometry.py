@@ -12,7 +12,7 @@ Sun
     1:3) give 133,800 lx. Both scale as 1/r^2.
 Stars and planets
     E = 10^(-0.4 (m + 14.18)) lx for a V magnitude m (the conversion used across skydome;
-    m = 0 gives 2.14e-6 lx). Note that with this constant the Sun's V = -26.74 would give
+    m = 0 gives 2.13e-6 lx). Note that with this constant the Sun's V = -26.74 would give
     106 klx rather than the 133 klx above: the magnitude zero point and the solar
     spectrum are independent calibrations that differ by 0.2 mag.
 Moon
