@@ -223,7 +223,7 @@ def nutation_angles(jd_tt) -> tuple[np.ndarray, np.ndarray]:
     """
     jd = np.asarray(jd_tt, dtype=float)
     # Shortest period in the series is 5.6 d; 4-day segments of degree 11 interpolate it
-    # to < 1e-7" (checked in tests/astro/test_frames.py).
+    # to < 1e-4" (tests/astro/test_astro_frames.py).
     out = smooth(_nutation_direct, jd, step_days=4.0, degree=11)
     return out[0].reshape(jd.shape), out[1].reshape(jd.shape)
 

@@ -93,9 +93,9 @@ def moon_ecliptic_of_date(jd_tt: Any) -> tuple[np.ndarray, np.ndarray, np.ndarra
     """Geometric geocentric ecliptic longitude, latitude (rad, mean equinox of date) and
     distance (km, Earth centre to Moon centre) of the Moon (Meeus ch. 47)."""
     jd = _jd(jd_tt)
-    # Shortest period in the series ~7 d: 4-day segments of degree 12 interpolate to
-    # < 1e-6" (tested).
-    out = smooth(_moon_direct, jd, step_days=4.0, degree=12)
+    # Shortest period in the series ~7 d: 2-day segments of degree 12 interpolate to
+    # < 1e-4" (tested; the floor is the 40-us resolution of a float64 Julian Date).
+    out = smooth(_moon_direct, jd, step_days=2.0, degree=12)
     lam, beta, dist = (x.reshape(jd.shape) for x in out)
     return np.mod(lam, 2 * np.pi), beta, dist
 

@@ -50,7 +50,7 @@ def planet_heliocentric_ecliptic(planet: str, jd_tt: Any) -> np.ndarray:
     p = _check(planet)
     jd = np.asarray(jd_tt, dtype=float)
     # 8-day segments of degree 12: the fastest planet (Mercury, 88 d) interpolates to
-    # < 1e-6" (tested).
+    # < 1e-4" (tested).
     lon, lat, r = smooth(vsop(p).lbr, jd, step_days=8.0, degree=12)
     return frames.spherical_to_cartesian(lon, lat, r).reshape(jd.shape + (3,))
 

@@ -67,7 +67,8 @@ def earth_heliocentric_lbr(jd_tt: Any, fk5: bool | None = None) -> np.ndarray:
     """
     jd = _jd(jd_tt)
     # Shortest significant period ~15 d (lunar terms): 16-day segments of degree 12
-    # interpolate to < 1e-5" (tested).
+    # interpolate to < 1e-4" (tested; the floor is the
+    # 40-us resolution of a float64 Julian Date).
     lbr = smooth(vsop("earth").lbr, jd, step_days=16.0, degree=12)
     if APPLY_FK5_CORRECTION if fk5 is None else fk5:
         lbr = _fk5(lbr, jd.ravel())

@@ -1,0 +1,99 @@
+"""1000 random times (1900-2050) and observers against skyfield + DE421.
+
+Both sides use the same TT and UT1 (skyfield's), so that only the ephemerides and the
+reduction to the observer are compared. skyfield's ``altaz()`` without temperature and
+pressure is airless, compared with our ``alt_unrefracted``; refraction is checked
+separately.
+"""
+
+import numpy as np
+import pytest
+from _astro_oracles import ARCSEC, SKYFIELD_NAMES, skyfield
+
+from skydome.astro import Observer
+from skydome.astro.time import Time
+
+N = 1000
+
+
+@pytest.fixture(scope="module")
+def comparison():
+    from skyfield.api import wgs84
+
+    ts, eph = skyfield()
+    rng = np.random.default_rng(2024)
+    jd = 2415020.5 + rng.random(N) * (2469807.5 - 2415022.5)
+    lat = np.degrees(np.arcsin(rng.uniform(-1, 1, N)))
+    lon = rng.uniform(-180, 180, N)
+    h = rng.uniform(0, 3000, N)
+    t = ts.tt_jd(jd)
+    sky = Observer(lat, lon, h, pressure_hPa=0.0).sky(
+        Time(t.ut1, t.ut1, t.tt), bodies=tuple(SKYFIELD_NAMES)
+    )
+    site = eph["earth"] + wgs84.latlon(lat, lon, elevation_m=h)
+    out = {}
+    for body, name in SKYFIELD_NAMES.items():
+        app = site.at(t).observe(eph[name]).apparent()
+        alt, az, dist = app.altaz()
+        a, z = np.radians(alt.degrees), np.radians(az.degrees)
+        ref = np.stack([np.cos(a) * np.sin(z), np.cos(a) * np.cos(z), np.sin(a)], axis=-1)
+        ours = sky[body].enu_unrefracted
+        sep = np.arccos(np.clip(np.sum(ref * ours, axis=-1), -1, 1)) * ARCSEC
+        if body not in ("sun", "moon"):
+            # skyfield deflects light by the Sun (we do not: 1.75" at the limb, 0.4" at
+            # 1 deg); for a planet behind the solar disk its formula diverges (30" seen
+            # for Jupiter 0.01 deg from the Sun's centre), so skip elongations < 1 deg.
+            elong = np.degrees(np.arccos(np.sum(ours * sky["sun"].enu_unrefracted, axis=-1)))
+            sep = np.where(elong < 1.0, 0.0, sep)
+        out[body] = (sep, sky[body], a, z, dist.km, app)
+    return out, t, site, sky
+
+
+@pytest.mark.parametrize(
+    "body, max_arcsec, rms_arcsec",
+    [
+        # Sun: the issue asks 1" (measured 0.4" max, 0.14" RMS: VSOP87 truncation 0.27",
+        # IAU 1980 vs 2000A nutation 0.01", heliocentric vs barycentric velocity 0.01")
+        ("sun", 1.0, 0.3),
+        # Moon: the issue asks 15" max / 6" RMS (Meeus ch. 47 truncation of ELP2000-82;
+        # measured 10" / 3")
+        ("moon", 15.0, 6.0),
+        # planets: the issue asks 30"; our VSOP87 truncation gives < 5" (measured 4.3"),
+        # so 10" catches regressions while allowing for unsampled worst cases
+        ("mercury", 10.0, 3.0),
+        ("venus", 10.0, 3.0),
+        ("mars", 10.0, 3.0),
+        ("jupiter", 10.0, 3.0),
+        ("saturn", 10.0, 3.0),
+        ("uranus", 10.0, 3.0),
+        ("neptune", 10.0, 3.0),
+    ],
+)
+def test_positions(comparison, body, max_arcsec, rms_arcsec):
+    out, *_ = comparison
+    sep, pos, a, z, dist_km, _ = out[body]
+    assert sep.max() < max_arcsec, f'{body}: max {sep.max():.2f}"'
+    assert np.sqrt(np.mean(sep**2)) < rms_arcsec
+    # altitude and azimuth separately (azimuth scaled by cos(alt))
+    dalt = np.abs(pos.alt_unrefracted - a) * ARCSEC
+    daz = np.abs((pos.az - z + np.pi) % (2 * np.pi) - np.pi) * np.cos(a) * ARCSEC
+    assert dalt.max() < max_arcsec and daz.max() < max_arcsec
+    # distances: Moon 40 km (ELP truncation, measured 11 km), others 2e-5 relative
+    rel = np.abs(pos.distance_km / dist_km - 1)
+    assert rel.max() < (1e-4 if body == "moon" else 2e-5)
+    assert np.all(np.isfinite(pos.enu)) and np.allclose(np.linalg.norm(pos.enu, axis=-1), 1)
+
+
+def test_refraction_vs_skyfield(comparison):
+    """Our Saemundsson true->apparent against skyfield's inverted Bennett formula, same
+    weather (1010 hPa, 10 C), for bodies above -0.5 deg: within 5" (Meeus: the two agree to
+    4"; measured 3.5")."""
+    out, t, site, _ = comparison
+    from skydome.astro import frames
+
+    _, pos, a, z, _, app = out["sun"]
+    alt_ref, _, _ = app.altaz(temperature_C=10.0, pressure_mbar=1010.0)
+    ok = np.degrees(a) > -0.5
+    ours = np.degrees(a) + frames.refraction_saemundsson(np.degrees(a), 1010.0, 10.0) / 60.0
+    diff = np.abs(ours - alt_ref.degrees)[ok] * 3600
+    assert ok.sum() > 300 and diff.max() < 5.0
