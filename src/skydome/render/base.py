@@ -1,0 +1,137 @@
+"""What every sky renderer shares: compiled passes per camera model, render targets, the
+direction map of a DirectionsCamera, per-pixel input images and the read-back to a Frame."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from skydome.atmosphere import AtmosphereParams
+from skydome.atmosphere.uniforms import M_PER_KM
+from skydome.errors import ParameterError, check_range
+from skydome.gpu import FullscreenPass
+from skydome.render.cameras import Camera, DirectionsCamera
+
+#: Largest camera altitude accepted (m).
+MAX_ALTITUDE_M = 1e8
+#: Cameras closer to the ground are raised to this height (m): float32 positions in km are
+#: resolved to about 0.5 m at the planet radius.
+MIN_ALTITUDE_M = 1.0
+
+
+def camera_position_km(params: AtmosphereParams, altitude_m: float) -> tuple[float, float, float]:
+    """Planet-centred camera position (km) for an altitude above the ground, ENU axes."""
+    h = check_range("altitude", altitude_m, 0.0, MAX_ALTITUDE_M, "m")
+    return (0.0, 0.0, (params.bottom_radius_m + max(h, MIN_ALTITUDE_M)) / M_PER_KM)
+
+
+def check_direction(name: str, direction) -> np.ndarray:
+    """A finite non-zero 3-vector, normalised."""
+    s = np.asarray(direction, dtype=np.float64).reshape(-1)
+    n = float(np.linalg.norm(s)) if s.shape == (3,) and np.all(np.isfinite(s)) else 0.0
+    if n == 0.0:
+        raise ParameterError(f"{name} must be a finite non-zero 3-vector, got {direction!r}")
+    return s / n
+
+
+def check_sun_direction(sun_direction) -> np.ndarray:
+    return check_direction("sun direction", sun_direction)
+
+
+def image_texture(ctx, name: str, image, size: tuple[int, int], scale: float = 1.0):
+    """An R32F texture from an (H, W) image (row 0 at the top) for texelFetch in a pass."""
+    w, h = size
+    a = np.asarray(image, dtype=np.float64)
+    if a.shape != (h, w) or not np.all(np.isfinite(a)):
+        raise ParameterError(f"{name} must be a finite ({h}, {w}) array, got shape {a.shape}")
+    data = np.ascontiguousarray((a * scale)[::-1], dtype="f4")
+    tex = ctx.texture((w, h), 1, data.tobytes(), dtype="f4")
+    return tex
+
+
+class PassRenderer:
+    """Base of the renderers: subclasses give the shader file and its defines and uniforms."""
+
+    shader = ""
+    model = ""
+
+    def __init__(self, params: AtmosphereParams, ctx):
+        self.params = params
+        self.ctx = ctx
+        self._passes: dict[tuple, FullscreenPass] = {}
+        self._targets: dict[tuple, tuple] = {}
+
+    def defines(self, camera: Camera) -> dict[str, object]:
+        raise NotImplementedError
+
+    def _pass(self, camera: Camera, extra: tuple[str, ...] = ()) -> FullscreenPass:
+        key = (camera.model, extra)
+        if key not in self._passes:
+            defines = {**self.defines(camera), **{name: 1 for name in extra}}
+            self._passes[key] = FullscreenPass(self.ctx, self.shader, defines)
+        return self._passes[key]
+
+    def _target(self, width: int, height: int, attachments: int = 1):
+        key = (width, height, attachments)
+        if key not in self._targets:
+            texs = [self.ctx.texture((width, height), 4, dtype="f4") for _ in range(attachments)]
+            self._targets[key] = (texs, self.ctx.framebuffer(color_attachments=texs))
+        return self._targets[key]
+
+    def _draw(
+        self,
+        camera: Camera,
+        w: int,
+        h: int,
+        uniforms: dict,
+        textures: dict,
+        extra: tuple[str, ...] = (),
+        inputs: dict | None = None,
+        attachments: int = 1,
+    ):
+        """Draw the pass for ``camera`` into a (w, h) target; returns (arrays, milliseconds).
+
+        ``inputs`` maps sampler names to textures made for this frame (released after it).
+        Arrays are float32 (h, w, 4), row 0 at the top, one per attachment.
+        """
+        fpass = self._pass(camera, extra)  # compiled once per camera model and variant
+        texs, fbo = self._target(w, h, attachments)
+        inputs = dict(inputs or {})
+        t0 = time.perf_counter()
+        if isinstance(camera, DirectionsCamera):
+            inputs["u_direction_map"] = self.ctx.texture(
+                (w, h), 3, camera.texture_data(), dtype="f4"
+            )
+        fbo.viewport = (0, 0, w, h)
+        try:
+            fpass.draw(fbo, {**uniforms, **camera.uniforms(w, h)}, {**textures, **inputs})
+            out = []
+            for i in range(attachments):
+                raw = fbo.read(components=4, dtype="f4", attachment=i)
+                out.append(np.frombuffer(raw, dtype=np.float32).reshape(h, w, 4)[::-1].copy())
+        finally:
+            for tex in inputs.values():
+                tex.release()
+        return out, (time.perf_counter() - t0) * 1e3
+
+    def _info(self, camera: Camera, altitude_m: float, sun: np.ndarray, ms: float, **extra) -> dict:
+        return {
+            "model": self.model,
+            "atmosphere": self.params.name,
+            "camera": camera.name,
+            "altitude_m": float(altitude_m),
+            "sun_direction": sun.tolist(),
+            **extra,
+            "render_ms": ms,
+        }
+
+    def release(self) -> None:
+        for p in self._passes.values():
+            p.release()
+        for texs, fbo in self._targets.values():
+            fbo.release()
+            for tex in texs:
+                tex.release()
+        self._passes.clear()
+        self._targets.clear()
