@@ -46,6 +46,44 @@ def cache_key(*parts: object) -> str:
     return hashlib.sha256(blob.encode()).hexdigest()
 
 
+def cache_path(key: str, name: str = "tables", directory: Path | None = None) -> Path:
+    """Where the tables of ``key`` are cached."""
+    return (directory or cache_dir()) / f"{name}-{key[:32]}.lut"
+
+
+def try_load(
+    key: str, *, name: str = "tables", directory: Path | None = None
+) -> dict[str, np.ndarray] | None:
+    """The cached arrays of ``key``, or None if absent; a damaged file warns and gives None."""
+    path = cache_path(key, name, directory)
+    if not path.exists():
+        return None
+    try:
+        arrays, _ = read_lut_file(path, key)
+        return arrays
+    except CacheError as exc:
+        warnings.warn(f"rebuilding cached tables: {exc}", CacheWarning, stacklevel=2)
+        return None
+
+
+def store(
+    key: str,
+    arrays: dict[str, np.ndarray],
+    *,
+    name: str = "tables",
+    meta: dict | None = None,
+    directory: Path | None = None,
+) -> Path | None:
+    """Write arrays to the cache atomically; a failure only warns (returns None)."""
+    path = cache_path(key, name, directory)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        return write_lut_file(path, key, arrays, meta)
+    except Exception as exc:  # noqa: BLE001 - a cache write failure must not fail a render
+        warnings.warn(f"cannot write the table cache {path}: {exc}", CacheWarning, stacklevel=2)
+        return None
+
+
 def load_or_build(
     key: str,
     build: Callable[[], dict[str, np.ndarray]],
@@ -59,18 +97,9 @@ def load_or_build(
     Returns (arrays, loaded_from_cache). A cache that cannot be written (read-only
     directory) only costs a warning; the built arrays are still returned.
     """
-    folder = directory or cache_dir()
-    path = folder / f"{name}-{key[:32]}.lut"
-    if path.exists():
-        try:
-            arrays, _ = read_lut_file(path, key)
-            return arrays, True
-        except CacheError as exc:
-            warnings.warn(f"rebuilding cached tables: {exc}", CacheWarning, stacklevel=2)
+    arrays = try_load(key, name=name, directory=directory)
+    if arrays is not None:
+        return arrays, True
     arrays = build()
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        write_lut_file(path, key, arrays, meta)
-    except (OSError, Exception) as exc:  # noqa: BLE001 - a cache write failure must not fail a render
-        warnings.warn(f"cannot write the table cache {path}: {exc}", CacheWarning, stacklevel=2)
+    store(key, arrays, name=name, meta=meta, directory=directory)
     return arrays, False

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import re
 import time
 
@@ -39,6 +40,33 @@ def parse_exposure(text: str) -> float | None:
     return check_range("--exposure", ev, -20.0, 40.0, "EV")
 
 
+@contextlib.contextmanager
+def precompute_progress(console):
+    """Show a progress bar if a renderer has to precompute its tables."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from skydome.render.api import set_progress
+
+    with Progress(
+        TextColumn("precomputing {task.description}"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeElapsedColumn(),
+        console=console,
+        transient=True,
+    ) as bar:
+        task = bar.add_task("tables", total=1.0)
+
+        def report(stage: str, fraction: float) -> None:
+            bar.update(task, completed=fraction, description=stage)
+
+        set_progress(report)
+        try:
+            yield
+        finally:
+            set_progress(None)
+
+
 def register(app: typer.Typer) -> None:
     @app.command()
     def render(
@@ -72,7 +100,12 @@ def register(app: typer.Typer) -> None:
         atmosphere: str = typer.Option(
             "earth", "--atmosphere", help="Preset: earth | earth_nishita | hazy | mars."
         ),
-        model: str = typer.Option("single", "--model", help="Scattering model: single."),
+        model: str = typer.Option(
+            "precomputed", "--model", help="precomputed (every scattering order) | single."
+        ),
+        orders: int = typer.Option(
+            4, "--orders", help="Scattering orders of the precomputed model."
+        ),
         samples: int = typer.Option(16, "--samples", help="Ray-march samples per view ray."),
         spectral: str = typer.Option(
             "accurate", "--spectral", help="Wavelength set: accurate (16) | fast (4)."
@@ -130,7 +163,10 @@ def register(app: typer.Typer) -> None:
             raise ParameterError("the same output path is given twice")
 
         console = Console(soft_wrap=True)
-        renderer = get_renderer(model, params, spectral=spectral, samples=samples)
+        with precompute_progress(console):
+            renderer = get_renderer(
+                model, params, spectral=spectral, samples=samples, orders=orders
+            )
         frame = renderer.render(
             cam, width, height, sun_direction=direction_from_angles(el, az), altitude_m=altitude
         )

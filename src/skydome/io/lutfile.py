@@ -26,7 +26,7 @@ from skydome.errors import CacheError
 from skydome.io.atomic import atomic_write
 
 MAGIC = b"SKYDOMELUT\x00\x01"
-_ALLOWED_DTYPES = {"float32", "float16", "float64", "int32", "uint8"}
+_ALLOWED_DTYPES = {"float32", "float16", "float64", "int32", "uint16", "uint8"}
 
 
 def write_lut_file(

@@ -9,34 +9,58 @@ from skydome.errors import ParameterError, check_range
 from skydome.render.cameras import Camera, PerspectiveCamera, direction_from_angles
 from skydome.render.frame import Frame
 
-MODELS = ("single",)
+MODELS = ("precomputed", "single")
 
 
 @lru_cache(maxsize=8)
-def _renderer(model: str, params: AtmosphereParams, spectral, samples: int, jitter: bool):
+def _renderer(
+    model: str, params: AtmosphereParams, spectral, samples: int, jitter: bool, orders: int
+):
     if model == "single":
         from skydome.render.single import SingleScatteringRenderer
 
         return SingleScatteringRenderer(
             params, spectral=spectral, view_samples=samples, jitter=jitter
         )
-    raise ParameterError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+    from skydome.render.precomputed import PrecomputedRenderer
+
+    return PrecomputedRenderer(
+        params, PrecomputeConfig(wavelengths=spectral, orders=orders), progress=_progress
+    )
+
+
+#: Progress callback used when a renderer has to precompute its tables (set by the CLI).
+_progress = None
+
+
+def set_progress(callback) -> None:
+    """Report precomputation progress through ``callback(stage, fraction)`` (None: silent)."""
+    global _progress
+    _progress = callback
 
 
 def get_renderer(
-    model: str = "single",
+    model: str = "precomputed",
     atmosphere: str | AtmosphereParams = "earth",
     *,
     spectral: str = "accurate",
     samples: int = 16,
     jitter: bool = True,
+    orders: int = 4,
 ):
-    """A renderer for a model and atmosphere, cached so that repeated frames reuse its GL state."""
+    """A renderer for a model and atmosphere, cached so that repeated frames reuse its GL state.
+
+    ``model="precomputed"`` (every scattering order, ``orders`` of them, tables from the disk
+    cache) or ``"single"`` (single scattering, ``samples`` per view ray).
+    """
     params = preset(atmosphere) if isinstance(atmosphere, str) else atmosphere
     if model not in MODELS:
         raise ParameterError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
     spectral_key = spectral if isinstance(spectral, str) else tuple(spectral)
-    return _renderer(model, params, spectral_key, int(samples), bool(jitter))
+    if not isinstance(orders, int) or not 1 <= orders <= 20:
+        raise ParameterError(f"orders = {orders!r} must be an integer in [1, 20]")
+    return _renderer(model, params, spectral_key, int(samples), bool(jitter), orders)
 
 
 def render_sky(
@@ -48,10 +72,11 @@ def render_sky(
     width: int = 1280,
     height: int = 720,
     atmosphere: str | AtmosphereParams = "earth",
-    model: str = "single",
+    model: str = "precomputed",
     spectral: str = "accurate",
     samples: int = 16,
     jitter: bool = True,
+    orders: int = 4,
 ) -> Frame:
     """Render the sky for a Sun position and camera; returns a Frame in cd/m^2.
 
@@ -62,7 +87,9 @@ def render_sky(
     """
     el = check_range("sun elevation", sun_elevation_deg, -90.0, 90.0, "deg")
     az = check_range("sun azimuth", sun_azimuth_deg, -360.0, 360.0, "deg")
-    renderer = get_renderer(model, atmosphere, spectral=spectral, samples=samples, jitter=jitter)
+    renderer = get_renderer(
+        model, atmosphere, spectral=spectral, samples=samples, jitter=jitter, orders=orders
+    )
     cam = camera or PerspectiveCamera(fov_deg=90.0, yaw_deg=az, pitch_deg=15.0)
     return renderer.render(
         cam, width, height, sun_direction=direction_from_angles(el, az), altitude_m=altitude_m

@@ -1,0 +1,185 @@
+"""The precomputed multiple-scattering renderer (Bruneton model; tables from the disk cache)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from skydome.atmosphere import AtmosphereParams
+from skydome.atmosphere.cache import cache_key, store, try_load
+from skydome.atmosphere.precompute import PrecomputedAtmosphere, precompute
+from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.atmosphere.uniforms import M_PER_KM
+from skydome.errors import CacheError, ParameterError, check_range
+from skydome.gpu import shared_context
+from skydome.render.base import (
+    PassRenderer,
+    camera_position_km,
+    check_direction,
+    check_sun_direction,
+    image_texture,
+)
+from skydome.render.cameras import Camera
+from skydome.render.frame import Frame
+
+
+def load_tables(
+    ctx,
+    params: AtmosphereParams,
+    config: PrecomputeConfig,
+    *,
+    cache: bool = True,
+    progress: Callable[[str, float], None] | None = None,
+) -> tuple[PrecomputedAtmosphere, bool]:
+    """The precomputed tables of ``params``: from the disk cache when valid, else computed (and
+    stored). Returns (tables, loaded_from_cache)."""
+    key = cache_key("precomputed", params.to_dict(), config.key())
+    if cache:
+        arrays = try_load(key, name=f"sky-{params.name}")
+        if arrays is not None:
+            try:
+                return PrecomputedAtmosphere.from_arrays(ctx, params, config, arrays), True
+            except CacheError as exc:
+                import warnings
+
+                from skydome.atmosphere.cache import CacheWarning
+
+                warnings.warn(f"rebuilding cached tables: {exc}", CacheWarning, stacklevel=2)
+    tables = precompute(ctx, params, config, progress=progress)
+    if cache:
+        store(key, tables.to_arrays(), name=f"sky-{params.name}", meta={"atmosphere": params.name})
+    return tables, False
+
+
+class PrecomputedRenderer(PassRenderer):
+    """Renders the sky with every scattering order from precomputed tables.
+
+    Creating one loads the tables from the cache (``$SKYDOME_CACHE``) or computes them (a few
+    seconds on a CPU rasterizer, milliseconds on a GPU); frames then cost one pass.
+
+    Args:
+        params: the atmosphere.
+        config: table sizes, wavelengths and orders (default: ``PrecomputeConfig()``).
+        cache: use the on-disk cache.
+        progress: ``progress(stage, fraction)`` during a precomputation.
+        ctx: a moderngl context (default: the shared headless one).
+    """
+
+    shader = "sky_precomputed.glsl"
+    model = "precomputed"
+
+    def __init__(
+        self,
+        params: AtmosphereParams,
+        config: PrecomputeConfig | None = None,
+        *,
+        cache: bool = True,
+        progress=None,
+        ctx=None,
+    ):
+        super().__init__(params, ctx or shared_context())
+        self.config = config or PrecomputeConfig()
+        t0 = time.perf_counter()
+        self.tables, self.loaded_from_cache = load_tables(
+            self.ctx, params, self.config, cache=cache, progress=progress
+        )
+        self.setup_s = time.perf_counter() - t0
+        self.uniforms = self.tables.uniforms()
+        self.textures = self.tables.textures()
+
+    @property
+    def wavelengths_nm(self) -> np.ndarray:
+        return self.tables.wavelengths_nm
+
+    def defines(self, camera: Camera) -> dict[str, object]:
+        return {**self.tables.defines(), "CAMERA_MODEL": camera.model}
+
+    def render(
+        self,
+        camera: Camera,
+        width: int,
+        height: int,
+        *,
+        sun_direction,
+        altitude_m: float = 0.0,
+        sun_scale: float = 1.0,
+        light2_direction=None,
+        light2_scale: float = 0.0,
+        shadow_length_m=None,
+        depth_m=None,
+    ) -> Frame:
+        """Render a frame in cd/m^2.
+
+        Args:
+            sun_direction: unit ENU vector towards the Sun.
+            altitude_m: camera altitude above the ground (m).
+            sun_scale: the Sun's irradiance in units of the params' solar spectrum (e.g. its
+                distance factor (1 AU / d)^2).
+            light2_direction, light2_scale: a second light source (e.g. the Moon): its direction
+                and irradiance in units of the params' solar spectrum; its sky and ground light
+                are added (its disk is not drawn).
+            shadow_length_m: optional (H, W) image, the length (m) of each view ray, from the
+                camera, that lies in an occluder's shadow (light shafts, Bruneton 2017).
+            depth_m: optional (H, W) image of distances (m) to a user's scene along each ray
+                (<= 0 where there is none). Where given, the frame holds the aerial perspective
+                in-scattering between the camera and that point, and ``frame.info
+                ["transmittance"]`` the (H, W, 3) RGB transmittance to multiply the scene by:
+                composite = scene * transmittance + frame.
+        """
+        w, h = camera.frame_size(width, height)
+        sun = check_sun_direction(sun_direction)
+        check_range("sun_scale", sun_scale, 0.0, 1e6)
+        check_range("light2_scale", light2_scale, 0.0, 1e6)
+        light2 = (
+            np.array([0.0, 0.0, 1.0])
+            if light2_direction is None
+            else check_direction("light2 direction", light2_direction)
+        )
+        if light2_direction is None and light2_scale > 0:
+            raise ParameterError("light2_scale > 0 needs a light2_direction")
+        uniforms = {
+            **self.uniforms,
+            "u_camera_position": camera_position_km(self.params, altitude_m),
+            "u_sun_direction": tuple(sun),
+            "u_sun_scale": float(sun_scale),
+            "u_light2_direction": tuple(light2),
+            "u_light2_scale": float(light2_scale),
+        }
+        extra, inputs = (["HAS_LIGHT2"] if light2_scale > 0 else []), {}
+        if shadow_length_m is not None:
+            extra.append("HAS_SHADOW_MAP")
+            inputs["u_shadow_map"] = image_texture(
+                self.ctx, "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM
+            )
+        if depth_m is not None:
+            extra.append("HAS_DEPTH_MAP")
+            inputs["u_depth_map"] = image_texture(
+                self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
+            )
+        outs, ms = self._draw(
+            camera,
+            w,
+            h,
+            uniforms,
+            self.textures,
+            tuple(extra),
+            inputs,
+            attachments=2 if depth_m is not None else 1,
+        )
+        info = self._info(
+            camera,
+            altitude_m,
+            sun,
+            ms,
+            orders=self.tables.orders_computed,
+            wavelengths_nm=self.wavelengths_nm.tolist(),
+        )
+        if depth_m is not None:
+            info["transmittance"] = outs[1][..., :3]
+        return Frame(outs[0], info)
+
+    def release(self) -> None:
+        super().release()
+        self.tables.release()

@@ -1,0 +1,108 @@
+// Frame pass: the sky from the precomputed tables (every scattering order), the ground lit by
+// the Sun and the sky, the Sun's disk, an optional second light source, optional light
+// shafts (a shadow length per pixel) and optional aerial perspective in front of a user's
+// scene (a distance per pixel). Output (R, G, B, scotopic) in cd/m^2.
+#include "camera.glsl"
+#include "precomputed_lookup.glsl"
+
+uniform vec3 u_camera_position;    // km, planet centred, ENU axes of the observer
+uniform vec3 u_sun_direction;      // unit, ENU
+uniform float u_sun_scale;         // the Sun's irradiance / the params' solar spectrum
+#ifdef HAS_LIGHT2
+// A second light (compiled in only when used: CPU rasterizers pay for untaken branches).
+uniform vec3 u_light2_direction;   // e.g. the Moon, unit, ENU
+uniform float u_light2_scale;      // its irradiance in units of the params' solar spectrum
+#endif
+#ifdef HAS_SHADOW_MAP
+uniform sampler2D u_shadow_map;    // shadowed length along each view ray, km
+#endif
+#ifdef HAS_DEPTH_MAP
+uniform sampler2D u_depth_map;     // distance to the user's scene along each ray, km (<= 0: none)
+layout(location = 1) out vec4 frag_transmittance;
+#endif
+layout(location = 0) out vec4 frag;
+
+// Spectral transmittance groups -> (R, G, B) of a white (solar) spectrum seen through them,
+// normalised so that T = 1 gives 1: what a scene's linear sRGB colour is multiplied by.
+vec3 transmittance_rgb(vec3 column) {
+    vec4 t = vec4(0.0), one = vec4(0.0);
+    for (int g = 0; g < NUM_GROUPS; ++g) {
+        t += u_spectral_to_rgbs[g] * exp(-optical_depth(g, column));
+        one += u_spectral_to_rgbs[g] * vec4(1.0);
+    }
+    return t.rgb / one.rgb;
+}
+
+// Radiance towards the camera along `dir` due to one light, at unit light scale.
+vec4 light_radiance(vec3 camera, vec3 dir, vec3 light, float shadow_length, bool with_disk) {
+    vec3 column;
+    vec4 radiance = sky_radiance(camera, dir, shadow_length, light, column);
+    // The ground test must agree with the one of sky_radiance (same r, mu), or pixels at
+    // the horizon would get the wrong column.
+    vec3 entry = camera;
+    float r, rmu;
+    bool hits_ground = enter_atmosphere(entry, dir, r, rmu) && ray_hits_ground(r, clamp_cosine(rmu / r));
+    bool in_disk = with_disk && !hits_ground && dot(dir, light) > cos(u_sun_angular_radius);
+    // One branch for both surfaces seen at the end of the ray (CPU rasterizers run the
+    // bodies of branches for whole blocks of pixels).
+    if (hits_ground || in_disk) {
+        vec3 n = normalize(entry + dir * distance_to_bottom(r, clamp_cosine(rmu / r)));
+        vec3 p = n * u_bottom_radius;
+        float disk = 1.0 / (PI * sin(u_sun_angular_radius) * sin(u_sun_angular_radius));
+        // Direct light on the ground (sun_irradiance_group, with the column fetched once).
+        float mu_s = clamp_cosine(dot(n, light));
+        float sun_factor = sun_visible_fraction(u_bottom_radius, mu_s) * max(mu_s, 0.0);
+        vec3 c_sun = column_to_top(u_bottom_radius, max(mu_s, 0.0));
+        for (int g = 0; g < NUM_GROUPS; ++g) {
+            // Ground: Lambertian, albedo(λ) (E_sun + E_sky)(λ) / pi; Sun: its uniform disk.
+            vec4 e_sun = sun_factor * exp(-optical_depth(g, c_sun));
+            vec4 source = in_disk ? vec4(disk)
+                : u_ground_albedo[g] * INV_PI * (e_sun + sky_irradiance_group(g, p, n, light));
+            radiance += u_spectral_to_rgbs[g] * (source * exp(-optical_depth(g, column)));
+        }
+    }
+    return radiance;
+}
+
+void main() {
+    vec3 dir;
+    if (!camera_ray(gl_FragCoord.xy, dir)) {
+        frag = vec4(0.0);
+#ifdef HAS_DEPTH_MAP
+        frag_transmittance = vec4(1.0);
+#endif
+        return;
+    }
+    float shadow_length = 0.0;
+#ifdef HAS_SHADOW_MAP
+    shadow_length = texelFetch(u_shadow_map, ivec2(gl_FragCoord.xy), 0).r;
+#endif
+#ifdef HAS_DEPTH_MAP
+    float depth = texelFetch(u_depth_map, ivec2(gl_FragCoord.xy), 0).r;
+    if (depth > 0.0) {
+        // Aerial perspective: in-scattered light between the camera and the scene point, and
+        // the transmittance the scene's own radiance is multiplied by.
+        vec3 point = u_camera_position + dir * depth;
+        frag = u_sun_scale * sky_radiance_to_point(u_camera_position, point, shadow_length, u_sun_direction);
+#ifdef HAS_LIGHT2
+        frag += u_light2_scale * sky_radiance_to_point(u_camera_position, point, 0.0, u_light2_direction);
+#endif
+        float r, rmu;
+        vec3 cam = u_camera_position;
+        vec3 column = vec3(0.0);
+        if (enter_atmosphere(cam, dir, r, rmu)) {
+            float mu = clamp_cosine(rmu / r);
+            bool hits_ground = ray_hits_ground(r, mu);
+            float d = min(max(depth - length(cam - u_camera_position), 0.0), ray_length(r, mu, hits_ground));
+            column = column_along_ray(r, mu, d, hits_ground);
+        }
+        frag_transmittance = vec4(transmittance_rgb(column), 1.0);
+        return;
+    }
+    frag_transmittance = vec4(0.0, 0.0, 0.0, 1.0);  // no scene: the sky below is all there is
+#endif
+    frag = u_sun_scale * light_radiance(u_camera_position, dir, u_sun_direction, shadow_length, true);
+#ifdef HAS_LIGHT2
+    frag += u_light2_scale * light_radiance(u_camera_position, dir, u_light2_direction, 0.0, false);
+#endif
+}
