@@ -25,6 +25,7 @@ app = typer.Typer(
 COMMAND_MODULES = [
     "skydome.cli.info_cmd",
     "skydome.cli.render_cmd",
+    "skydome.cli.atmosphere_cmds",
     "skydome.cli.astro_cmds",
 ]
 

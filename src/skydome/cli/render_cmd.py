@@ -41,30 +41,43 @@ def parse_exposure(text: str) -> float | None:
 
 
 @contextlib.contextmanager
-def precompute_progress(console):
-    """Show a progress bar if a renderer has to precompute its tables."""
+def precompute_progress(console, direct: bool = False):
+    """A progress bar for table precomputation, shown only while a stage reports.
+
+    Yields the ``report(stage, fraction)`` callback; unless ``direct``, it is also installed
+    for renderers made inside the block (``skydome.render.api.set_progress``).
+    """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from skydome.render.api import set_progress
 
-    with Progress(
+    bar = Progress(
         TextColumn("precomputing {task.description}"),
         BarColumn(),
         TextColumn("{task.percentage:>3.0f}%"),
         TimeElapsedColumn(),
         console=console,
         transient=True,
-    ) as bar:
-        task = bar.add_task("tables", total=1.0)
+    )
+    task = None
 
-        def report(stage: str, fraction: float) -> None:
-            bar.update(task, completed=fraction, description=stage)
+    def report(stage: str, fraction: float) -> None:
+        nonlocal task
+        if not console.is_terminal:  # no bar in logs and pipes
+            return
+        if task is None:
+            bar.start()
+            task = bar.add_task(stage, total=1.0)
+        bar.update(task, completed=fraction, description=stage)
 
+    if not direct:
         set_progress(report)
-        try:
-            yield
-        finally:
-            set_progress(None)
+    try:
+        yield report
+    finally:
+        if task is not None:
+            bar.stop()
+        set_progress(None)
 
 
 def register(app: typer.Typer) -> None:

@@ -3,16 +3,14 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 
 import numpy as np
 
 from skydome.atmosphere import AtmosphereParams
-from skydome.atmosphere.cache import cache_key, store, try_load
-from skydome.atmosphere.precompute import PrecomputedAtmosphere, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.atmosphere.tables import load_tables
 from skydome.atmosphere.uniforms import M_PER_KM
-from skydome.errors import CacheError, ParameterError, check_range
+from skydome.errors import ParameterError, check_range
 from skydome.gpu import shared_context
 from skydome.render.base import (
     PassRenderer,
@@ -23,34 +21,6 @@ from skydome.render.base import (
 )
 from skydome.render.cameras import Camera
 from skydome.render.frame import Frame
-
-
-def load_tables(
-    ctx,
-    params: AtmosphereParams,
-    config: PrecomputeConfig,
-    *,
-    cache: bool = True,
-    progress: Callable[[str, float], None] | None = None,
-) -> tuple[PrecomputedAtmosphere, bool]:
-    """The precomputed tables of ``params``: from the disk cache when valid, else computed (and
-    stored). Returns (tables, loaded_from_cache)."""
-    key = cache_key("precomputed", params.to_dict(), config.key())
-    if cache:
-        arrays = try_load(key, name=f"sky-{params.name}")
-        if arrays is not None:
-            try:
-                return PrecomputedAtmosphere.from_arrays(ctx, params, config, arrays), True
-            except CacheError as exc:
-                import warnings
-
-                from skydome.atmosphere.cache import CacheWarning
-
-                warnings.warn(f"rebuilding cached tables: {exc}", CacheWarning, stacklevel=2)
-    tables = precompute(ctx, params, config, progress=progress)
-    if cache:
-        store(key, tables.to_arrays(), name=f"sky-{params.name}", meta={"atmosphere": params.name})
-    return tables, False
 
 
 class PrecomputedRenderer(PassRenderer):

@@ -1,0 +1,119 @@
+"""``skydome illuminance`` and ``skydome precompute``."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import typer
+
+from skydome.errors import OutputError, ParameterError, check_range
+
+
+def register(app: typer.Typer) -> None:
+    @app.command()
+    def illuminance(
+        sun_elevation: float = typer.Option(
+            ..., "--sun-elevation", help="Sun elevation, degrees (-90..90)."
+        ),
+        altitude: float = typer.Option(
+            0.0, "--altitude", help="Observer altitude above the ground, metres."
+        ),
+        atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
+        as_json: bool = typer.Option(False, "--json", help="Print a JSON object."),
+    ) -> None:
+        """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance (cd/m^2)."""
+        from rich.console import Console
+
+        from skydome.atmosphere import preset
+        from skydome.atmosphere.illuminance import horizontal_illuminance
+        from skydome.cli.render_cmd import precompute_progress
+
+        check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
+        params = preset(atmosphere)
+        check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
+        console = Console(soft_wrap=True)
+        with precompute_progress(console, direct=True) as report:
+            from skydome.atmosphere.tables import load_tables
+            from skydome.gpu import shared_context
+
+            load_tables(shared_context(), params, progress=report)
+        (res,) = horizontal_illuminance(sun_elevation, altitude_m=altitude, atmosphere=params)
+        if as_json:
+            typer.echo(json.dumps({"atmosphere": params.name, **res.to_dict()}, indent=2))
+            return
+        console.print(
+            f"atmosphere {params.name}, Sun at {sun_elevation:g} deg, altitude {altitude:g} m"
+        )
+        console.print(f"direct horizontal illuminance (Sun):  {res.direct_horizontal_lux:12.5g} lx")
+        console.print(
+            f"diffuse horizontal illuminance (sky): {res.diffuse_horizontal_lux:12.5g} lx"
+        )
+        console.print(f"total horizontal illuminance:         {res.total_horizontal_lux:12.5g} lx")
+        console.print(
+            f"zenith luminance:                     {res.zenith_luminance_cd_m2:12.5g} cd/m^2"
+        )
+
+    @app.command()
+    def precompute(
+        atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
+        orders: int = typer.Option(4, "--orders", help="Scattering orders (1..20)."),
+        spectral: str = typer.Option(
+            "accurate", "--spectral", help="accurate (16 wavelengths) | fast (4)."
+        ),
+        output: str = typer.Option(
+            None, "-o", "--output", help="Also write the tables to this .lut file."
+        ),
+        no_cache: bool = typer.Option(
+            False, "--no-cache", help="Recompute even if the cache holds the tables."
+        ),
+    ) -> None:
+        """Precompute the multiple-scattering tables into the cache (and optionally a file)."""
+        from rich.console import Console
+
+        from skydome.atmosphere import preset
+        from skydome.atmosphere.cache import cache_path
+        from skydome.atmosphere.precompute_config import PrecomputeConfig
+        from skydome.atmosphere.tables import load_tables, tables_key
+        from skydome.cli.render_cmd import precompute_progress
+        from skydome.gpu import shared_context
+        from skydome.io.lutfile import write_lut_file
+
+        params = preset(atmosphere)
+        if not isinstance(orders, int) or not 1 <= orders <= 20:
+            raise ParameterError(f"--orders {orders} must be an integer in [1, 20]")
+        config = PrecomputeConfig(wavelengths=spectral, orders=orders)
+        out = None
+        if output is not None:
+            out = Path(output)
+            if out.suffix.lower() != ".lut":
+                raise OutputError(
+                    f"cannot write {output!r}: the tables file needs the extension .lut"
+                )
+            if not out.parent.is_dir():
+                raise OutputError(
+                    f"cannot write {output!r}: directory {str(out.parent)!r} does not exist"
+                )
+        console = Console(soft_wrap=True)
+        t0 = time.perf_counter()
+        with precompute_progress(console, direct=True) as report:
+            tables, loaded = load_tables(
+                shared_context(), params, config, cache=not no_cache, progress=report
+            )
+        seconds = time.perf_counter() - t0
+        key = tables_key(params, config)
+        how = "loaded from the cache" if loaded else "computed"
+        console.print(
+            f"{params.name}: {orders} orders, {len(config.render_wavelengths)} wavelengths, {how} in {seconds:.2f} s"
+        )
+        for stage, s in tables.timings.items():
+            console.print(f"  {stage}: {s:.3f} s")
+        console.print(
+            f"tables: {tables.memory_bytes() / 2**20:.1f} MiB; cache {cache_path(key, f'sky-{params.name}')}"
+        )
+        if out is not None:
+            write_lut_file(
+                out, key, tables.to_arrays(), {"atmosphere": params.name, "orders": orders}
+            )
+            console.print(f"wrote {out}")
