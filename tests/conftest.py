@@ -3,8 +3,13 @@
 from __future__ import annotations
 
 import functools
+import os
+import tempfile
 
 import pytest
+
+# Tests never touch the user's cache: one fresh cache directory per test session.
+os.environ["SKYDOME_CACHE"] = tempfile.mkdtemp(prefix="skydome-test-cache-")
 
 from skydome.atmosphere import preset
 from skydome.gpu import shared_context
@@ -29,3 +34,13 @@ def single_renderer(
 @pytest.fixture(scope="session")
 def renderer_factory():
     return single_renderer
+
+
+@functools.lru_cache(maxsize=None)
+def precomputed_renderer(atmosphere: str = "earth", spectral: str = "accurate", orders: int = 4):
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+    from skydome.render.precomputed import PrecomputedRenderer
+
+    return PrecomputedRenderer(
+        preset(atmosphere), PrecomputeConfig(wavelengths=spectral, orders=orders)
+    )
