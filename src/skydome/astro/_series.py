@@ -119,11 +119,12 @@ def smooth(
     vals = func(t_nodes.ravel())  # (C, M*n)
     ncomp = vals.shape[0]
     coef = vals.reshape(ncomp, useg.size, n) @ mat.T  # (C, M, n)
-    x = 2.0 * ((jd - J2000) / step_days - seg) - 1.0
-    c = coef[:, inverse.ravel(), :]  # (C, N, n)
-    # Clenshaw recurrence for sum_j c_j T_j(x)
-    b1 = np.zeros((ncomp, jd.size))
-    b2 = np.zeros((ncomp, jd.size))
-    for j in range(n - 1, 0, -1):
-        b1, b2 = 2.0 * x * b1 - b2 + c[:, :, j], b1
-    return x * b1 - b2 + c[:, :, 0]
+    coef_j = np.ascontiguousarray(np.moveaxis(coef, 2, 0))  # (n, C, M)
+    inverse = inverse.ravel()
+    x2 = 2.0 * (2.0 * ((jd - J2000) / step_days - seg) - 1.0)  # 2x, x in [-1, 1]
+    # Clenshaw recurrence for sum_j c_j T_j(x), gathering one coefficient plane at a time
+    b1 = np.take(coef_j[n - 1], inverse, axis=1)
+    b2 = np.zeros_like(b1)
+    for j in range(n - 2, 0, -1):
+        b1, b2 = x2 * b1 - b2 + np.take(coef_j[j], inverse, axis=1), b1
+    return 0.5 * x2 * b1 - b2 + np.take(coef_j[0], inverse, axis=1)

@@ -1,0 +1,114 @@
+"""Sun + Moon apparent topocentric alt/az for 1e5 times: skydome vs skyfield (and astropy).
+
+Two time sets: "dense" (one year at 5.3-minute steps: an animation or a sky survey; the
+smooth series are then interpolated) and "random" (1e5 random instants over 1900-2050:
+every series term evaluated at every time). Prints the median of several runs after a
+warm-up, and the ratio to skyfield.
+
+Usage: python benchmarks/bench_astro.py [--n 100000] [--repeat 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+import warnings
+
+import numpy as np
+
+warnings.filterwarnings("ignore")
+
+
+def median_time(fn, repeat: int) -> float:
+    fn()  # warm-up
+    runs = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        runs.append(time.perf_counter() - t0)
+    return statistics.median(runs)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=100_000)
+    ap.add_argument("--repeat", type=int, default=5)
+    args = ap.parse_args()
+    n = args.n
+
+    from skydome.astro import Observer
+    from skydome.astro.time import Time
+
+    rng = np.random.default_rng(0)
+    sets = {
+        "dense (1 year)": 2460310.5 + np.linspace(0.0, 365.0, n),
+        "random 1900-2050": 2415020.5 + rng.random(n) * 54786.0,
+    }
+    lat, lon = 48.85, 2.35
+    obs = Observer(lat, lon, 35.0)
+
+    try:
+        from skyfield.api import Loader, wgs84
+        from skyfield_data import get_skyfield_data_path
+
+        load = Loader(get_skyfield_data_path())
+        ts, eph = load.timescale(builtin=True), load("de421.bsp")
+        site = eph["earth"] + wgs84.latlon(lat, lon, elevation_m=35.0)
+    except ImportError:
+        ts = None
+
+    try:
+        import astropy.units as u
+        from astropy.coordinates import AltAz, EarthLocation, get_body
+        from astropy.time import Time as ATime
+        from astropy.utils import iers
+
+        iers.conf.auto_download = False
+        iers.conf.auto_max_age = None
+        loc = EarthLocation(lat=lat * u.deg, lon=lon * u.deg, height=35 * u.m)
+    except ImportError:
+        ATime = None
+
+    print(f"{n} times, Sun + Moon apparent topocentric alt/az, median of {args.repeat}")
+    print(f"{'set':18s} {'skydome':>9s} {'skyfield':>9s} {'ratio':>7s} {'astropy':>9s}")
+    for label, jd in sets.items():
+        t = Time.from_jd(jd)  # time-scale conversion excluded for every library
+
+        def ours(t=t):
+            s = obs.sky(t, bodies=("sun", "moon"))
+            return s["sun"].alt, s["moon"].alt
+
+        t_ours = median_time(ours, args.repeat)
+        t_sf = float("nan")
+        if ts is not None:
+            tsf = ts.tt_jd(jd)
+
+            def sf(tsf=tsf):
+                a = site.at(tsf)
+                return (
+                    a.observe(eph["sun"]).apparent().altaz(),
+                    a.observe(eph["moon"]).apparent().altaz(),
+                )
+
+            t_sf = median_time(sf, max(1, args.repeat // 2))
+        t_ap = float("nan")
+        if ATime is not None:
+            at = ATime(jd, format="jd", scale="tt")
+            frame = AltAz(obstime=at, location=loc)
+
+            def ap(at=at, frame=frame):
+                return (
+                    get_body("sun", at, loc).transform_to(frame).alt,
+                    get_body("moon", at, loc).transform_to(frame).alt,
+                )
+
+            try:
+                t_ap = median_time(ap, 1)
+            except Exception as exc:  # astropy may lack IERS data offline
+                print(f"astropy failed: {exc}")
+        print(f"{label:18s} {t_ours:8.3f}s {t_sf:8.3f}s {t_sf / t_ours:6.1f}x {t_ap:8.3f}s")
+
+
+if __name__ == "__main__":
+    main()
