@@ -256,7 +256,16 @@ class Observer:
         if isinstance(bodies, str):
             bodies = tuple(b.strip() for b in bodies.split(",") if b.strip())
         t = to_time(times, delta_t=delta_t, ut1_utc=ut1_utc)
-        shape = t.shape
+        fields = (
+            self.latitude,
+            self.longitude,
+            self.elevation_m,
+            self.pressure_hPa,
+            self.temperature_C,
+        )
+        shape = np.broadcast_shapes(t.shape, *(np.shape(f) for f in fields))
+        if shape != t.shape:  # observers given as arrays: broadcast the times against them
+            t = Time(*(np.broadcast_to(a, shape) for a in (t.jd_utc, t.jd_ut1, t.jd_tt)))
         geo = self._geometry(t)
         names = [str(b).lower() if str(b).lower() in BODIES else str(b) for b in bodies]
         star_bodies = [b for b in names if b not in BODIES]
