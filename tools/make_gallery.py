@@ -9,7 +9,7 @@ import argparse
 from pathlib import Path
 
 from skydome.display import auto_exposure, ev100_to_scale, tonemap
-from skydome.io import write_outputs
+from skydome.io import atomic_write, write_outputs, write_png
 from skydome.render import FisheyeCamera, PerspectiveCamera, render_sky
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "gallery"
@@ -38,13 +38,14 @@ VIEWS = {
         "earth",
     ),
     "mars": (25.0, 180.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=170, pitch_deg=15), "mars"),
+    "hazy": (15.0, 200.0, 1.7, PerspectiveCamera(fov_deg=90, yaw_deg=200, pitch_deg=15), "hazy"),
     "fisheye": (30.0, 135.0, 1.7, FisheyeCamera(), "earth"),
 }
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--model", default="single")
+    ap.add_argument("--model", default="precomputed", help="precomputed | single")
     ap.add_argument("--size", default="480x270")
     ap.add_argument("--only", default="", help="comma-separated view names")
     args = ap.parse_args()
@@ -70,6 +71,30 @@ def main() -> None:
         path = OUT / f"{args.model}-{name}.png"
         write_outputs([path], frame.data, ldr, metadata=frame.info)
         print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+    if not args.only:
+        side_by_side(w, h)
+
+
+def side_by_side(w: int, h: int) -> None:
+    """Single vs multiple scattering at Sun -4 deg, one exposure for both (EV100 5)."""
+    import numpy as np
+
+    cam = PerspectiveCamera(fov_deg=90, yaw_deg=270, pitch_deg=15)
+    halves = []
+    for model in ("single", "precomputed"):
+        frame = render_sky(
+            sun_elevation_deg=-4.0,
+            sun_azimuth_deg=270.0,
+            camera=cam,
+            width=w // 2,
+            height=h,
+            model=model,
+        )
+        halves.append(tonemap(frame, "filmic", ev100_to_scale(5.0)))
+    both = np.concatenate(halves, axis=1)
+    path = OUT / "compare-single-multiple-sun-4.png"
+    atomic_write(path, lambda tmp: write_png(tmp, both, {"views": "single | precomputed, Sun -4 deg"}))
+    print(f"{path.relative_to(OUT.parents[1])}")
 
 
 if __name__ == "__main__":
