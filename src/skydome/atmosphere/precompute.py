@@ -1,0 +1,716 @@
+"""Bruneton's precomputed atmospheric scattering with all orders, on the GPU (GLSL 3.30).
+
+``precompute(ctx, params, config)`` fills the lookup tables that the renderer samples through
+``shaders/precomputed_lookup.glsl`` (luminance in cd/m^2 for the params' solar spectrum, i.e.
+Bruneton's precomputed-luminance mode, or raw transfer values of 4 wavelengths with
+``output="spectral"``, a debugging mode):
+
+* the transmittance table (column densities, ``transmittance.py``);
+* ``scattering`` / ``single_mie``: single Rayleigh / Mie scattering without phase functions,
+  4D (r, mu, mu_s, nu) in 3D textures, divided by a normalization F (the air density at the
+  lowest sunlit point of the ray over that at its lowest point) that carries their steep fall
+  in twilight, so that they can be interpolated linearly (float16 by default);
+* ``multiple_scattering``: orders >= 2 divided by the Rayleigh phase function, stored as
+  logarithms (interpolated geometrically: they fall exponentially in twilight);
+* ``irradiance``: the sky irradiance on a horizontal surface (r, mu_s), as luminance (RGB with
+  Y = illuminance in lx, scotopic lx) and per wavelength (``irradiance_spectral``, per unit
+  solar irradiance) so that the renderer can apply a spectral ground albedo.
+
+The algorithm (seed 004 ch. 5.2.2.3, Bruneton 2017) computes order n from order n - 1:
+J_n = beta P (x) L_{n-1} (scattering density), L_n = integral T J_n (+ ground reflection),
+E_n = integral L_n cos. The textbook loop does this on full 4D tables and spends nearly all its
+time in J: texels x directions x wavelength passes (490 s here with 15 wavelengths). This
+implementation reorganizes it (measured in ``benchmarks/bench_precompute.py``):
+
+1. The radiance arriving at a point does not depend on the view direction, so for each
+   (r, mu_s) of the grid of J it is evaluated once per direction of a sphere quadrature (the
+   "field", a 2D texture); J for every (mu, nu) is then a sum over the field with phase
+   functions only, without texture lookups. The first order of the field is marched directly
+   from the transmittance table, not read from an interpolated table.
+2. Orders >= 2 are smooth in view direction: J lives on a coarse grid (default 16 x 64 x 64 x 8
+   in r, mu, mu_s, nu) and all the orders are integrated along the rays at once (the integral
+   is linear in J: S_ms = integral T sum_n J_n), into a table of their own (32 x 64 x 64 x 8).
+   Their mappings differ from the single-scattering ones: mu is sqrt of Bruneton's distance
+   mapping (texels 40 degrees apart near the zenith otherwise) and mu_s follows the Sun's
+   elevation above the point's own horizon, densest at its sunset (precomputed_params.glsl).
+3. Orders >= 2 are computed at 4 wavelengths (smooth in wavelength) and interpolated; single
+   scattering and the sky irradiance at all render wavelengths.
+4. Quadratures: Gauss-Legendre along rays in a variable that makes the density smooth
+   (16 nodes instead of 50), a product rule over the sphere split at the horizon and crowded
+   towards it ((12 + 6) x 16 = 288 directions instead of 512), self-normalized for the Mie lobe.
+6. Twilight: single scattering is stored divided by the lit-density normalization F and the
+   orders >= 2 as logarithms, so that the 1-3 e-folds per degree of Sun depression are not
+   interpolated linearly; the tables cover the Sun down to -20 degrees (``mu_s_min``).
+5. 4 wavelengths per RGBA pass and all wavelength groups of a pass in one fragment (draw
+   buffers), so the geometry and the transmittance lookups are shared by all wavelengths.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import weakref
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from skydome.atmosphere.params import AtmosphereParams
+from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.atmosphere.transmittance import TransmittanceTable
+from skydome.atmosphere.uniforms import geometry_uniforms, spectral_uniforms
+from skydome.errors import CacheError, ParameterError
+from skydome.gpu import FullscreenPass
+from skydome.spectra import LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, spectral_to_rgbs_matrix
+
+__all__ = [
+    "PrecomputeConfig",
+    "PrecomputedAtmosphere",
+    "ProgressCallback",
+    "conversion_matrix",
+    "precompute",
+    "transmittance_weights",
+]
+
+ProgressCallback = Callable[[str, float], None]
+
+#: Range (natural-log units) of the 16-bit logarithmic tables: values from e^-48 (1.4e-21) of
+#: the largest value of the table up to it, in steps of 48 / 65535 (0.073% relative).
+LOG16_SPAN = 48.0
+#: Largest stored value of a float16 single-scattering table (values are scaled to it): float16
+#: keeps 11 significant bits from 6.1e-5 to 65504, so this leaves 4x headroom and 2^28 of range.
+F16_TABLE_MAX = 16384.0
+
+# ----------------------------------------------------------------------------------------------
+# Spectral conversions
+# ----------------------------------------------------------------------------------------------
+
+
+def conversion_matrix(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
+    """(4, N) matrix from N transfer values (per unit solar irradiance) to lookup results.
+
+    ``"rgbs"``: (R, G, B, scotopic) luminance in cd/m^2 for the tabulated solar spectrum
+    (``spectral_to_rgbs_matrix``, the same as the single-scattering renderer); ``"spectral"``:
+    the identity (4 wavelengths).
+    """
+    wl = np.asarray(wavelengths_nm, dtype=np.float64)
+    if output == "spectral":
+        if len(wl) != 4:
+            raise ParameterError("spectral output needs exactly 4 wavelengths")
+        return np.eye(4)
+    return spectral_to_rgbs_matrix(wl)
+
+
+def output_matrix(output: str = "rgbs") -> np.ndarray:
+    """(4, 4) matrix from the tables' channels to lookup results: (X, Y, Z, S) -> (R, G, B, S).
+
+    Tables hold (X, Y, Z, scotopic) luminance, which is non-negative for any spectrum (the
+    colour-matching functions are), so that they can store logarithms; linear sRGB channels can
+    be negative (saturated twilight colours are outside the sRGB gamut).
+    """
+    if output == "spectral":
+        return np.eye(4)
+    m = np.eye(4)
+    m[:3, :3] = XYZ_TO_LINEAR_SRGB
+    return m
+
+
+def table_matrix(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
+    """(4, N) matrix from N transfer values to the tables' channels (see output_matrix)."""
+    m = conversion_matrix(wavelengths_nm, output)
+    if output == "spectral":
+        return m
+    to_xyzs = np.eye(4)
+    to_xyzs[:3, :3] = LINEAR_SRGB_TO_XYZ
+    return to_xyzs @ m
+
+
+def _mat4(m: np.ndarray) -> list[float]:
+    """A 4x4 matrix as a GLSL mat4 uniform (column-major)."""
+    return np.asarray(m, dtype=np.float64).T.ravel().tolist()
+
+
+def _group_mats(matrix: np.ndarray) -> list[float]:
+    """mat4 uniforms per group of 4 columns (GLSL column j = wavelength j of the group)."""
+    groups = matrix.shape[1] // 4
+    return np.concatenate([matrix[:, 4 * g : 4 * g + 4].T.ravel() for g in range(groups)]).tolist()
+
+
+def transmittance_weights(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
+    """(4, N) non-negative weights, rows summing to 1, giving a transmittance per output channel.
+
+    Tables store luminance, so attenuating stored light by a spectral transmittance T(λ) (the
+    shadow of light shafts, or the in-scatter behind a point for aerial perspective) has to be
+    done per channel: T_c = Σ_λ W[c, λ] T(λ), with W ∝ max(M[c, λ], 0)·(λ/550)^-4, the
+    channel's response to a sky-blue (Rayleigh-like) spectrum. Exact when T is constant over a
+    channel's band; Bruneton's luminance mode makes the same kind of approximation with 3
+    wavelengths.
+    """
+    wl = np.asarray(wavelengths_nm, dtype=np.float64)
+    if output == "spectral":
+        return np.eye(4)
+    m = np.maximum(conversion_matrix(wl, output), 0.0) * (wl / 550.0) ** -4
+    return m / m.sum(axis=1, keepdims=True)
+
+
+def interpolation_matrix(to_nm, from_nm) -> np.ndarray:
+    """(len(to), len(from)) linear interpolation in wavelength, held flat beyond the ends."""
+    src = np.asarray(from_nm, dtype=np.float64)
+    eye = np.eye(len(src))
+    return np.stack(
+        [np.interp(np.asarray(to_nm, float), src, eye[i]) for i in range(len(src))], axis=1
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+# Quadrature rules
+# ----------------------------------------------------------------------------------------------
+
+
+def gauss_legendre(n: int, a: float = -1.0, b: float = 1.0) -> np.ndarray:
+    """(n, 2) Gauss-Legendre nodes and weights on [a, b]."""
+    x, w = np.polynomial.legendre.leggauss(int(n))
+    h = 0.5 * (b - a)
+    return np.stack([a + h * (x + 1.0), h * w], axis=1)
+
+
+def _ray_rules(n: int) -> dict[str, object]:
+    return {
+        "u_ray_rule": gauss_legendre(n, 0.0, 1.0).ravel().tolist(),
+        "u_ray_rule_half": gauss_legendre(n // 2, 0.0, 1.0).ravel().tolist(),
+    }
+
+
+def _direction_rules(directions: tuple[int, int, int]) -> dict[str, object]:
+    n_sky, n_ground, n_phi = directions
+    phi = (np.arange(n_phi) + 0.5) * 2.0 * math.pi / n_phi
+    return {
+        "u_mu_rule_sky": gauss_legendre(n_sky).ravel().tolist(),
+        "u_mu_rule_ground": gauss_legendre(n_ground).ravel().tolist(),
+        "u_phi_cs": np.stack([np.cos(phi), np.sin(phi)], axis=1).ravel().tolist(),
+    }
+
+
+# ----------------------------------------------------------------------------------------------
+# GL helpers
+# ----------------------------------------------------------------------------------------------
+
+_PROGRAMS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _program(ctx, name: str, defines: dict[str, object], layered: bool = False) -> FullscreenPass:
+    """A compiled pass, cached per context (compiling costs ~0.1 s on llvmpipe)."""
+    cache = _PROGRAMS.setdefault(ctx, {})
+    key = (name, tuple(sorted(defines.items())), layered)
+    if key not in cache:
+        cache[key] = FullscreenPass(ctx, name, defines, layered=layered)
+    return cache[key]
+
+
+def _linear(tex, ctx):
+    tex.filter = (ctx.LINEAR, ctx.LINEAR)
+    tex.repeat_x = tex.repeat_y = False
+    if hasattr(tex, "repeat_z"):
+        tex.repeat_z = False
+    return tex
+
+
+def _nearest(tex, ctx):
+    tex.filter = (ctx.NEAREST, ctx.NEAREST)
+    tex.repeat_x = tex.repeat_y = False
+    return tex
+
+
+def _read_array(tex, dtype: str = "f4") -> np.ndarray:
+    """A texture array or 3D texture as (depth, height, width, 4)."""
+    w, h, d = tex.size
+    return np.frombuffer(tex.read(), dtype=dtype).reshape(d, h, w, 4)
+
+
+def _read_2d(tex) -> np.ndarray:
+    w, h = tex.size
+    return np.frombuffer(tex.read(), dtype="f4").reshape(h, w, 4)
+
+
+class _Stages:
+    """Per-stage wall-clock timings (each stage ends with ctx.finish())."""
+
+    def __init__(self, ctx, progress: ProgressCallback | None, total_work: float):
+        self.ctx = ctx
+        self.progress = progress
+        self.times: dict[str, float] = {}
+        self.total_work = max(total_work, 1e-9)
+        self.done = 0.0
+        self.t0 = time.perf_counter()
+
+    def run(self, stage: str, work: float, fn, *args):
+        t = time.perf_counter()
+        out = fn(*args)
+        self.ctx.finish()
+        self.times[stage] = self.times.get(stage, 0.0) + time.perf_counter() - t
+        self.done += work
+        if self.progress is not None:
+            self.progress(stage, min(self.done / self.total_work, 1.0))
+        return out
+
+
+# ----------------------------------------------------------------------------------------------
+# The result
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(eq=False)
+class PrecomputedAtmosphere:
+    """Lookup tables of one atmosphere on the GPU, ready for ``precomputed_lookup.glsl``.
+
+    Bind ``textures()`` and set ``uniforms()`` on a pass compiled with ``defines()`` that
+    includes ``precomputed_lookup.glsl``. Lookups return (R, G, B, scotopic) in cd/m^2 (radiance)
+    or lx (irradiance) for the params' solar spectrum at unit scale.
+
+    Tables (see the shaders for their exact encodings): ``scattering`` and ``single_mie``
+    (single scattering / F, times ``table_scale``), ``multiple_scattering`` (ln of orders >= 2,
+    16-bit with ``multiple_log_range`` = (lo, span) or float32), ``irradiance`` and
+    ``irradiance_spectral`` (ln of the sky irradiance), and the transmittance (column densities).
+    """
+
+    ctx: object
+    params: AtmosphereParams
+    config: PrecomputeConfig
+    transmittance_texture: object
+    transmittance_size: tuple[int, int]
+    scattering: object
+    single_mie: object
+    multiple_scattering: object
+    irradiance: object
+    irradiance_spectral: object
+    mu_s_min: float
+    table_scale: float = 1.0
+    multiple_log_range: tuple[float, float] = (0.0, 1.0)
+    orders_computed: int = 0
+    timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def wavelengths_nm(self) -> np.ndarray:
+        return self.config.render_wavelengths
+
+    @property
+    def groups(self) -> int:
+        return len(self.wavelengths_nm) // 4
+
+    def defines(self) -> dict[str, object]:
+        """Preprocessor defines the lookup shader needs."""
+        return {"NUM_GROUPS": self.groups}
+
+    def uniforms(self) -> dict[str, object]:
+        """Every uniform of ``precomputed_lookup.glsl`` (and of spectral/transmittance GLSL)."""
+        cfg = self.config
+        wl = self.wavelengths_nm
+        return {
+            **geometry_uniforms(self.params),
+            **spectral_uniforms(self.params, wl),
+            "u_spectral_to_rgbs": _group_mats(conversion_matrix(wl, cfg.output)),
+            "u_transmittance_to_output": _group_mats(transmittance_weights(wl, cfg.output)),
+            "u_table_to_output": _mat4(output_matrix(cfg.output)),
+            "u_transmittance_size": self.transmittance_size,
+            "u_mu_s_min": self.mu_s_min,
+            "u_mu_s_knee": math.radians(cfg.mu_s_knee_deg),
+            "u_scattering_size": cfg.glsl_size(cfg.scattering_size),
+            "u_scattering_scale": 1.0 / self.table_scale,
+            "u_multiple_scattering_size": cfg.glsl_size(cfg.multiple_size),
+            "u_multiple_scattering_log_range": tuple(self.multiple_log_range),
+            "u_irradiance_size": tuple(float(s) for s in cfg.irradiance_size),
+        }
+
+    def textures(self) -> dict[str, object]:
+        """Sampler uniform name -> texture."""
+        return {
+            "u_transmittance_lut": self.transmittance_texture,
+            "u_scattering_texture": self.scattering,
+            "u_single_mie_texture": self.single_mie,
+            "u_multiple_scattering_texture": self.multiple_scattering,
+            "u_irradiance_texture": self.irradiance,
+            "u_irradiance_spectral": self.irradiance_spectral,
+        }
+
+    def memory_bytes(self) -> int:
+        """GPU memory of the tables (bytes)."""
+        return int(sum(self.config.memory_bytes().values()))
+
+    # -------------------------------------------------------------- arrays (for the disk cache)
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """The tables as NumPy arrays, exactly as stored on the GPU.
+
+        ``scattering``/``single_mie``: (r, mu, nu * mu_s, 4) float16 or float32;
+        ``multiple_scattering``: (r, mu, nu * mu_s, 4) uint16 or float32; ``irradiance``:
+        (r, mu_s, 4) float32 ln(X, Y, Z, S); ``irradiance_spectral``: (groups, r, mu_s, 4) float32
+        ln(E / E_sun); ``transmittance``: (r, mu, 3) float32 column densities (km); ``meta``:
+        mu_s_min, table_scale, multiple_log_range, orders computed.
+        """
+        cfg = self.config
+        tw, th = self.transmittance_size
+        trans = np.frombuffer(self.transmittance_texture.read(), dtype="f4").reshape(th, tw, 4)
+        ew, eh = cfg.irradiance_size
+        spec = _read_2d(self.irradiance_spectral).reshape(self.groups, eh, ew, 4)
+        meta = [self.mu_s_min, self.table_scale, *self.multiple_log_range, self.orders_computed]
+        return {
+            "transmittance": trans[..., :3].copy(),
+            "scattering": _read_array(self.scattering, _NP_DTYPE[cfg.dtype]).copy(),
+            "single_mie": _read_array(self.single_mie, _NP_DTYPE[cfg.dtype]).copy(),
+            "multiple_scattering": _read_array(
+                self.multiple_scattering, _NP_DTYPE[cfg.ms_dtype]
+            ).copy(),
+            "irradiance": _read_2d(self.irradiance).copy(),
+            "irradiance_spectral": spec.copy(),
+            "meta": np.array(meta, dtype=np.float64),
+        }
+
+    @classmethod
+    def from_arrays(
+        cls, ctx, params: AtmosphereParams, config: PrecomputeConfig, arrays: dict[str, np.ndarray]
+    ) -> PrecomputedAtmosphere:
+        """Rebuild the GL tables from ``to_arrays()`` output; CacheError if they do not fit."""
+        cfg = config
+        w, h, d = cfg.table_shape(cfg.scattering_size)
+        wm, hm, dm = cfg.table_shape(cfg.multiple_size)
+        tw, th = cfg.transmittance_size
+        ew, eh = cfg.irradiance_size
+        groups = len(cfg.render_wavelengths) // 4
+        expect = {
+            "transmittance": ((th, tw, 3), "f4"),
+            "scattering": ((d, h, w, 4), _NP_DTYPE[cfg.dtype]),
+            "single_mie": ((d, h, w, 4), _NP_DTYPE[cfg.dtype]),
+            "multiple_scattering": ((dm, hm, wm, 4), _NP_DTYPE[cfg.ms_dtype]),
+            "irradiance": ((eh, ew, 4), "f4"),
+            "irradiance_spectral": ((groups, eh, ew, 4), "f4"),
+            "meta": ((5,), "f8"),
+        }
+        for name, (shape, kind) in expect.items():
+            a = arrays.get(name)
+            if a is None or tuple(a.shape) != shape or a.dtype != np.dtype(kind):
+                got = None if a is None else (tuple(a.shape), str(a.dtype))
+                raise CacheError(f"precomputed table {name!r} is {got}, expected {(shape, kind)}")
+            if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+                raise CacheError(f"precomputed table {name!r} holds non-finite values")
+
+        def tex3d(a, size, dtype):
+            data = np.ascontiguousarray(a).tobytes()
+            return _linear(ctx.texture3d(size, 4, data, dtype=_GL_DTYPE[dtype]), ctx)
+
+        def tex2d(a, size):
+            return _linear(
+                ctx.texture(size, 4, np.ascontiguousarray(a, dtype="f4").tobytes(), dtype="f4"), ctx
+            )
+
+        trans = np.zeros((th, tw, 4), dtype="f4")
+        trans[..., :3] = arrays["transmittance"]
+        spec = arrays["irradiance_spectral"].reshape(groups * eh, ew, 4)
+        meta = [float(x) for x in arrays["meta"]]
+        return cls(
+            ctx, params, cfg, tex2d(trans, (tw, th)), (tw, th),
+            tex3d(arrays["scattering"], (w, h, d), cfg.dtype),
+            tex3d(arrays["single_mie"], (w, h, d), cfg.dtype),
+            tex3d(arrays["multiple_scattering"], (wm, hm, dm), cfg.ms_dtype),
+            tex2d(arrays["irradiance"], (ew, eh)), tex2d(spec, (ew, eh * groups)),
+            meta[0], meta[1], (meta[2], meta[3]), int(meta[4]), {},
+        )  # fmt: skip
+
+    def release(self) -> None:
+        for tex in (
+            self.transmittance_texture,
+            self.scattering,
+            self.single_mie,
+            self.multiple_scattering,
+            self.irradiance,
+            self.irradiance_spectral,
+        ):
+            tex.release()
+
+
+_GL_DTYPE = {"f2": "f2", "f4": "f4", "u2": "nu2"}
+_NP_DTYPE = {"f2": "f2", "f4": "f4", "u2": "u2"}
+
+
+def encode_log_table(log_values: np.ndarray, dtype: str) -> tuple[np.ndarray, tuple[float, float]]:
+    """A table of natural logarithms -> stored values and (lo, span): ln v = lo + span * stored."""
+    if dtype == "f4":
+        return np.ascontiguousarray(log_values, dtype="f4"), (0.0, 1.0)
+    hi = float(log_values.max())
+    lo = hi - LOG16_SPAN
+    q = np.rint((log_values.astype(np.float64) - lo) * (65535.0 / LOG16_SPAN))
+    return np.clip(q, 0, 65535).astype(np.uint16), (lo, LOG16_SPAN)
+
+
+# ----------------------------------------------------------------------------------------------
+# The precomputation
+# ----------------------------------------------------------------------------------------------
+
+
+def precompute(
+    ctx,
+    params: AtmosphereParams,
+    config: PrecomputeConfig | None = None,
+    *,
+    progress: ProgressCallback | None = None,
+) -> PrecomputedAtmosphere:
+    """Precompute the scattering and irradiance tables of ``params`` (see the module docstring).
+
+    ``progress(stage, fraction)`` is called after each stage with the fraction of the work done.
+    Stage timings (s) are in the result's ``timings``; ``timings["total"]`` is the sum.
+    """
+    cfg = config or PrecomputeConfig()
+    return _Precomputation(ctx, params, cfg, progress).run()
+
+
+class _Precomputation:
+    def __init__(self, ctx, params: AtmosphereParams, cfg: PrecomputeConfig, progress):
+        self.ctx, self.params, self.cfg = ctx, params, cfg
+        self.wl = cfg.render_wavelengths
+        self.ms_wl = cfg.multiple_wavelengths
+        self.groups = len(self.wl) // 4
+        self.ms_groups = len(self.ms_wl) // 4
+        self.mu_s_min = cfg.resolved_mu_s_min(
+            params.bottom_radius_m, params.top_radius_m, params.mu_s_min
+        )
+        n_ms = max(cfg.orders - 1, 0)
+        # Rough relative costs of the stages at default settings, for the progress fraction.
+        self.stages = _Stages(ctx, progress, 1.0 + 0.3 + 0.5 * n_ms + 0.5 + 3.0 + 0.5)
+        self._released: list = []
+
+    # ------------------------------------------------------------------ small helpers
+    def _keep(self, obj):
+        self._released.append(obj)
+        return obj
+
+    def _spectral(self, wl) -> dict[str, object]:
+        return {
+            **spectral_uniforms(self.params, wl),
+            "u_spectral_to_table": _group_mats(table_matrix(wl, self.cfg.output)),
+        }
+
+    def _to_3d(self, arr, dtype: str = "f4"):
+        """Copy a float32 texture array into a new (linearly filtered) 3D texture."""
+        w, h, d = arr.size
+        tex = _linear(self.ctx.texture3d((w, h, d), 4, dtype=dtype), self.ctx)
+        buf = self._keep(self.ctx.buffer(reserve=w * h * d * 16))
+        arr.read_into(buf)
+        tex.write(buf)
+        return tex
+
+    # ------------------------------------------------------------------ stages
+    def run(self) -> PrecomputedAtmosphere:
+        cfg, ctx = self.cfg, self.ctx
+        st = self.stages
+        try:
+            self.transmittance = st.run(
+                "transmittance", 1.0, TransmittanceTable, ctx, self.params,
+                cfg.transmittance_size, cfg.transmittance_steps,
+            )  # fmt: skip
+            self.base = {
+                **geometry_uniforms(self.params),
+                "u_transmittance_size": self.transmittance.size,
+                "u_mu_s_min": self.mu_s_min,
+                "u_mu_s_knee": math.radians(cfg.mu_s_knee_deg),
+            }
+            self.t_tex = {"u_transmittance_lut": self.transmittance.texture}
+            self._setup_ms()
+            orders = 1
+            j_total = None
+            if cfg.orders >= 2:
+                st.run("field", 0.3, self._field, 1)
+                st.run("ground_irradiance", 0.01, self._ground_irradiance)
+                for n in range(2, cfg.orders + 1):
+                    log_j = st.run("density", 0.4, self._density)
+                    orders = n
+                    j_n = np.exp(log_j.astype(np.float64))
+                    j_total = j_n if j_total is None else j_total + j_n
+                    added = float(j_n.sum()) / max(float(j_total.sum()), 1e-300)
+                    if n == cfg.orders or (cfg.tolerance > 0 and added < cfg.tolerance):
+                        break
+                    st.run("field", 0.1, self._field, n, log_j)
+                    st.run("ground_irradiance", 0.01, self._ground_irradiance)
+                st.run("density", 0.01, self._upload_density, j_total)
+            ms_tex, ms_range = st.run(
+                "multiple_scattering", 0.5, self._multiple_scattering, j_total is not None
+            )
+            scat, mie, scale = st.run("single_scattering", 3.0, self._single_scattering)
+            irr, irr_s = st.run("irradiance", 0.5, self._irradiance, j_total is not None)
+        finally:
+            for obj in self._released:
+                obj.release()
+        timings = dict(st.times)
+        timings["total"] = sum(st.times.values())
+        return PrecomputedAtmosphere(
+            ctx, self.params, cfg, self.transmittance.texture, self.transmittance.size,
+            scat, mie, ms_tex, irr, irr_s, self.mu_s_min, scale, ms_range, orders, timings,
+        )  # fmt: skip
+
+    def _setup_ms(self) -> None:
+        """Textures and uniforms of the grid of J (orders >= 2)."""
+        cfg, ctx = self.cfg, self.ctx
+        r, mu, mu_s, nu = cfg.ms_size
+        self.j_shape = cfg.table_shape(cfg.ms_size)
+        n_sky, n_ground, n_phi = cfg.directions
+        self.n_dir = (n_sky + n_ground) * n_phi
+        gm = self.ms_groups
+        self.ms_defines = {
+            "NUM_GROUPS": gm,
+            "RAY_SAMPLES": cfg.ms_samples,
+            "N_MU_SKY": n_sky,
+            "N_MU_GROUND": n_ground,
+            "N_PHI": n_phi,
+        }
+        self.ms_uniforms = {
+            **self.base,
+            **self._spectral(self.ms_wl),
+            **_ray_rules(cfg.ms_samples),
+            **_direction_rules(cfg.directions),
+            "u_density_size": cfg.glsl_size(cfg.ms_size),
+            "u_ms_size": cfg.glsl_size(cfg.multiple_size),
+        }
+        w, h, d = self.j_shape
+        self.j3d = self._keep(_linear(ctx.texture3d((w, h, d * gm), 4, dtype="f4"), ctx))
+        if cfg.orders < 2:
+            return
+        self.field = self._keep(
+            _nearest(ctx.texture((self.n_dir * gm, mu_s * r), 4, dtype="f4"), ctx)
+        )
+        self.field_fbo = self._keep(ctx.framebuffer(color_attachments=[self.field]))
+        self.ground = self._keep(_linear(ctx.texture((mu_s, gm), 4, dtype="f4"), ctx))
+        self.ground_fbo = self._keep(ctx.framebuffer(color_attachments=[self.ground]))
+        self.j_arrays = [self._keep(ctx.texture_array((w, h, d), 4, dtype="f4")) for _ in range(gm)]
+        self.j_fbo = self._keep(ctx.framebuffer(color_attachments=self.j_arrays))
+
+    def _field(self, order: int, log_j: np.ndarray | None = None) -> None:
+        """The radiance field of ``order`` (from ln J of that order)."""
+        defines = {**self.ms_defines, "FIELD_SINGLE": int(order == 1)}
+        prog = _program(self.ctx, "precompute_field.glsl", defines)
+        if log_j is not None:
+            self.j3d.write(np.ascontiguousarray(log_j, dtype="f4").tobytes())
+        self.field_fbo.viewport = (0, 0, *self.field.size)
+        textures = {**self.t_tex, "u_density": self.j3d, "u_ground_irradiance": self.ground}
+        prog.draw(self.field_fbo, self.ms_uniforms, textures)
+
+    def _ground_irradiance(self) -> None:
+        prog = _program(self.ctx, "precompute_ground_irradiance.glsl", self.ms_defines)
+        self.ground_fbo.viewport = (0, 0, *self.ground.size)
+        prog.draw(self.ground_fbo, self.ms_uniforms, {"u_field": self.field})
+
+    def _density(self) -> np.ndarray:
+        """ln J_n from the field of order n-1, as (groups * r, mu, nu * mu_s, 4) float32."""
+        prog = _program(self.ctx, "precompute_density.glsl", self.ms_defines, layered=True)
+        w, h, d = self.j_shape
+        self.j_fbo.viewport = (0, 0, w, h)
+        prog.draw(self.j_fbo, self.ms_uniforms, {"u_field": self.field}, layers=(0, d))
+        return np.concatenate([_read_array(a) for a in self.j_arrays], axis=0)
+
+    def _upload_density(self, j_total: np.ndarray) -> None:
+        log_j = np.log(np.maximum(j_total, 1e-37)).astype("f4")
+        self.j3d.write(np.ascontiguousarray(log_j).tobytes())
+
+    def _multiple_scattering(self, has_ms: bool):
+        """The table of orders >= 2: ln(table channels / P_R) (zero without them)."""
+        cfg, ctx = self.cfg, self.ctx
+        w, h, d = cfg.table_shape(cfg.multiple_size)
+        if not has_ms:
+            data, log_range = encode_log_table(
+                np.full((d, h, w, 4), -87.0, dtype="f4"), cfg.ms_dtype
+            )
+            return _linear(
+                ctx.texture3d((w, h, d), 4, data.tobytes(), dtype=_GL_DTYPE[cfg.ms_dtype]), ctx
+            ), log_range
+        arr = self._keep(ctx.texture_array((w, h, d), 4, dtype="f4"))
+        fbo = self._keep(ctx.framebuffer(color_attachments=[arr]))
+        fbo.viewport = (0, 0, w, h)
+        prog = _program(ctx, "precompute_ms_scattering.glsl", self.ms_defines, layered=True)
+        prog.draw(fbo, self.ms_uniforms, {**self.t_tex, "u_density": self.j3d}, layers=(0, d))
+        if cfg.ms_dtype == "f4":
+            return self._to_3d(arr), (0.0, 1.0)
+        data, log_range = encode_log_table(_read_array(arr), cfg.ms_dtype)
+        return _linear(ctx.texture3d((w, h, d), 4, data.tobytes(), dtype="nu2"), ctx), log_range
+
+    def _single_scattering(self):
+        """The single-scattering tables at the render wavelengths (divided by F)."""
+        cfg, ctx = self.cfg, self.ctx
+        w, h, d = cfg.table_shape(cfg.scattering_size)
+        defines = {"NUM_GROUPS": self.groups, "RAY_SAMPLES": cfg.single_samples}
+        prog = _program(ctx, "precompute_scattering.glsl", defines, layered=True)
+        arrays = [self._keep(ctx.texture_array((w, h, d), 4, dtype="f4")) for _ in range(2)]
+        fbo = self._keep(ctx.framebuffer(color_attachments=arrays))
+        fbo.viewport = (0, 0, w, h)
+        uniforms = {
+            **self.base,
+            **self._spectral(self.wl),
+            **_ray_rules(cfg.single_samples),
+            # Linear tables: (R, G, B, scotopic) directly.
+            "u_spectral_to_table": _group_mats(conversion_matrix(self.wl, cfg.output)),
+            "u_scattering_size": cfg.glsl_size(cfg.scattering_size),
+            "u_table_scale": 1.0,
+        }
+        prog.draw(fbo, uniforms, dict(self.t_tex), layers=(0, d))
+        if cfg.dtype == "f4":
+            return self._to_3d(arrays[0]), self._to_3d(arrays[1]), 1.0
+        data = [_read_array(a) for a in arrays]
+        peak = max(float(np.abs(x).max()) for x in data)
+        scale = F16_TABLE_MAX / peak if peak > 0 else 1.0
+        out = [
+            _linear(
+                ctx.texture3d((w, h, d), 4, (x * scale).astype(np.float16).tobytes(), dtype="f2"),
+                ctx,
+            )
+            for x in data
+        ]
+        return out[0], out[1], scale
+
+    def _irradiance(self, has_ms: bool):
+        """Sky irradiance: single scattering at the render wavelengths + orders >= 2."""
+        cfg, ctx = self.cfg, self.ctx
+        ew, eh = cfg.irradiance_size
+        n_mu, n_phi = cfg.irradiance_directions
+
+        def run_pass(wl, single: bool) -> np.ndarray:
+            groups = len(wl) // 4
+            samples = cfg.single_samples if single else cfg.ms_samples
+            defines = {
+                "NUM_GROUPS": groups,
+                "RAY_SAMPLES": samples,
+                "IRR_N_MU": n_mu,
+                "IRR_N_PHI": n_phi,
+                "IRRADIANCE_SINGLE": int(single),
+            }
+            prog = _program(ctx, "precompute_irradiance.glsl", defines)
+            texs = [self._keep(ctx.texture((ew, eh), 4, dtype="f4")) for _ in range(groups)]
+            fbo = self._keep(ctx.framebuffer(color_attachments=texs))
+            fbo.viewport = (0, 0, ew, eh)
+            uniforms = {
+                **self.base,
+                **self._spectral(wl),
+                **_ray_rules(samples),
+                "u_irradiance_size": (float(ew), float(eh)),
+                "u_irr_mu_rule": gauss_legendre(n_mu).ravel().tolist(),
+                "u_density_size": cfg.glsl_size(cfg.ms_size),
+            }
+            textures = dict(self.t_tex)
+            if not single:
+                textures["u_density"] = self.j3d
+            prog.draw(fbo, uniforms, textures)
+            # (groups, eh, ew, 4) -> (eh, ew, N) per wavelength
+            e = np.stack([_read_2d(t) for t in texs], axis=0).astype(np.float64)
+            return np.moveaxis(e, 0, 2).reshape(eh, ew, 4 * groups)
+
+        e = run_pass(self.wl, True)
+        if has_ms:
+            e_ms = run_pass(self.ms_wl, False)
+            e = e + e_ms @ interpolation_matrix(self.wl, self.ms_wl).T
+        e = np.maximum(e, 0.0)
+        table = e @ table_matrix(self.wl, cfg.output).T  # (eh, ew, 4)
+        spec = np.moveaxis(e.reshape(eh, ew, self.groups, 4), 2, 0)  # (groups, eh, ew, 4)
+
+        def log_tex(a, size):
+            la = np.log(np.maximum(a, 1e-37)).astype("f4")
+            return _linear(
+                ctx.texture(size, 4, np.ascontiguousarray(la).tobytes(), dtype="f4"), ctx
+            )
+
+        irr = log_tex(table, (ew, eh))
+        irr_s = log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))
+        return irr, irr_s

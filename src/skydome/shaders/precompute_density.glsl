@@ -1,0 +1,62 @@
+// Scattering density J_{n+1} on the coarse grid (layered: one layer per r), every wavelength
+// group at once (location g = group g):
+//   J(y, v, s) = integral_{4 pi} [beta_R rho_R(y) P_R(v.w) + beta_M rho_M(y) P_M(v.w)] L_n(y, w) dw
+// (seed 004 5.2.2.1; Bruneton 2017 ComputeScatteringDensity), summed over the directions of the
+// field pass (precompute_field.glsl), which holds L_n(w) dw for this texel's (r, mu_s).
+// The Mie sum is self-normalized, sum P_M(v.w) L dw / sum P_M(v.w) dw: P_M integrates to 1,
+// and with g ~ 0.8 its lobe is narrower than the spacing of the directions, so the plain sum
+// would depend on where v falls between them; normalized, it is a P_M-weighted mean of L around
+// v, exact for smooth L. The Rayleigh phase function is smooth and needs no such care.
+// Stored as a logarithm (precomputed_params.glsl).
+#include "precompute_common.glsl"
+
+uniform vec4 u_density_size;  // the grid of J (NU, MU_S, MU, R)
+uniform sampler2D u_field;  // L dw, x = group * N_DIR + direction, y = r_index * MU_S + mu_s_index
+
+flat in int v_layer;
+layout(location = 0) out vec4 out_density[NUM_GROUPS];
+
+void main() {
+    ivec2 texel = ivec2(gl_FragCoord.xy);
+    float r, mu, mu_s, nu;
+    bool hits_ground;
+    scattering_texel_params(texel, v_layer, u_density_size, true, r, mu, mu_s, nu, hits_ground);
+    int n_mu_s = int(u_density_size.y);
+    int row = v_layer * n_mu_s + (texel.x - (texel.x / n_mu_s) * n_mu_s);
+    vec3 v = view_in_frame(mu, mu_s, nu);
+
+    float g = u_mie_g;
+    float gg = 1.0 + g * g;
+    vec4 sum_r[NUM_GROUPS];
+    vec4 sum_m[NUM_GROUPS];
+    for (int k = 0; k < NUM_GROUPS; ++k) {
+        sum_r[k] = vec4(0.0);
+        sum_m[k] = vec4(0.0);
+    }
+    float norm_m = 0.0;
+    for (int a = 0; a < N_MU; ++a) {
+        vec2 m = mu_node(a, r);
+        float sin_a = safe_sqrt(1.0 - m.x * m.x);
+        float w_a = m.y * (2.0 * PI / float(N_PHI));
+        for (int j = 0; j < N_PHI; ++j) {
+            vec3 w = vec3(sin_a * u_phi_cs[j], m.x);
+            float c = dot(v, w);
+            float pr = 1.0 + c * c;
+            // Cornette-Shanks without its constant factor (it cancels in the normalization).
+            float ix = inversesqrt(max(gg - 2.0 * g * c, 1e-8));
+            float pm = pr * ix * ix * ix;
+            norm_m += pm * w_a;
+            int x = a * N_PHI + j;
+            for (int k = 0; k < NUM_GROUPS; ++k) {
+                vec4 Lw = texelFetch(u_field, ivec2(k * N_DIR + x, row), 0);
+                sum_r[k] += pr * Lw;
+                sum_m[k] += pm * Lw;
+            }
+        }
+    }
+    vec3 d = densities(r - u_bottom_radius);
+    for (int k = 0; k < NUM_GROUPS; ++k) {
+        out_density[k] = to_log(u_rayleigh_scattering[k] * (d.x * 3.0 / (16.0 * PI)) * sum_r[k]
+                              + u_mie_scattering[k] * (d.y / max(norm_m, 1e-30)) * sum_m[k]);
+    }
+}
