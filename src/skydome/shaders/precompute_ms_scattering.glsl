@@ -14,6 +14,13 @@
 uniform vec4 u_ms_size;       // this table (NU, MU_S, MU, R)
 uniform vec4 u_density_size;  // the grid of J
 uniform sampler3D u_density;  // ln J_total, NUM_GROUPS tables stacked in depth
+#if MS_LOG_INTERP
+// Orders >= 2 computed at 4 wavelengths (one group) and extended to the NUM_RENDER_GROUPS
+// groups of render wavelengths by interpolating ln L in a physical basis (precompute.py,
+// ms_log_interpolation): ln L(render group k) = u_ms_log_interp[k] * ln L(4 samples).
+uniform mat4 u_ms_log_interp[NUM_RENDER_GROUPS];
+uniform mat4 u_render_to_table[NUM_RENDER_GROUPS];
+#endif
 
 flat in int v_layer;
 out vec4 frag;
@@ -41,6 +48,18 @@ void main() {
         }
     }
     vec4 v = vec4(0.0);
+#if MS_LOG_INTERP
+    vec4 L4 = radiance[0];
+    float hi = max(max(L4.x, L4.y), max(L4.z, L4.w));
+    float lo = min(min(L4.x, L4.y), min(L4.z, L4.w));
+    if (lo > 1e-6 * hi && hi > 0.0) {
+        vec4 ln4 = log(L4);
+        for (int k = 0; k < NUM_RENDER_GROUPS; ++k) v += u_render_to_table[k] * exp(u_ms_log_interp[k] * ln4);
+    } else {
+        v = u_spectral_to_table[0] * L4;  // (near) zero somewhere: linear interpolation
+    }
+#else
     for (int g = 0; g < NUM_GROUPS; ++g) v += u_spectral_to_table[g] * radiance[g];
+#endif
     frag = to_log(v);
 }
