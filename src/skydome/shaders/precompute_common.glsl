@@ -45,6 +45,58 @@ void ray_node(int i, float r, float mu, float L, out float t, out float dt) {
     }
 }
 
+// The same rule restricted to the sunlit part of the ray (single scattering is zero in the
+// planet's shadow): in twilight the lit part is a short segment high up, far from the ray's
+// dense low end, and a rule over the whole ray puts few nodes there (5% errors at a Sun 12 deg
+// below the horizon). `lit` = (a0, b0, a1, b1), the lit intervals from lit_segments (empty when
+// b <= a). One lit interval gets the full rule of ray_node (split at the perigee if inside);
+// two get half the nodes each, dense at their lower end.
+vec4 lit_segments(float r, float mu, float mu_s, float nu, float L) {
+    vec2 s = shadow_interval(r, mu, mu_s, nu, L);
+    if (s.y <= s.x) return vec4(0.0, L, L, L);
+    return vec4(0.0, s.x, s.y, L);
+}
+
+void segment_node(int i, float r, float mu, float a, float b, bool full, out float t, out float dt) {
+    float l = b - a;
+    float t_p = clamp(-r * mu, a, b);
+    if (full && t_p > a && t_p < b) {
+        // perigee inside: half the nodes on each side, dense at the perigee
+        if (i < RAY_SAMPLES / 2) {
+            vec2 q = u_ray_rule_half[i];
+            float lp = t_p - a;
+            t = t_p - lp * q.x * q.x;
+            dt = 2.0 * lp * q.x * q.y;
+        } else {
+            vec2 q = u_ray_rule_half[i - RAY_SAMPLES / 2];
+            float lp = b - t_p;
+            t = t_p + lp * q.x * q.x;
+            dt = 2.0 * lp * q.x * q.y;
+        }
+        return;
+    }
+    vec2 q = full ? u_ray_rule[i] : u_ray_rule_half[i];
+    bool up = altitude_at(r, mu, a) <= altitude_at(r, mu, b);  // dense at the lower end
+    t = up ? a + l * q.x * q.x : b - l * q.x * q.x;
+    dt = 2.0 * l * q.x * q.y;
+}
+
+void lit_ray_node(int i, float r, float mu, vec4 lit, out float t, out float dt) {
+    bool first = lit.y > lit.x;
+    bool second = lit.w > lit.z;
+    if (first && second) {
+        if (i < RAY_SAMPLES / 2) segment_node(i, r, mu, lit.x, lit.y, false, t, dt);
+        else segment_node(i - RAY_SAMPLES / 2, r, mu, lit.z, lit.w, false, t, dt);
+    } else if (first) {
+        segment_node(i, r, mu, lit.x, lit.y, true, t, dt);
+    } else if (second) {
+        segment_node(i, r, mu, lit.z, lit.w, true, t, dt);
+    } else {
+        t = 0.0;
+        dt = 0.0;
+    }
+}
+
 // Column densities (km) from the start of a ray to the point at (r_t, mu_t) on it, given c0 =
 // column_to_top(r, hits_ground ? -mu : mu) at the start (single_scattering.glsl).
 vec3 view_column(vec3 c0, float r_t, float mu_t, bool hits_ground) {

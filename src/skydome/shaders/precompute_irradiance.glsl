@@ -40,10 +40,15 @@ void main() {
 #if IRRADIANCE_SINGLE
             float phase_r = rayleigh_phase(nu);
             float phase_m = cornette_shanks_phase(nu, u_mie_g);
+            vec4 lit = lit_segments(r, mu, mu_s, nu, L);
 #endif
             for (int q = 0; q < RAY_SAMPLES; ++q) {
                 float t, dt;
+#if IRRADIANCE_SINGLE
+                lit_ray_node(q, r, mu, lit, t, dt);
+#else
                 ray_node(q, r, mu, L, t, dt);
+#endif
                 float r_t, mu_t, mu_s_t;
                 ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
                 vec3 c = view_column(c0, r_t, mu_t, false);

@@ -13,8 +13,8 @@
 // Single scattering (seed 004 5.2.2.1, Bruneton 2017 ComputeSingleScattering):
 //   S_i(x, v, s) = integral_0^L beta_i rho_i(y) T(x, y) T(y, sun) dt,  i in {R, M},
 // with T(y, sun) = 0 in the planet's shadow (a point Sun, like the single-scattering renderer),
-// integrated with the Gauss-Legendre rule of ray_node (RAY_SAMPLES nodes), at every render
-// wavelength, then converted with u_spectral_to_table.
+// integrated over the sunlit part of the ray with the Gauss-Legendre rules of lit_ray_node
+// (RAY_SAMPLES nodes), at every render wavelength, then converted with u_spectral_to_table.
 #include "precompute_common.glsl"
 
 uniform vec4 u_scattering_size;   // (NU, MU_S, MU, R) of the table being written
@@ -31,6 +31,7 @@ void main() {
                             hits_ground);
     float L = ray_length(r, mu, hits_ground);
     vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
+    vec4 lit = lit_segments(r, mu, mu_s, nu, L);
     vec4 ray_r[NUM_GROUPS];
     vec4 ray_m[NUM_GROUPS];
     for (int g = 0; g < NUM_GROUPS; ++g) {
@@ -39,11 +40,11 @@ void main() {
     }
     for (int i = 0; i < RAY_SAMPLES; ++i) {
         float t, dt;
-        ray_node(i, r, mu, L, t, dt);
+        lit_ray_node(i, r, mu, lit, t, dt);
         float r_t, mu_t, mu_s_t;
         ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
         vec3 c_sun = column_to_sun(r_t, mu_s_t);
-        if (c_sun.x < 0.0) continue;  // in the planet's shadow
+        if (c_sun.x < 0.0 || dt <= 0.0) continue;  // in the planet's shadow
         vec3 c = view_column(c0, r_t, mu_t, hits_ground) + c_sun;
         vec3 d = densities(r_t - u_bottom_radius) * dt;
         for (int g = 0; g < NUM_GROUPS; ++g) {

@@ -237,7 +237,8 @@ float lowest_in(float r, float mu, float a, float b) {
     return altitude_at(r, mu, clamp(-r * mu, a, b));
 }
 
-float lowest_lit_altitude(float r, float mu, float mu_s, float nu, float L) {
+// The part [s0, s1] of the ray [0, L] inside the planet's shadow (s1 <= s0: none).
+vec2 shadow_interval(float r, float mu, float mu_s, float nu, float L) {
     float Rb = u_bottom_radius;
     // Cylinder interval [c0, c1].
     float qa = 1.0 - nu * nu;
@@ -267,8 +268,13 @@ float lowest_lit_altitude(float r, float mu, float mu_s, float nu, float L) {
     } else {
         h0 = -r * mu_s / nu;
     }
-    float s0 = max(max(c0, h0), 0.0);
-    float s1 = min(min(c1, h1), L);
+    return vec2(max(max(c0, h0), 0.0), min(min(c1, h1), L));
+}
+
+float lowest_lit_altitude(float r, float mu, float mu_s, float nu, float L) {
+    vec2 s = shadow_interval(r, mu, mu_s, nu, L);
+    float s0 = s.x;
+    float s1 = s.y;
     if (s1 <= s0) return lowest_in(r, mu, 0.0, L);  // no shadow on the ray
     float best = 1e30;
     if (s0 > 0.0) best = min(best, lowest_in(r, mu, 0.0, s0));
