@@ -292,9 +292,21 @@ def test_orders_increase_monotonically_and_converge():
     assert np.mean(res[(4, 40.0)][:, 1]) > 1.2 * np.mean(res[(1, 40.0)][:, 1])
 
 
-def test_tolerance_stops_early():
+def test_tolerance_stops_early_and_progress_reaches_one(ctx):
     pa = tables(orders=10, tolerance=0.02, **SMALL)
     assert 3 <= pa.orders_computed < 10
+    calls = []
+    pa = precompute(
+        ctx,
+        preset("earth"),
+        PrecomputeConfig(orders=3, **SMALL),
+        progress=lambda stage, f: calls.append((stage, f)),
+    )
+    fractions = [f for _, f in calls]
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0 and len(calls) > 5
+    assert {"transmittance", "density", "single_scattering", "irradiance"} <= {s for s, _ in calls}
+    assert pa.timings["total"] > 0 and set(pa.timings) >= {"transmittance", "density", "total"}
+    pa.release()
 
 
 def test_sky_irradiance_against_monte_carlo():

@@ -569,6 +569,8 @@ class _Precomputation:
                 obj.release()
         timings = dict(st.times)
         timings["total"] = sum(st.times.values())
+        if self.stages.progress is not None:
+            self.stages.progress("done", 1.0)
         return PrecomputedAtmosphere(
             ctx, self.params, cfg, self.transmittance.texture, self.transmittance.size,
             scat, mie, ms_tex, irr, irr_s, self.mu_s_min, scale, ms_range, orders, timings,
