@@ -76,7 +76,7 @@ def main() -> None:
 
 
 def side_by_side(w: int, h: int) -> None:
-    """Single vs multiple scattering at Sun -4 deg, one exposure for both (EV100 5)."""
+    """Single vs multiple scattering at Sun -4 deg, one exposure for both (EV100 7)."""
     import numpy as np
 
     cam = PerspectiveCamera(fov_deg=90, yaw_deg=270, pitch_deg=15)
@@ -90,10 +90,12 @@ def side_by_side(w: int, h: int) -> None:
             height=h,
             model=model,
         )
-        halves.append(tonemap(frame, "filmic", ev100_to_scale(5.0)))
+        halves.append(tonemap(frame, "filmic", ev100_to_scale(7.0)))
     both = np.concatenate(halves, axis=1)
     path = OUT / "compare-single-multiple-sun-4.png"
-    atomic_write(path, lambda tmp: write_png(tmp, both, {"views": "single | precomputed, Sun -4 deg"}))
+    atomic_write(
+        path, lambda tmp: write_png(tmp, both, {"views": "single | precomputed, Sun -4 deg"})
+    )
     print(f"{path.relative_to(OUT.parents[1])}")
 
 
