@@ -35,7 +35,7 @@ test: lint
 	$(PY) -m pytest
 
 gallery: $(STAMP)
-	$(PY) tools/make_gallery.py
+	$(PY) tools/make_gallery.py && $(PY) tools/make_gallery.py --model single
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench_render.py

@@ -14,7 +14,12 @@ from skydome.render.cameras import (
     direction_from_angles,
 )
 from skydome.render.single import camera_position_km
-from skydome.spectra import LINEAR_SRGB_TO_XYZ, SRGB_LUMINANCE, spectral_to_rgbs_matrix
+from skydome.spectra import (
+    LINEAR_SRGB_TO_XYZ,
+    SRGB_LUMINANCE,
+    photopic_efficiency,
+    spectral_to_rgbs_matrix,
+)
 
 
 def render_dirs(renderer, dirs, sun, altitude_m=0.0):
@@ -110,12 +115,13 @@ def test_vertical_transmittance_matches_analytic_optical_depth(renderer_factory)
     np.testing.assert_allclose(got, want, rtol=5e-3)
 
 
-def test_sun_disk_integrates_to_solar_irradiance(renderer_factory):
+@pytest.mark.parametrize("atmosphere", ["earth", "mars"])
+def test_sun_disk_integrates_to_solar_irradiance(renderer_factory, atmosphere):
     # From 2000 km up, looking at a Sun 60 deg above the horizon (the ray misses the
     # atmosphere): sum of L cos(theta) d(omega) over the pixels = the extraterrestrial
     # illuminance of the parameters' spectrum. Pinhole pixel solid angle:
     # dx dy / (1 + x^2 + y^2)^(3/2). Bound 1% (pixels straddling the disk edge).
-    r = renderer_factory("earth", "accurate", 16, False)
+    r = renderer_factory(atmosphere, "accurate", 16, False)
     alpha = r.params.sun_angular_radius_rad
     n = 400
     fov = 2 * math.degrees(math.atan(1.5 * math.tan(alpha)))
@@ -127,9 +133,10 @@ def test_sun_disk_integrates_to_solar_irradiance(renderer_factory):
     d_omega = (2 * t / n) ** 2 / (1 + xx**2 + yy**2) ** 1.5
     cos_theta = 1 / np.sqrt(1 + xx**2 + yy**2)
     illuminance = float(np.sum(frame.luminance * cos_theta * d_omega))
-    want = SRGB_LUMINANCE @ (
-        spectral_to_rgbs_matrix(r.wavelengths_nm)[:3] @ np.ones(len(r.wavelengths_nm))
-    )
+    # Expected: 683 lm/W x integral of the params' solar spectrum x V(lambda) (1 nm steps);
+    # for Mars the spectrum is scaled by 1/1.524^2.
+    wl = np.arange(360.0, 831.0)
+    want = 683.0 * np.sum(r.params.solar_irradiance.at(wl) * photopic_efficiency(wl))
     assert illuminance == pytest.approx(want, rel=0.01)
 
 

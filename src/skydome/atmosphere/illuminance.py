@@ -57,6 +57,7 @@ def horizontal_illuminance(
         check_range("sun elevation", e, -90.0, 90.0, "deg")
     check_range("altitude", altitude_m, 0.0, params.atmosphere_height_m, "m")
     tables, _ = load_tables(ctx or shared_context(), params, config)
+    sun_scale = sun_scale * params.solar_scale  # the tables hold the tabulated (1 AU) Sun
     up = np.tile([0.0, 0.0, 1.0], (len(els), 1))
     out = []
     for el in els:

@@ -192,6 +192,21 @@ class AtmosphereParams:
     def atmosphere_height_m(self) -> float:
         return self.top_radius_m - self.bottom_radius_m
 
+    @property
+    def solar_scale(self) -> float:
+        """Illuminance of this atmosphere's Sun relative to the tabulated (ASTM G-173, 1 AU) one.
+
+        The spectral conversions (``spectral_to_rgbs_matrix``) and the precomputed tables use the
+        shape of the tabulated spectrum; renderers multiply by this factor (e.g. 1/1.524^2 for
+        Mars), so that a scaled ``solar_irradiance`` gives the right absolute luminance.
+        """
+        from skydome.spectra import photopic_efficiency
+        from skydome.spectra import solar_irradiance as tabulated
+
+        wl = np.arange(360.0, 831.0, 1.0)
+        v = photopic_efficiency(wl)
+        return float(np.sum(self.solar_irradiance.at(wl) * v) / np.sum(tabulated(wl) * v))
+
     def with_(self, **changes) -> AtmosphereParams:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)

@@ -113,9 +113,10 @@ class PrecomputedRenderer(PassRenderer):
             **self.uniforms,
             "u_camera_position": camera_position_km(self.params, altitude_m),
             "u_sun_direction": tuple(sun),
-            "u_sun_scale": float(sun_scale),
+            # The tables are for the tabulated solar spectrum: scale to this atmosphere's Sun.
+            "u_sun_scale": float(sun_scale) * self.params.solar_scale,
             "u_light2_direction": tuple(light2),
-            "u_light2_scale": float(light2_scale),
+            "u_light2_scale": float(light2_scale) * self.params.solar_scale,
         }
         extra, inputs = (["HAS_LIGHT2"] if light2_scale > 0 else []), {}
         if shadow_length_m is not None:

@@ -60,7 +60,7 @@ class SingleScatteringRenderer(PassRenderer):
             "u_spectral_to_rgbs": np.concatenate(mats).tolist(),
             "u_view_samples": self.view_samples,
             "u_jitter": int(self.jitter),
-            "u_output_scale": 1.0,
+            "u_output_scale": params.solar_scale,  # this atmosphere's Sun vs the tabulated one
         }
         self.groups = groups
 
