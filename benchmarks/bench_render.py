@@ -40,6 +40,20 @@ def main() -> None:
     )
     print(f"# device: {gl_info(renderer.ctx).describe()}")
     print(f"# model {args.model}, spectral {args.spectral}, {args.samples} samples per view ray")
+    if args.model == "precomputed":
+        # Reload of the tables from the disk cache (warm: the renderer above stored them).
+        from skydome.atmosphere.precompute_config import PrecomputeConfig
+        from skydome.atmosphere.tables import load_tables
+
+        config = PrecomputeConfig(wavelengths=args.spectral)
+        reloads = []
+        for _ in range(5):
+            t0 = time.perf_counter()
+            tables, loaded = load_tables(renderer.ctx, preset("earth"), config)
+            reloads.append((time.perf_counter() - t0) * 1e3)
+            tables.release()
+            assert loaded
+        print(f"reload from cache: {statistics.median(reloads):.1f} ms")
     sun = direction_from_angles(25.0, 200.0)
     for label, cam, w, h in cases:
         for _ in range(2):  # warm-up: shader compilation, target allocation
