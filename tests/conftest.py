@@ -36,7 +36,7 @@ def renderer_factory():
     return single_renderer
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def precomputed_renderer(atmosphere: str = "earth", spectral: str = "accurate", orders: int = 4):
     from skydome.atmosphere.precompute_config import PrecomputeConfig
     from skydome.render.precomputed import PrecomputedRenderer
