@@ -72,11 +72,15 @@ class PassRenderer:
             self._passes[key] = FullscreenPass(self.ctx, self.shader, defines)
         return self._passes[key]
 
-    def _target(self, width: int, height: int, attachments: int = 1):
-        key = (width, height, attachments)
+    def _target(self, width: int, height: int, attachments: int = 1, depth: bool = False):
+        key = (width, height, attachments, depth)
         if key not in self._targets:
             texs = [self.ctx.texture((width, height), 4, dtype="f4") for _ in range(attachments)]
-            self._targets[key] = (texs, self.ctx.framebuffer(color_attachments=texs))
+            rb = self.ctx.depth_renderbuffer((width, height)) if depth else None
+            self._targets[key] = (
+                texs,
+                self.ctx.framebuffer(color_attachments=texs, depth_attachment=rb),
+            )
         return self._targets[key]
 
     def _draw(
@@ -89,14 +93,20 @@ class PassRenderer:
         extra: tuple[str, ...] = (),
         inputs: dict | None = None,
         attachments: int = 1,
+        surface_pass: bool = False,
     ):
         """Draw the pass for ``camera`` into a (w, h) target; returns (arrays, milliseconds).
 
         ``inputs`` maps sampler names to textures made for this frame (released after it).
         Arrays are float32 (h, w, 4), row 0 at the top, one per attachment.
+        With ``surface_pass``, the shader is drawn twice: as is (it writes a depth of 0.5 on
+        the pixels that need more work), then compiled with SURFACE_PASS, added with an early
+        depth test that keeps it to those pixels (CPU rasterizers otherwise run a branch's
+        body for whole pixel blocks).
         """
         fpass = self._pass(camera, extra)  # compiled once per camera model and variant
-        texs, fbo = self._target(w, h, attachments)
+        second = self._pass(camera, (*extra, "SURFACE_PASS")) if surface_pass else None
+        texs, fbo = self._target(w, h, attachments, depth=surface_pass)
         inputs = dict(inputs or {})
         t0 = time.perf_counter()
         if isinstance(camera, DirectionsCamera):
@@ -104,8 +114,28 @@ class PassRenderer:
                 (w, h), 3, camera.texture_data(), dtype="f4"
             )
         fbo.viewport = (0, 0, w, h)
+        ctx = self.ctx
         try:
-            fpass.draw(fbo, {**uniforms, **camera.uniforms(w, h)}, {**textures, **inputs})
+            all_uniforms, all_textures = (
+                {**uniforms, **camera.uniforms(w, h)},
+                {**textures, **inputs},
+            )
+            if second is None:
+                fpass.draw(fbo, all_uniforms, all_textures)
+            else:
+                fbo.clear(depth=1.0)
+                ctx.enable(ctx.DEPTH_TEST)
+                ctx.depth_func = "1"  # the sky pass always writes colour and depth
+                fbo.depth_mask = True
+                fpass.draw(fbo, all_uniforms, all_textures)
+                ctx.depth_func = ">="  # the triangle's depth is 0.5: passes where 0.5 was written
+                fbo.depth_mask = False
+                ctx.enable(ctx.BLEND)
+                ctx.blend_func = ctx.ONE, ctx.ONE
+                second.draw(fbo, all_uniforms, all_textures)
+                ctx.disable(ctx.BLEND | ctx.DEPTH_TEST)
+                fbo.depth_mask = True
+                ctx.depth_func = "<"
             out = []
             for i in range(attachments):
                 raw = fbo.read(components=4, dtype="f4", attachment=i)

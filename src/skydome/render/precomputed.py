@@ -138,6 +138,7 @@ class PrecomputedRenderer(PassRenderer):
             tuple(extra),
             inputs,
             attachments=2 if depth_m is not None else 1,
+            surface_pass=True,
         )
         info = self._info(
             camera,

@@ -33,38 +33,56 @@ vec3 transmittance_rgb(vec3 column) {
     return t.rgb / one.rgb;
 }
 
-// Radiance towards the camera along `dir` due to one light, at unit light scale.
-vec4 light_radiance(vec3 camera, vec3 dir, vec3 light, float shadow_length, bool with_disk) {
-    vec3 column;
-    vec4 radiance = sky_radiance(camera, dir, shadow_length, light, column);
-    // The ground test must agree with the one of sky_radiance (same r, mu), or pixels at
-    // the horizon would get the wrong column.
-    vec3 entry = camera;
+// Where the ray from `camera` along `dir` ends: on the ground (true), else at the top. The
+// test must agree with the one of sky_radiance (same r, mu), or pixels at the horizon would
+// get the wrong column. Also gives the entry point, r and r mu there.
+bool ray_ends_on_ground(vec3 camera, vec3 dir, out vec3 entry, out float r, out float rmu) {
+    entry = camera;
+    return enter_atmosphere(entry, dir, r, rmu) && ray_hits_ground(r, clamp_cosine(rmu / r));
+}
+
+bool sees_disk(vec3 dir, vec3 light) { return dot(dir, light) > cos(u_sun_angular_radius); }
+
+// Radiance of the surfaces at the end of the ray, seen through the air, for one light at unit
+// scale: the Lambertian ground (albedo(λ) (E_sun + E_sky)(λ) / pi) or the light's disk.
+vec4 surface_radiance(vec3 camera, vec3 dir, vec3 light, bool with_disk) {
+    vec3 entry;
     float r, rmu;
-    bool hits_ground = enter_atmosphere(entry, dir, r, rmu) && ray_hits_ground(r, clamp_cosine(rmu / r));
-    bool in_disk = with_disk && !hits_ground && dot(dir, light) > cos(u_sun_angular_radius);
-    // One branch for both surfaces seen at the end of the ray (CPU rasterizers run the
-    // bodies of branches for whole blocks of pixels).
-    if (hits_ground || in_disk) {
-        vec3 n = normalize(entry + dir * distance_to_bottom(r, clamp_cosine(rmu / r)));
-        vec3 p = n * u_bottom_radius;
-        float disk = 1.0 / (PI * sin(u_sun_angular_radius) * sin(u_sun_angular_radius));
-        // Direct light on the ground (sun_irradiance_group, with the column fetched once).
-        float mu_s = clamp_cosine(dot(n, light));
-        float sun_factor = sun_visible_fraction(u_bottom_radius, mu_s) * max(mu_s, 0.0);
-        vec3 c_sun = column_to_top(u_bottom_radius, max(mu_s, 0.0));
-        for (int g = 0; g < NUM_GROUPS; ++g) {
-            // Ground: Lambertian, albedo(λ) (E_sun + E_sky)(λ) / pi; Sun: its uniform disk.
-            vec4 e_sun = sun_factor * exp(-optical_depth(g, c_sun));
-            vec4 source = in_disk ? vec4(disk)
-                : u_ground_albedo[g] * INV_PI * (e_sun + sky_irradiance_group(g, p, n, light));
-            radiance += u_spectral_to_rgbs[g] * (source * exp(-optical_depth(g, column)));
-        }
+    bool hits_ground = ray_ends_on_ground(camera, dir, entry, r, rmu);
+    bool in_disk = with_disk && !hits_ground && r > 0.0 && sees_disk(dir, light);
+    vec4 radiance = vec4(0.0);
+    if (!(hits_ground || in_disk)) return radiance;
+    float mu = clamp_cosine(rmu / r);
+    float d_ground = distance_to_bottom(r, mu);
+    vec3 column = hits_ground ? column_along_ray(r, mu, d_ground, true) : column_to_top(r, mu);
+    vec3 n = normalize(entry + dir * d_ground);
+    vec3 p = n * u_bottom_radius;
+    float disk = 1.0 / (PI * sin(u_sun_angular_radius) * sin(u_sun_angular_radius));
+    // Direct light on the ground (sun_irradiance_group, with the column fetched once).
+    float mu_s = clamp_cosine(dot(n, light));
+    float sun_factor = sun_visible_fraction(u_bottom_radius, mu_s) * max(mu_s, 0.0);
+    vec3 c_sun = column_to_top(u_bottom_radius, max(mu_s, 0.0));
+    for (int g = 0; g < NUM_GROUPS; ++g) {
+        vec4 e_sun = sun_factor * exp(-optical_depth(g, c_sun));
+        vec4 source = in_disk ? vec4(disk)
+            : u_ground_albedo[g] * INV_PI * (e_sun + sky_irradiance_group(g, p, n, light));
+        radiance += u_spectral_to_rgbs[g] * (source * exp(-optical_depth(g, column)));
     }
     return radiance;
 }
 
+// True where a pixel needs surface_radiance (for the sky pass to mark it).
+bool needs_surface(vec3 camera, vec3 dir) {
+    vec3 entry;
+    float r, rmu;
+    bool ground = ray_ends_on_ground(camera, dir, entry, r, rmu);
+    return ground || (r > 0.0 && sees_disk(dir, u_sun_direction));
+}
+
 void main() {
+#ifndef SURFACE_PASS
+    gl_FragDepth = 1.0;  // no surface pass here unless set to 0.5 below
+#endif
     vec3 dir;
     if (!camera_ray(gl_FragCoord.xy, dir)) {
         frag = vec4(0.0);
@@ -100,9 +118,25 @@ void main() {
         return;
     }
     frag_transmittance = vec4(0.0, 0.0, 0.0, 1.0);  // no scene: the sky below is all there is
+#ifdef SURFACE_PASS
+    frag_transmittance = vec4(0.0);  // added to the sky pass's value
 #endif
-    frag = u_sun_scale * light_radiance(u_camera_position, dir, u_sun_direction, shadow_length, true);
+#endif
+    // Two passes (CPU rasterizers run a branch body for whole pixel blocks, so the surface
+    // shading lives in its own pass, which an early depth test limits to the pixels that
+    // need it): SKY_PASS writes the sky and a depth of 0.5 where a surface is seen (1.0
+    // elsewhere); SURFACE_PASS adds the surfaces where the depth is 0.5.
+#ifdef SURFACE_PASS
+    frag = u_sun_scale * surface_radiance(u_camera_position, dir, u_sun_direction, true);
 #ifdef HAS_LIGHT2
-    frag += u_light2_scale * light_radiance(u_camera_position, dir, u_light2_direction, 0.0, false);
+    frag += u_light2_scale * surface_radiance(u_camera_position, dir, u_light2_direction, false);
+#endif
+#else
+    vec3 column;
+    frag = u_sun_scale * sky_radiance(u_camera_position, dir, shadow_length, u_sun_direction, column);
+#ifdef HAS_LIGHT2
+    frag += u_light2_scale * sky_radiance(u_camera_position, dir, 0.0, u_light2_direction, column);
+#endif
+    gl_FragDepth = needs_surface(u_camera_position, dir) ? 0.5 : 1.0;
 #endif
 }
