@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skydome.astro.frames import horizontal_to_enu
 from skydome.errors import ParameterError, check_range
 
 #: Largest frame side accepted (pixels); bigger frames exceed typical GL texture limits.
@@ -19,8 +20,7 @@ MAX_SIDE = 16384
 
 def direction_from_angles(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
     """Unit ENU vector (x east, y north, z up) from elevation and azimuth (from north via east)."""
-    el, az = math.radians(elevation_deg), math.radians(azimuth_deg)
-    return np.array([math.sin(az) * math.cos(el), math.cos(az) * math.cos(el), math.sin(el)])
+    return horizontal_to_enu(math.radians(elevation_deg), math.radians(azimuth_deg))
 
 
 def check_size(width: int, height: int) -> tuple[int, int]:
