@@ -1,69 +1,109 @@
-"""Frame time of the sky renderer: median ms per frame after warm-up, read-back included.
+"""Frame time of the sky renderers: median ms per frame after warm-up, read-back included.
 
-Usage: python benchmarks/bench_render.py [--model single] [--spectral fast|accurate]
-       [--samples 16] [--repeats 10]
+Usage: python benchmarks/bench_render.py [--model precomputed|single]
+       [--spectral fast|accurate] [--direct] [--samples 16] [--repeats 15] [--sizes 1920x1080]
 
-Prints one line per frame size, e.g. ``640x360: 48.1 ms``, and the GL device first.
+Prints the GL device, then one line per frame size, e.g. ``1280x720: 13.6 ms``. For the
+precomputed model, frames come from the sky-view tables (the camera turns, the tables are
+kept); ``Sun moving`` lines redraw the tables every frame (the worst case: a moving light or
+camera altitude), ``--direct`` looks every pixel up in the 4D tables instead.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import statistics
 import time
 
 from skydome.atmosphere import preset
 from skydome.gpu import gl_info
-from skydome.render import FisheyeCamera, PerspectiveCamera, direction_from_angles, get_renderer
+from skydome.render import FisheyeCamera, PerspectiveCamera, direction_from_angles
 
+VIEW = PerspectiveCamera(fov_deg=90.0, yaw_deg=200.0, pitch_deg=15.0)
 CASES = [
-    ("640x360", PerspectiveCamera(fov_deg=90.0, yaw_deg=200.0, pitch_deg=15.0), 640, 360),
-    ("1280x720", PerspectiveCamera(fov_deg=90.0, yaw_deg=200.0, pitch_deg=15.0), 1280, 720),
+    ("640x360", VIEW, 640, 360),
+    ("1280x720", VIEW, 1280, 720),
+    ("1920x1080", VIEW, 1920, 1080),
     ("fisheye 512x512", FisheyeCamera(), 512, 512),
 ]
 
 
+def median_ms(fn, repeats: int, warmup: int = 2) -> float:
+    """Median wall time of ``fn()`` in ms after ``warmup`` untimed calls."""
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append((time.perf_counter() - t0) * 1e3)
+    return statistics.median(times)
+
+
+def make_renderer(args):
+    params = preset("earth")
+    if args.model == "single":
+        from skydome.render.single import SingleScatteringRenderer
+
+        return SingleScatteringRenderer(params, spectral=args.spectral, view_samples=args.samples)
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+    from skydome.render.precomputed import PrecomputedRenderer
+
+    return PrecomputedRenderer(
+        params, PrecomputeConfig(wavelengths=args.spectral), sky_view=not args.direct
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--model", default="single")
-    ap.add_argument("--spectral", default="fast", help="fast (4 wavelengths) or accurate (16)")
+    ap.add_argument("--model", default="precomputed", choices=("precomputed", "single"))
+    ap.add_argument("--spectral", default="accurate", help="fast (4 wavelengths) or accurate (16)")
+    ap.add_argument("--direct", action="store_true", help="precomputed: no sky-view tables")
     ap.add_argument("--samples", type=int, default=16)
-    ap.add_argument("--repeats", type=int, default=10)
-    ap.add_argument("--sizes", default="", help="extra sizes, e.g. 1920x1080")
+    ap.add_argument("--repeats", type=int, default=15)
+    ap.add_argument("--sizes", default="", help="extra sizes, e.g. 3840x2160")
     args = ap.parse_args()
     cases = list(CASES)
     for s in filter(None, args.sizes.split(",")):
         w, h = (int(v) for v in s.split("x"))
-        cases.append((s, PerspectiveCamera(fov_deg=90.0, yaw_deg=200.0, pitch_deg=15.0), w, h))
-    renderer = get_renderer(
-        args.model, preset("earth"), spectral=args.spectral, samples=args.samples
-    )
+        cases.append((s, VIEW, w, h))
+    renderer = make_renderer(args)
+    path = "sky-view tables" if getattr(renderer, "sky_view", None) else "per-pixel lookups"
     print(f"# device: {gl_info(renderer.ctx).describe()}")
-    print(f"# model {args.model}, spectral {args.spectral}, {args.samples} samples per view ray")
+    print(f"# model {args.model}, spectral {args.spectral}, ", end="")
+    print(path if args.model == "precomputed" else f"{args.samples} samples per view ray")
     if args.model == "precomputed":
         # Reload of the tables from the disk cache (warm: the renderer above stored them).
         from skydome.atmosphere.precompute_config import PrecomputeConfig
         from skydome.atmosphere.tables import load_tables
 
         config = PrecomputeConfig(wavelengths=args.spectral)
-        reloads = []
-        for _ in range(5):
-            t0 = time.perf_counter()
+
+        def reload():
             tables, loaded = load_tables(renderer.ctx, preset("earth"), config)
-            reloads.append((time.perf_counter() - t0) * 1e3)
             tables.release()
             assert loaded
-        print(f"reload from cache: {statistics.median(reloads):.1f} ms")
+
+        print(f"reload from cache: {median_ms(reload, 5, warmup=0):.1f} ms")
     sun = direction_from_angles(25.0, 200.0)
     for label, cam, w, h in cases:
-        for _ in range(2):  # warm-up: shader compilation, target allocation
-            renderer.render(cam, w, h, sun_direction=sun)
-        times = []
-        for _ in range(args.repeats):
-            t0 = time.perf_counter()
-            renderer.render(cam, w, h, sun_direction=sun)
-            times.append((time.perf_counter() - t0) * 1e3)
-        print(f"{label}: {statistics.median(times):.1f} ms")
+        ms = median_ms(
+            functools.partial(renderer.render, cam, w, h, sun_direction=sun), args.repeats
+        )
+        print(f"{label}: {ms:.1f} ms")
+    if getattr(renderer, "sky_view", None):
+        step = [0]
+
+        def moving(w: int, h: int):
+            step[0] += 1
+            moved = direction_from_angles(25.0 + 1e-3 * step[0], 200.0)
+            renderer.render(VIEW, w, h, sun_direction=moved)
+
+        for w, h in ((640, 360), (1280, 720)):
+            print(
+                f"{w}x{h} Sun moving: {median_ms(functools.partial(moving, w, h), args.repeats):.1f} ms"
+            )
 
 
 if __name__ == "__main__":

@@ -37,10 +37,15 @@ def renderer_factory():
 
 
 @functools.cache
-def precomputed_renderer(atmosphere: str = "earth", spectral: str = "accurate", orders: int = 4):
+def precomputed_renderer(
+    atmosphere: str = "earth", spectral: str = "accurate", orders: int = 4, sky_view: bool = True
+):
+    """``sky_view=False``: every pixel looked up in the 4D tables (the same tables)."""
     from skydome.atmosphere.precompute_config import PrecomputeConfig
     from skydome.render.precomputed import PrecomputedRenderer
 
     return PrecomputedRenderer(
-        preset(atmosphere), PrecomputeConfig(wavelengths=spectral, orders=orders)
+        preset(atmosphere),
+        PrecomputeConfig(wavelengths=spectral, orders=orders),
+        sky_view=sky_view,
     )

@@ -65,11 +65,14 @@ class PassRenderer:
     def defines(self, camera: Camera) -> dict[str, object]:
         raise NotImplementedError
 
-    def _pass(self, camera: Camera, extra: tuple[str, ...] = ()) -> FullscreenPass:
-        key = (camera.model, extra)
+    def _pass(
+        self, camera: Camera, extra: tuple[str, ...] = (), shader: str | None = None
+    ) -> FullscreenPass:
+        shader = shader or self.shader
+        key = (shader, camera.model, extra)
         if key not in self._passes:
             defines = {**self.defines(camera), **{name: 1 for name in extra}}
-            self._passes[key] = FullscreenPass(self.ctx, self.shader, defines)
+            self._passes[key] = FullscreenPass(self.ctx, shader, defines)
         return self._passes[key]
 
     def _target(self, width: int, height: int, attachments: int = 1, depth: bool = False):
@@ -94,18 +97,20 @@ class PassRenderer:
         inputs: dict | None = None,
         attachments: int = 1,
         surface_pass: bool = False,
+        shader: str | None = None,
     ):
         """Draw the pass for ``camera`` into a (w, h) target; returns (arrays, milliseconds).
 
         ``inputs`` maps sampler names to textures made for this frame (released after it).
+        ``shader`` replaces the renderer's shader file for this draw.
         Arrays are float32 (h, w, 4), row 0 at the top, one per attachment.
         With ``surface_pass``, the shader is drawn twice: as is (it writes a depth of 0.5 on
         the pixels that need more work), then compiled with SURFACE_PASS, added with an early
         depth test that keeps it to those pixels (CPU rasterizers otherwise run a branch's
         body for whole pixel blocks).
         """
-        fpass = self._pass(camera, extra)  # compiled once per camera model and variant
-        second = self._pass(camera, (*extra, "SURFACE_PASS")) if surface_pass else None
+        fpass = self._pass(camera, extra, shader)  # compiled once per camera model and variant
+        second = self._pass(camera, (*extra, "SURFACE_PASS"), shader) if surface_pass else None
         texs, fbo = self._target(w, h, attachments, depth=surface_pass)
         inputs = dict(inputs or {})
         t0 = time.perf_counter()

@@ -21,6 +21,7 @@ from skydome.render.base import (
 )
 from skydome.render.cameras import Camera
 from skydome.render.frame import Frame
+from skydome.render.sky_view import DEFAULT_SKY_VIEW_SIZE, SkyViewTables
 
 
 class PrecomputedRenderer(PassRenderer):
@@ -35,6 +36,10 @@ class PrecomputedRenderer(PassRenderer):
         cache: use the on-disk cache.
         progress: ``progress(stage, fraction)`` during a precomputation.
         ctx: a moderngl context (default: the shared headless one).
+        sky_view: draw frames from sky-view tables (render/sky_view.py) where they apply:
+            a camera inside the atmosphere, without light shafts or a depth image. False
+            looks every pixel up in the 4D tables.
+        sky_view_size: (azimuth, elevation) texels of those tables.
     """
 
     shader = "sky_precomputed.glsl"
@@ -48,6 +53,8 @@ class PrecomputedRenderer(PassRenderer):
         cache: bool = True,
         progress=None,
         ctx=None,
+        sky_view: bool = True,
+        sky_view_size: tuple[int, int] = DEFAULT_SKY_VIEW_SIZE,
     ):
         super().__init__(params, ctx or shared_context())
         self.config = config or PrecomputeConfig()
@@ -58,6 +65,9 @@ class PrecomputedRenderer(PassRenderer):
         self.setup_s = time.perf_counter() - t0
         self.uniforms = self.tables.uniforms()
         self.textures = self.tables.textures()
+        self.sky_view = (
+            SkyViewTables(self.ctx, self.tables.defines(), sky_view_size) if sky_view else None
+        )
 
     @property
     def wavelengths_nm(self) -> np.ndarray:
@@ -119,27 +129,56 @@ class PrecomputedRenderer(PassRenderer):
             "u_light2_scale": float(light2_scale) * self.params.solar_scale,
         }
         extra, inputs = (["HAS_LIGHT2"] if light2_scale > 0 else []), {}
-        if shadow_length_m is not None:
-            extra.append("HAS_SHADOW_MAP")
-            inputs["u_shadow_map"] = image_texture(
-                self.ctx, "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM
-            )
-        if depth_m is not None:
-            extra.append("HAS_DEPTH_MAP")
-            inputs["u_depth_map"] = image_texture(
-                self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
-            )
-        outs, ms = self._draw(
-            camera,
-            w,
-            h,
-            uniforms,
-            self.textures,
-            tuple(extra),
-            inputs,
-            attachments=2 if depth_m is not None else 1,
-            surface_pass=True,
+        radius_km = uniforms["u_camera_position"][2]
+        use_sky_view = (
+            self.sky_view is not None
+            and shadow_length_m is None
+            and depth_m is None
+            and radius_km < self.params.top_radius_m / M_PER_KM
         )
+        if use_sky_view:
+            # Tables of the sky seen from this altitude, redrawn when it or a light moves.
+            textures = dict(self.textures)
+            uniforms.update(self.sky_view.uniforms(radius_km))
+            lights = [("sun", sun)] + ([("light2", light2)] if light2_scale > 0 else [])
+            for slot, direction in lights:
+                textures.update(
+                    self.sky_view.textures(
+                        slot, radius_km, tuple(direction), uniforms, self.textures
+                    )
+                )
+            outs, ms = self._draw(
+                camera,
+                w,
+                h,
+                uniforms,
+                textures,
+                tuple(extra),
+                surface_pass=True,
+                shader="sky_view.glsl",
+            )
+        else:
+            if shadow_length_m is not None:
+                extra.append("HAS_SHADOW_MAP")
+                inputs["u_shadow_map"] = image_texture(
+                    self.ctx, "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM
+                )
+            if depth_m is not None:
+                extra.append("HAS_DEPTH_MAP")
+                inputs["u_depth_map"] = image_texture(
+                    self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
+                )
+            outs, ms = self._draw(
+                camera,
+                w,
+                h,
+                uniforms,
+                self.textures,
+                tuple(extra),
+                inputs,
+                attachments=2 if depth_m is not None else 1,
+                surface_pass=True,
+            )
         info = self._info(
             camera,
             altitude_m,
@@ -147,6 +186,7 @@ class PrecomputedRenderer(PassRenderer):
             ms,
             orders=self.tables.orders_computed,
             wavelengths_nm=self.wavelengths_nm.tolist(),
+            path="sky-view" if use_sky_view else "direct",
         )
         if depth_m is not None:
             info["transmittance"] = outs[1][..., :3]
@@ -154,4 +194,6 @@ class PrecomputedRenderer(PassRenderer):
 
     def release(self) -> None:
         super().release()
+        if self.sky_view is not None:
+            self.sky_view.release()
         self.tables.release()

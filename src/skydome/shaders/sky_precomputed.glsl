@@ -3,7 +3,7 @@
 // shafts (a shadow length per pixel) and optional aerial perspective in front of a user's
 // scene (a distance per pixel). Output (R, G, B, scotopic) in cd/m^2.
 #include "camera.glsl"
-#include "precomputed_lookup.glsl"
+#include "surface_radiance.glsl"
 
 uniform vec3 u_camera_position;    // km, planet centred, ENU axes of the observer
 uniform vec3 u_sun_direction;      // unit, ENU
@@ -33,42 +33,15 @@ vec3 transmittance_rgb(vec3 column) {
     return t.rgb / one.rgb;
 }
 
-// Where the ray from `camera` along `dir` ends: on the ground (true), else at the top. The
-// test must agree with the one of sky_radiance (same r, mu), or pixels at the horizon would
-// get the wrong column. Also gives the entry point, r and r mu there.
-bool ray_ends_on_ground(vec3 camera, vec3 dir, out vec3 entry, out float r, out float rmu) {
-    entry = camera;
-    return enter_atmosphere(entry, dir, r, rmu) && ray_hits_ground(r, clamp_cosine(rmu / r));
-}
-
-bool sees_disk(vec3 dir, vec3 light) { return dot(dir, light) > cos(u_sun_angular_radius); }
-
 // Radiance of the surfaces at the end of the ray, seen through the air, for one light at unit
-// scale: the Lambertian ground (albedo(λ) (E_sun + E_sky)(λ) / pi) or the light's disk.
+// scale: the Lambertian ground or the light's disk (surface_radiance.glsl).
 vec4 surface_radiance(vec3 camera, vec3 dir, vec3 light, bool with_disk) {
     vec3 entry;
     float r, rmu;
     bool hits_ground = ray_ends_on_ground(camera, dir, entry, r, rmu);
-    bool in_disk = with_disk && !hits_ground && r > 0.0 && sees_disk(dir, light);
-    vec4 radiance = vec4(0.0);
-    if (!(hits_ground || in_disk)) return radiance;
-    float mu = clamp_cosine(rmu / r);
-    float d_ground = distance_to_bottom(r, mu);
-    vec3 column = hits_ground ? column_along_ray(r, mu, d_ground, true) : column_to_top(r, mu);
-    vec3 n = normalize(entry + dir * d_ground);
-    vec3 p = n * u_bottom_radius;
-    float disk = 1.0 / (PI * sin(u_sun_angular_radius) * sin(u_sun_angular_radius));
-    // Direct light on the ground (sun_irradiance_group, with the column fetched once).
-    float mu_s = clamp_cosine(dot(n, light));
-    float sun_factor = sun_visible_fraction(u_bottom_radius, mu_s) * max(mu_s, 0.0);
-    vec3 c_sun = column_to_top(u_bottom_radius, max(mu_s, 0.0));
-    for (int g = 0; g < NUM_GROUPS; ++g) {
-        vec4 e_sun = sun_factor * exp(-optical_depth(g, c_sun));
-        vec4 source = in_disk ? vec4(disk)
-            : u_ground_albedo[g] * INV_PI * (e_sun + sky_irradiance_group(g, p, n, light));
-        radiance += u_spectral_to_rgbs[g] * (source * exp(-optical_depth(g, column)));
-    }
-    return radiance;
+    if (hits_ground) return ground_radiance(entry, dir, r, clamp_cosine(rmu / r), light);
+    if (with_disk && r > 0.0 && sees_disk(dir, light)) return disk_radiance(r, clamp_cosine(rmu / r));
+    return vec4(0.0);
 }
 
 // True where a pixel needs surface_radiance (for the sky pass to mark it).

@@ -1,0 +1,81 @@
+"""Sky-view tables: the sky from one camera position tabulated by view direction, per light.
+
+A frame then costs two bilinear fetches per pixel and light instead of six fetches from the
+4D tables (and the ground's spectral lighting). The tables hold phase-free values, so the
+phase functions are still evaluated exactly per pixel (shaders/sky_view_mapping.glsl).
+They are kept between frames and redrawn only when the camera altitude or a light's
+direction changes: turning the camera costs one frame pass.
+"""
+
+from __future__ import annotations
+
+from skydome.errors import ParameterError
+from skydome.gpu import FullscreenPass
+
+#: Default table size (azimuth from the light over [0, 180] deg, elevation), texels.
+DEFAULT_SKY_VIEW_SIZE = (256, 256)
+
+
+class SkyViewTables:
+    """Sky-view tables of a precomputed atmosphere, one pair of textures per light slot.
+
+    Args:
+        ctx: the moderngl context of the atmosphere tables.
+        defines: the lookup shader's defines (``PrecomputedAtmosphere.defines()``).
+        size: (azimuth, elevation) texels; the elevation count must be even (two halves).
+    """
+
+    def __init__(
+        self, ctx, defines: dict[str, object], size: tuple[int, int] = DEFAULT_SKY_VIEW_SIZE
+    ):
+        w, h = (int(v) for v in size)
+        if w < 2 or h < 4 or h % 2:
+            raise ParameterError(f"sky-view size must be (>= 2, even >= 4) texels, got {size}")
+        self.ctx = ctx
+        self.size = (w, h)
+        self._pass = FullscreenPass(ctx, "sky_view_lut.glsl", defines)
+        self._slots: dict[str, tuple[list, object, tuple | None]] = {}
+        self.draws = 0  # table passes drawn (a cache-hit counter for tests and benchmarks)
+
+    def uniforms(self, radius_km: float) -> dict[str, object]:
+        """The mapping's uniforms for a camera at ``radius_km`` from the planet's centre."""
+        return {"u_sky_view_size": tuple(float(v) for v in self.size), "u_view_radius": radius_km}
+
+    def textures(
+        self,
+        slot: str,
+        radius_km: float,
+        light_direction: tuple[float, float, float],
+        uniforms: dict[str, object],
+        textures: dict[str, object],
+    ) -> dict[str, object]:
+        """Sampler name -> texture of light ``slot`` ("sun" or "light2"), redrawn if stale.
+
+        ``uniforms`` and ``textures`` are those of the atmosphere tables (they do not change
+        for one renderer, so only the radius and the direction decide whether to redraw).
+        """
+        key = (float(radius_km), tuple(float(v) for v in light_direction))
+        if slot not in self._slots:
+            texs = [self.ctx.texture(self.size, 4, dtype="f4") for _ in range(2)]
+            for tex in texs:
+                tex.repeat_x = tex.repeat_y = False
+            self._slots[slot] = (texs, self.ctx.framebuffer(color_attachments=texs), None)
+        texs, fbo, drawn = self._slots[slot]
+        if drawn != key:
+            fbo.viewport = (0, 0, *self.size)
+            self._pass.draw(
+                fbo,
+                {**uniforms, **self.uniforms(key[0]), "u_light_direction": key[1]},
+                textures,
+            )
+            self._slots[slot] = (texs, fbo, key)
+            self.draws += 1
+        return {f"u_{slot}_scattering": texs[0], f"u_{slot}_single_mie": texs[1]}
+
+    def release(self) -> None:
+        for texs, fbo, _ in self._slots.values():
+            fbo.release()
+            for tex in texs:
+                tex.release()
+        self._slots.clear()
+        self._pass.release()

@@ -1,0 +1,52 @@
+// Frame pass from sky-view tables (sky_view_lut.glsl): two bilinear fetches per pixel and light,
+// the phase functions evaluated exactly, and the Sun's disk. Output (R, G, B, scotopic) in
+// cd/m^2. The camera is inside the atmosphere, on the z axis at u_view_radius.
+// Two passes, as in sky_precomputed.glsl (CPU rasterizers run a branch's body for every
+// pixel): the sky, writing a depth of 0.5 on the Sun's disk and 1.0 elsewhere; then, with
+// SURFACE_PASS, the disk added where an early depth test finds 0.5.
+#include "camera.glsl"
+#include "surface_radiance.glsl"
+#include "sky_view_mapping.glsl"
+
+uniform vec3 u_sun_direction;  // unit, ENU
+uniform float u_sun_scale;     // the Sun's irradiance / the params' solar spectrum
+uniform sampler2D u_sun_scattering;
+uniform sampler2D u_sun_single_mie;
+#ifdef HAS_LIGHT2
+uniform vec3 u_light2_direction;
+uniform float u_light2_scale;
+uniform sampler2D u_light2_scattering;
+uniform sampler2D u_light2_single_mie;
+#endif
+layout(location = 0) out vec4 frag;
+
+vec4 sky_from_table(sampler2D scattering, sampler2D single_mie, vec3 dir, vec3 light,
+                    bool hits_ground) {
+    vec2 uv = sky_view_uv(azimuth_from_light(dir, light), dir.z, hits_ground);
+    float nu = dot(dir, light);
+    return texture(scattering, uv) * rayleigh_phase(nu)
+         + texture(single_mie, uv) * cornette_shanks_phase(nu, u_mie_g);
+}
+
+void main() {
+#ifndef SURFACE_PASS
+    gl_FragDepth = 1.0;
+#endif
+    vec3 dir;
+    if (!camera_ray(gl_FragCoord.xy, dir)) {
+        frag = vec4(0.0);
+        return;
+    }
+    float r = u_view_radius;
+    bool hits_ground = ray_hits_ground(r, dir.z);
+#ifdef SURFACE_PASS
+    frag = u_sun_scale * disk_radiance(r, dir.z);
+#else
+    frag = u_sun_scale * sky_from_table(u_sun_scattering, u_sun_single_mie, dir, u_sun_direction, hits_ground);
+#ifdef HAS_LIGHT2
+    frag += u_light2_scale * sky_from_table(u_light2_scattering, u_light2_single_mie, dir,
+                                            u_light2_direction, hits_ground);
+#endif
+    gl_FragDepth = !hits_ground && sees_disk(dir, u_sun_direction) ? 0.5 : 1.0;
+#endif
+}

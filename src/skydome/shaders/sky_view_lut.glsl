@@ -1,0 +1,28 @@
+// Sky-view table pass (sky_view_mapping.glsl): per texel, the phase-free sky values of the
+// precomputed tables for one light at unit scale, (R, G, B, scotopic) in cd/m^2:
+//   location 0: Rayleigh + orders >= 2 (/ P_R), plus, below the horizon, the lit ground seen
+//               through the air divided by P_R(nu) (the frame multiplies by P_R again);
+//   location 1: single Mie (/ P_M).
+#include "surface_radiance.glsl"
+#include "sky_view_mapping.glsl"
+
+uniform vec3 u_light_direction;  // unit, ENU
+
+layout(location = 0) out vec4 frag_scattering;
+layout(location = 1) out vec4 frag_single_mie;
+
+void main() {
+    vec3 light = u_light_direction;
+    float light_az = atan(light.y, light.x + 1e-30);
+    bool hits_ground;
+    vec3 dir = sky_view_texel_direction(ivec2(gl_FragCoord.xy), light_az, hits_ground);
+    float r = u_view_radius;
+    vec3 camera = vec3(0.0, 0.0, r);
+    float mu = dir.z;
+    float nu = clamp_cosine(dot(dir, light));
+    vec4 single_mie;
+    vec4 scattering = combined_scattering(r, mu, clamp_cosine(light.z), nu, hits_ground, single_mie);
+    if (hits_ground) scattering += ground_radiance(camera, dir, r, mu, light) / rayleigh_phase(nu);
+    frag_scattering = scattering;
+    frag_single_mie = single_mie;
+}

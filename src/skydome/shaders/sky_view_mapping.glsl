@@ -1,0 +1,58 @@
+// The sky-view table: the sky seen from one camera position, for one light, by view direction
+// (Hillaire 2020's sky-view LUT, here holding Bruneton's phase-free values so that the phase
+// functions stay exact per pixel). The camera sits on the z axis at radius u_view_radius (km);
+// a direction is (phi, e): phi in [0, pi] the azimuth from the light's (the sky is symmetric
+// about the light's vertical plane), e the elevation.
+//  x: linear in phi, texel centres at 0 and pi.
+//  y: split at the horizon elevation e_h = -acos(Rb / r) like Bruneton's mu mapping, so that
+//     sky and ground never interpolate into each other: the upper half holds rays that leave
+//     the atmosphere, the lower half rays that hit the ground, each with x = sqrt of the
+//     elevation's distance from the horizon (texels crowd at the horizon, where the sky
+//     brightens and the ground fades fastest).
+uniform vec2 u_sky_view_size;  // texels (phi, elevation)
+uniform float u_view_radius;   // km
+
+float horizon_elevation(float r) { return -acos(clamp(u_bottom_radius / r, 0.0, 1.0)); }
+
+// Texture coordinates of a view direction (mu = its z) for a light at azimuth difference phi.
+vec2 sky_view_uv(float phi, float mu, bool hits_ground) {
+    float e = asin(clamp(mu, -1.0, 1.0));
+    float e_h = horizon_elevation(u_view_radius);
+    float half_h = 0.5 * u_sky_view_size.y;
+    float v;
+    if (hits_ground) {
+        float x = sqrt(clamp((e_h - e) / (e_h + 0.5 * PI), 0.0, 1.0));
+        v = 0.5 - 0.5 * texcoord_from_unit(x, half_h);
+    } else {
+        float x = sqrt(clamp((e - e_h) / (0.5 * PI - e_h), 0.0, 1.0));
+        v = 0.5 + 0.5 * texcoord_from_unit(x, half_h);
+    }
+    return vec2(texcoord_from_unit(phi / PI, u_sky_view_size.x), v);
+}
+
+// Azimuth difference phi in [0, pi] between the horizontal parts of dir and light (0 where
+// either is vertical: the sky is symmetric about the zenith there).
+float azimuth_from_light(vec3 dir, vec3 light) {
+    float c = dir.x * light.x + dir.y * light.y;
+    float s = abs(dir.x * light.y - dir.y * light.x);
+    return atan(s, c + 1e-30);
+}
+
+// The view direction of texel (i, j) (integer indices) for a light at azimuth light_az (rad);
+// hits_ground tells which half it is in.
+vec3 sky_view_texel_direction(ivec2 texel, float light_az, out bool hits_ground) {
+    float phi = PI * float(texel.x) / (u_sky_view_size.x - 1.0);
+    float e_h = horizon_elevation(u_view_radius);
+    float half_h = 0.5 * u_sky_view_size.y;
+    float e;
+    hits_ground = float(texel.y) < half_h;
+    if (hits_ground) {
+        float x = (half_h - 1.0 - float(texel.y)) / (half_h - 1.0);
+        e = e_h - x * x * (e_h + 0.5 * PI);
+    } else {
+        float x = (float(texel.y) - half_h) / (half_h - 1.0);
+        e = e_h + x * x * (0.5 * PI - e_h);
+    }
+    float az = light_az + phi;
+    return vec3(cos(e) * cos(az), cos(e) * sin(az), sin(e));
+}
