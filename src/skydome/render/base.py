@@ -61,6 +61,7 @@ class PassRenderer:
         self.ctx = ctx
         self._passes: dict[tuple, FullscreenPass] = {}
         self._targets: dict[tuple, tuple] = {}
+        self._staging: dict[tuple[int, int], np.ndarray] = {}
 
     def defines(self, camera: Camera) -> dict[str, object]:
         raise NotImplementedError
@@ -141,10 +142,16 @@ class PassRenderer:
                 ctx.disable(ctx.BLEND | ctx.DEPTH_TEST)
                 fbo.depth_mask = True
                 ctx.depth_func = "<"
+            # Read into a staging array kept with the target, then flip rows into the frame's
+            # own array (a fresh bytes object per read costs ~5x more above glibc's 32 MB
+            # mmap threshold: 1920x1080 RGBA float32 is 33 MB).
+            staging = self._staging.get((w, h))
+            if staging is None:
+                staging = self._staging[(w, h)] = np.empty((h, w, 4), np.float32)
             out = []
             for i in range(attachments):
-                raw = fbo.read(components=4, dtype="f4", attachment=i)
-                out.append(np.frombuffer(raw, dtype=np.float32).reshape(h, w, 4)[::-1].copy())
+                fbo.read_into(staging, components=4, dtype="f4", attachment=i)
+                out.append(staging[::-1].copy())
         finally:
             for tex in inputs.values():
                 tex.release()
@@ -170,3 +177,4 @@ class PassRenderer:
                 tex.release()
         self._passes.clear()
         self._targets.clear()
+        self._staging.clear()

@@ -33,7 +33,10 @@ class SkyViewTables:
             raise ParameterError(f"sky-view size must be (>= 2, even >= 4) texels, got {size}")
         self.ctx = ctx
         self.size = (w, h)
-        self._pass = FullscreenPass(ctx, "sky_view_lut.glsl", defines)
+        self._passes = (
+            FullscreenPass(ctx, "sky_view_lut.glsl", defines),  # the upper half: sky
+            FullscreenPass(ctx, "sky_view_lut.glsl", {**defines, "GROUND_HALF": 1}),
+        )
         self._slots: dict[str, tuple[list, object, tuple | None]] = {}
         self.draws = 0  # table passes drawn (a cache-hit counter for tests and benchmarks)
 
@@ -62,12 +65,11 @@ class SkyViewTables:
             self._slots[slot] = (texs, self.ctx.framebuffer(color_attachments=texs), None)
         texs, fbo, drawn = self._slots[slot]
         if drawn != key:
-            fbo.viewport = (0, 0, *self.size)
-            self._pass.draw(
-                fbo,
-                {**uniforms, **self.uniforms(key[0]), "u_light_direction": key[1]},
-                textures,
-            )
+            w, h = self.size
+            values = {**uniforms, **self.uniforms(key[0]), "u_light_direction": key[1]}
+            for half, fpass in zip((1, 0), self._passes, strict=True):
+                fbo.viewport = (0, half * h // 2, w, h // 2)
+                fpass.draw(fbo, values, textures)
             self._slots[slot] = (texs, fbo, key)
             self.draws += 1
         return {f"u_{slot}_scattering": texs[0], f"u_{slot}_single_mie": texs[1]}
@@ -78,4 +80,5 @@ class SkyViewTables:
             for tex in texs:
                 tex.release()
         self._slots.clear()
-        self._pass.release()
+        for fpass in self._passes:
+            fpass.release()

@@ -3,6 +3,8 @@
 //   location 0: Rayleigh + orders >= 2 (/ P_R), plus, below the horizon, the lit ground seen
 //               through the air divided by P_R(nu) (the frame multiplies by P_R again);
 //   location 1: single Mie (/ P_M).
+// Drawn in two halves (viewports): GROUND_HALF is compiled for the lower one only, since CPU
+// rasterizers run a branch's body for every pixel.
 #include "surface_radiance.glsl"
 #include "sky_view_mapping.glsl"
 
@@ -22,7 +24,9 @@ void main() {
     float nu = clamp_cosine(dot(dir, light));
     vec4 single_mie;
     vec4 scattering = combined_scattering(r, mu, clamp_cosine(light.z), nu, hits_ground, single_mie);
-    if (hits_ground) scattering += ground_radiance(camera, dir, r, mu, light) / rayleigh_phase(nu);
+#ifdef GROUND_HALF
+    scattering += ground_radiance(camera, dir, r, mu, light) / rayleigh_phase(nu);
+#endif
     frag_scattering = scattering;
     frag_single_mie = single_mie;
 }
