@@ -11,23 +11,12 @@ Usage: python benchmarks/bench_astro.py [--n 100000] [--repeat 5]
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 import warnings
 
 import numpy as np
+from timing import median_ms
 
 warnings.filterwarnings("ignore")
-
-
-def median_time(fn, repeat: int) -> float:
-    fn()  # warm-up
-    runs = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        runs.append(time.perf_counter() - t0)
-    return statistics.median(runs)
 
 
 def main() -> None:
@@ -79,7 +68,7 @@ def main() -> None:
             s = obs.sky(t, bodies=("sun", "moon"))
             return s["sun"].alt, s["moon"].alt
 
-        t_ours = median_time(ours, args.repeat)
+        t_ours = median_ms(ours, args.repeat, warmup=1) / 1e3
         t_sf = float("nan")
         if ts is not None:
             tsf = ts.tt_jd(jd)
@@ -91,7 +80,7 @@ def main() -> None:
                     a.observe(eph["moon"]).apparent().altaz(),
                 )
 
-            t_sf = median_time(sf, max(1, args.repeat // 2))
+            t_sf = median_ms(sf, max(1, args.repeat // 2), warmup=1) / 1e3
         t_ap = float("nan")
         if ATime is not None:
             at = ATime(jd, format="jd", scale="tt")
@@ -104,7 +93,7 @@ def main() -> None:
                 )
 
             try:
-                t_ap = median_time(ap, 1)
+                t_ap = median_ms(ap, 1, warmup=1) / 1e3
             except Exception as exc:  # astropy may lack IERS data offline
                 print(f"astropy failed: {exc}")
         print(f"{label:18s} {t_ours:8.3f}s {t_sf:8.3f}s {t_sf / t_ours:6.1f}x {t_ap:8.3f}s")

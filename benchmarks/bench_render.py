@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import argparse
 import functools
-import statistics
-import time
+
+from timing import median_ms
 
 from skydome.atmosphere import preset
 from skydome.gpu import gl_info
@@ -27,18 +27,6 @@ CASES = [
     ("1920x1080", VIEW, 1920, 1080),
     ("fisheye 512x512", FisheyeCamera(), 512, 512),
 ]
-
-
-def median_ms(fn, repeats: int, warmup: int = 2) -> float:
-    """Median wall time of ``fn()`` in ms after ``warmup`` untimed calls."""
-    for _ in range(warmup):
-        fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append((time.perf_counter() - t0) * 1e3)
-    return statistics.median(times)
 
 
 def make_renderer(args):

@@ -13,23 +13,12 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import statistics
 import time
 
 import numpy as np
+from timing import median_ms
 
 from skydome.astro import stars
-
-
-def _median_ms(fn, repeats: int) -> float:
-    fn()  # warm-up (caches, allocator)
-    fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append((time.perf_counter() - t0) * 1e3)
-    return statistics.median(times)
 
 
 def main() -> None:
@@ -51,10 +40,10 @@ def main() -> None:
     rng = np.random.default_rng(0)
     jd = 2451545.0 + rng.uniform(0.0, 50 * 365.25, size=args.times)
     jd_arg = jd[0] if args.times == 1 else jd
-    ms = _median_ms(lambda: stars.apparent_places(jd_arg), args.repeats)
+    ms = median_ms(lambda: stars.apparent_places(jd_arg), args.repeats)
     print(f"apparent_places, {cat.n} stars x {args.times} time(s): {ms:.1f} ms")
     lat, lst = np.radians(48.0), np.radians(120.0)
-    ms = _median_ms(lambda: stars.horizontal_coordinates(jd[0], lst, lat), args.repeats)
+    ms = median_ms(lambda: stars.horizontal_coordinates(jd[0], lst, lat), args.repeats)
     print(f"horizontal_coordinates, {cat.n} stars x 1 time: {ms:.1f} ms")
 
 

@@ -10,23 +10,12 @@ draw, read back) and ``gl texture`` (draw from a texture already on the GPU, rea
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 
 import numpy as np
+from timing import median_ms
 
 from skydome.display import TONEMAPS, GpuToneMapper, auto_exposure, tonemap, upload_frame
 from skydome.gpu import gl_info
-
-
-def median_ms(fn, runs: int) -> float:
-    fn()  # warm-up (shader compile, first allocation)
-    times = []
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        fn()
-        times.append((time.perf_counter() - t0) * 1e3)
-    return statistics.median(times)
 
 
 def main() -> None:
@@ -46,9 +35,9 @@ def main() -> None:
     print(f"{w}x{h}, median of {args.runs} runs, {gl_info(mapper.ctx).describe()}")
     print(f"{'operator':<12} {'numpy ms':>10} {'gl array ms':>12} {'gl texture ms':>14}")
     for name in TONEMAPS:
-        t_np = median_ms(lambda n=name: tonemap(frame, n, scale), args.runs)
-        t_gl = median_ms(lambda n=name: mapper.render(frame, n, scale), args.runs)
-        t_tex = median_ms(lambda n=name: mapper.render(tex, n, scale), args.runs)
+        t_np = median_ms(lambda n=name: tonemap(frame, n, scale), args.runs, warmup=1)
+        t_gl = median_ms(lambda n=name: mapper.render(frame, n, scale), args.runs, warmup=1)
+        t_tex = median_ms(lambda n=name: mapper.render(tex, n, scale), args.runs, warmup=1)
         print(f"{name:<12} {t_np:>10.1f} {t_gl:>12.1f} {t_tex:>14.1f}")
     tex.release()
     mapper.release()
