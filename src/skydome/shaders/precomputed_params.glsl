@@ -63,15 +63,20 @@ float elevation_from_local(float r, float e_loc) {
     return e_loc < 0.0 ? e_loc * (e_min + dip) / e_min - dip : e_loc * (0.5 * PI + dip) / (0.5 * PI) - dip;
 }
 
-// Bruneton's mapping of a (local) Sun cosine.
-float mu_s_unit_bruneton(float mu_s) {
-    float H = u_horizon_length;
+// Bruneton's mapping of a (local) Sun cosine, by a = (d - d_min) / (d_max - d_min) of the distance
+// d (km) from the ground to the top towards the Sun: d_min = Rt - Rb (zenith), d_max = H
+// (horizon). A = a(mu_s_min), the cut-off.
+float mu_s_distance_unit(float d) {
     float d_min = u_top_radius - u_bottom_radius;
-    float d_max = H;
-    float d = distance_to_top(u_bottom_radius, mu_s);
-    float a = (d - d_min) / (d_max - d_min);
-    float D = distance_to_top(u_bottom_radius, u_mu_s_min);
-    float A = (D - d_min) / (d_max - d_min);
+    float d_max = u_horizon_length;
+    return (d - d_min) / (d_max - d_min);
+}
+
+float mu_s_cutoff_unit() { return mu_s_distance_unit(distance_to_top(u_bottom_radius, u_mu_s_min)); }
+
+float mu_s_unit_bruneton(float mu_s) {
+    float a = mu_s_distance_unit(distance_to_top(u_bottom_radius, mu_s));
+    float A = mu_s_cutoff_unit();
     return max(1.0 - a / A, 0.0) / (1.0 + a);
 }
 
@@ -79,8 +84,7 @@ float mu_s_from_unit_bruneton(float x) {
     float H = u_horizon_length;
     float d_min = u_top_radius - u_bottom_radius;
     float d_max = H;
-    float D = distance_to_top(u_bottom_radius, u_mu_s_min);
-    float A = (D - d_min) / (d_max - d_min);
+    float A = mu_s_cutoff_unit();
     float a = (A - x * A) / (1.0 + x * A);
     float d = d_min + min(a, A) * (d_max - d_min);
     // Law of cosines in the triangle (centre, ground point, exit point): Rt^2 = Rb^2 + d^2 + 2 Rb d mu_s.
