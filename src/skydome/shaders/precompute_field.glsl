@@ -13,7 +13,7 @@
 // E_n = integral L_n cos (precompute_ground_irradiance.glsl) are sums over this field: the
 // radiance of a point does not depend on the view direction, so it is computed once per
 // (r, mu_s, direction) instead of once per texel of the 4D table and direction.
-#include "precompute_common.glsl"
+#include "precompute_ray.glsl"
 
 uniform vec4 u_density_size;             // the grid of J (NU, MU_S, MU, R)
 uniform sampler3D u_density;             // log J_n, NUM_GROUPS tables stacked in depth (n >= 2)
@@ -40,43 +40,24 @@ void main() {
     float mu = omega.z;
     float nu = dot(omega, sun_in_frame(mu_s));
     bool hits_ground = a >= N_MU_SKY;  // the quadrature is split at the horizon
-    float L = ray_length(r, mu, hits_ground);
-    vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
     float Rb = u_bottom_radius;
 
-    vec4 radiance = vec4(0.0);
+    // Along the ray, for this texel's group g only.
 #if FIELD_SINGLE
-    float phase_r = rayleigh_phase(nu);
-    float phase_m = cornette_shanks_phase(nu, u_mie_g);
-    vec4 beta = u_rayleigh_scattering[g] * phase_r;
-    vec4 beta_m = u_mie_scattering[g] * phase_m;
-    vec4 lit = lit_segments(r, mu, mu_s, nu, L);
-#endif
-    for (int q = 0; q < RAY_SAMPLES; ++q) {
-        float t, dt;
-#if FIELD_SINGLE
-        lit_ray_node(q, r, mu, lit, t, dt);
+    vec4 ray_r[NUM_GROUPS];
+    vec4 ray_m[NUM_GROUPS];
+    single_scattering_integrals(r, mu, mu_s, nu, hits_ground, g, g + 1, ray_r, ray_m);
+    vec4 radiance = rayleigh_phase(nu) * ray_r[g] + cornette_shanks_phase(nu, u_mie_g) * ray_m[g];
 #else
-        ray_node(q, r, mu, L, t, dt);
+    vec4 ray[NUM_GROUPS];
+    scattered_radiance(u_density, u_density_size, r, mu, mu_s, nu, hits_ground, g, g + 1, ray);
+    vec4 radiance = ray[g];
 #endif
-        float r_t, mu_t, mu_s_t;
-        ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
-        vec3 c = view_column(c0, r_t, mu_t, hits_ground);
-#if FIELD_SINGLE
-        vec3 c_sun = column_to_sun(r_t, mu_s_t);
-        if (c_sun.x < 0.0) continue;
-        vec3 d = densities(r_t - Rb) * dt;
-        radiance += (beta * d.x + beta_m * d.y) * exp(-optical_depth(g, c + c_sun));
-#else
-        vec4 J = lookup_log_table(u_density, r_t, mu_t, mu_s_t, nu, hits_ground, u_density_size,
-                                  g, NUM_GROUPS);
-        radiance += J * exp(-optical_depth(g, c)) * dt;
-#endif
-    }
     if (hits_ground) {
+        float L = ray_length(r, mu, true);
         float mu_g = clamp_cosine((r * mu + L) / Rb);
         float mu_s_g = clamp_cosine((r * mu_s + L * nu) / Rb);
-        vec4 T = exp(-optical_depth(g, view_column(c0, Rb, mu_g, true)));
+        vec4 T = exp(-optical_depth(g, view_column(column_to_top(r, -mu), Rb, mu_g, true)));
 #if FIELD_SINGLE
         // Direct sunlight on the ground (point Sun): mu_s T_sun.
         vec3 c_sun = column_to_sun(Rb, mu_s_g);

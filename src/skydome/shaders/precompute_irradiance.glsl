@@ -7,7 +7,7 @@
 // Directions: IRR_N_MU Gauss-Legendre cosines on [0, 1] times IRR_N_PHI azimuths over [0, pi]
 // (the sky is symmetric about the Sun's vertical plane, so the other half is the same).
 // Rays going up never reach the ground, so no ground term is needed.
-#include "precompute_common.glsl"
+#include "precompute_ray.glsl"
 
 uniform vec2 u_irradiance_size;    // (MU_S, R) texels
 uniform vec2 u_irr_mu_rule[IRR_N_MU];  // Gauss-Legendre on [-1, 1]
@@ -27,8 +27,6 @@ void main() {
         float mu = 0.5 * (u_irr_mu_rule[a].x + 1.0);
         float w_mu = 0.5 * u_irr_mu_rule[a].y;
         float sin_a = safe_sqrt(1.0 - mu * mu);
-        float L = distance_to_top(r, mu);
-        vec3 c0 = column_to_top(r, mu);
         for (int j = 0; j < IRR_N_PHI; ++j) {
             float phi = (float(j) + 0.5) * dphi;
             vec3 w = vec3(sin_a * cos(phi), sin_a * sin(phi), mu);
@@ -36,40 +34,17 @@ void main() {
             // cos(w) dw, both halves of the azimuth circle
             float weight = mu * w_mu * 2.0 * dphi;
             vec4 radiance[NUM_GROUPS];
-            for (int g = 0; g < NUM_GROUPS; ++g) radiance[g] = vec4(0.0);
 #if IRRADIANCE_SINGLE
+            vec4 ray_r[NUM_GROUPS];
+            vec4 ray_m[NUM_GROUPS];
+            single_scattering_integrals(r, mu, mu_s, nu, false, 0, NUM_GROUPS, ray_r, ray_m);
             float phase_r = rayleigh_phase(nu);
             float phase_m = cornette_shanks_phase(nu, u_mie_g);
-            vec4 lit = lit_segments(r, mu, mu_s, nu, L);
-#endif
-            for (int q = 0; q < RAY_SAMPLES; ++q) {
-                float t, dt;
-#if IRRADIANCE_SINGLE
-                lit_ray_node(q, r, mu, lit, t, dt);
+            for (int g = 0; g < NUM_GROUPS; ++g) radiance[g] = phase_r * ray_r[g] + phase_m * ray_m[g];
 #else
-                ray_node(q, r, mu, L, t, dt);
+            scattered_radiance(u_density, u_density_size, r, mu, mu_s, nu, false, 0, NUM_GROUPS,
+                               radiance);
 #endif
-                float r_t, mu_t, mu_s_t;
-                ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
-                vec3 c = view_column(c0, r_t, mu_t, false);
-#if IRRADIANCE_SINGLE
-                vec3 c_sun = column_to_sun(r_t, mu_s_t);
-                if (c_sun.x < 0.0) continue;
-                vec3 d = densities(r_t - u_bottom_radius) * dt;
-                for (int g = 0; g < NUM_GROUPS; ++g) {
-                    vec4 beta = u_rayleigh_scattering[g] * (phase_r * d.x)
-                              + u_mie_scattering[g] * (phase_m * d.y);
-                    radiance[g] += beta * exp(-optical_depth(g, c + c_sun));
-                }
-#else
-                vec4 uvwz = scattering_uvwz(r_t, mu_t, mu_s_t, nu, false, u_density_size, true);
-                float fade = sun_cutoff_fade(mu_s_t);
-                for (int g = 0; g < NUM_GROUPS; ++g) {
-                    vec4 J = exp(sample_scattering(u_density, uvwz, u_density_size, g, NUM_GROUPS)) * fade;
-                    radiance[g] += J * exp(-optical_depth(g, c)) * dt;
-                }
-#endif
-            }
             for (int g = 0; g < NUM_GROUPS; ++g) E[g] += radiance[g] * weight;
         }
     }

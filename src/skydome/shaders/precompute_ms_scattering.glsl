@@ -9,7 +9,7 @@
 // them to single Rayleigh scattering, they are stored as they are: P_R(nu) would double their
 // variation with nu, which the texels at the edges of the (mu, mu_s, nu) domain (zenith Sun or
 // view, where all nu collapse to one) cannot represent.
-#include "precompute_common.glsl"
+#include "precompute_ray.glsl"
 
 uniform vec4 u_ms_size;       // this table (NU, MU_S, MU, R)
 uniform vec4 u_density_size;  // the grid of J
@@ -30,23 +30,9 @@ void main() {
     bool hits_ground;
     scattering_texel_params(ivec2(gl_FragCoord.xy), v_layer, u_ms_size, true, r, mu, mu_s, nu,
                             hits_ground);
-    float L = ray_length(r, mu, hits_ground);
-    vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
     vec4 radiance[NUM_GROUPS];
-    for (int g = 0; g < NUM_GROUPS; ++g) radiance[g] = vec4(0.0);
-    for (int i = 0; i < RAY_SAMPLES; ++i) {
-        float t, dt;
-        ray_node(i, r, mu, L, t, dt);
-        float r_t, mu_t, mu_s_t;
-        ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
-        vec3 c = view_column(c0, r_t, mu_t, hits_ground);
-        vec4 uvwz = scattering_uvwz(r_t, mu_t, mu_s_t, nu, hits_ground, u_density_size, true);
-        float fade = sun_cutoff_fade(mu_s_t);
-        for (int g = 0; g < NUM_GROUPS; ++g) {
-            vec4 J = exp(sample_scattering(u_density, uvwz, u_density_size, g, NUM_GROUPS)) * fade;
-            radiance[g] += J * exp(-optical_depth(g, c)) * dt;
-        }
-    }
+    scattered_radiance(u_density, u_density_size, r, mu, mu_s, nu, hits_ground, 0, NUM_GROUPS,
+                       radiance);
     vec4 v = vec4(0.0);
 #if MS_LOG_INTERP
     vec4 L4 = radiance[0];

@@ -13,9 +13,9 @@
 // Single scattering (seed 004 5.2.2.1, Bruneton 2017 ComputeSingleScattering):
 //   S_i(x, v, s) = integral_0^L beta_i rho_i(y) T(x, y) T(y, sun) dt,  i in {R, M},
 // with T(y, sun) = 0 in the planet's shadow (a point Sun, like the single-scattering renderer),
-// integrated over the sunlit part of the ray with the Gauss-Legendre rules of lit_ray_node
-// (RAY_SAMPLES nodes), at every render wavelength, then converted with u_spectral_to_table.
-#include "precompute_common.glsl"
+// integrated over the sunlit part of the ray (single_scattering_integrals, precompute_ray.glsl)
+// at every render wavelength, then converted with u_spectral_to_table.
+#include "precompute_ray.glsl"
 
 uniform vec4 u_scattering_size;   // (NU, MU_S, MU, R) of the table being written
 uniform float u_table_scale;      // stored = value / F * u_table_scale (float16 range)
@@ -29,37 +29,16 @@ void main() {
     bool hits_ground;
     scattering_texel_params(ivec2(gl_FragCoord.xy), v_layer, u_scattering_size, false, r, mu, mu_s, nu,
                             hits_ground);
-    float L = ray_length(r, mu, hits_ground);
-    vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
-    vec4 lit = lit_segments(r, mu, mu_s, nu, L);
     vec4 ray_r[NUM_GROUPS];
     vec4 ray_m[NUM_GROUPS];
-    for (int g = 0; g < NUM_GROUPS; ++g) {
-        ray_r[g] = vec4(0.0);
-        ray_m[g] = vec4(0.0);
-    }
-    for (int i = 0; i < RAY_SAMPLES; ++i) {
-        float t, dt;
-        lit_ray_node(i, r, mu, lit, t, dt);
-        float r_t, mu_t, mu_s_t;
-        ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
-        vec3 c_sun = column_to_sun(r_t, mu_s_t);
-        if (c_sun.x < 0.0 || dt <= 0.0) continue;  // in the planet's shadow
-        vec3 c = view_column(c0, r_t, mu_t, hits_ground) + c_sun;
-        vec3 d = densities(r_t - u_bottom_radius) * dt;
-        for (int g = 0; g < NUM_GROUPS; ++g) {
-            vec4 T = exp(-optical_depth(g, c));
-            ray_r[g] += u_rayleigh_scattering[g] * (d.x * T);
-            ray_m[g] += u_mie_scattering[g] * (d.y * T);
-        }
-    }
+    single_scattering_integrals(r, mu, mu_s, nu, hits_ground, 0, NUM_GROUPS, ray_r, ray_m);
     vec4 rayleigh = vec4(0.0);
     vec4 mie = vec4(0.0);
     for (int g = 0; g < NUM_GROUPS; ++g) {
         rayleigh += u_spectral_to_table[g] * ray_r[g];
         mie += u_spectral_to_table[g] * ray_m[g];
     }
-    vec2 F = lit_density(r, mu, mu_s, nu, L);
+    vec2 F = lit_density(r, mu, mu_s, nu, ray_length(r, mu, hits_ground));
     out_rayleigh = F.x > 0.0 ? rayleigh * (u_table_scale / F.x) : vec4(0.0);
     out_mie = F.y > 0.0 ? mie * (u_table_scale / F.y) : vec4(0.0);
 }
