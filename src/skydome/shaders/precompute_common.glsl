@@ -16,13 +16,30 @@ uniform mat4 u_spectral_to_table[NUM_GROUPS];
 uniform vec2 u_ray_rule[RAY_SAMPLES];
 uniform vec2 u_ray_rule_half[RAY_SAMPLES / 2];
 
+// Node i (t, dt, km) of the rules below for a piece [a, b] of a ray with its perigee t_p inside:
+// half the nodes on each side, t = t_p -+ l u^2 with l = t_p - a before it and b - t_p after
+// it, dense at the perigee.
+void perigee_node(int i, float t_p, float a, float b, out float t, out float dt) {
+    if (i < RAY_SAMPLES / 2) {
+        vec2 q = u_ray_rule_half[i];
+        float l = t_p - a;
+        t = t_p - l * q.x * q.x;
+        dt = 2.0 * l * q.x * q.y;
+    } else {
+        vec2 q = u_ray_rule_half[i - RAY_SAMPLES / 2];
+        float l = b - t_p;
+        t = t_p + l * q.x * q.x;
+        dt = 2.0 * l * q.x * q.y;
+    }
+}
+
 // Node i (t, dt) of the rule for a ray of length L from radius r with cosine mu.
 // The air is densest at the lowest point of the ray: the start (mu >= 0), the end (rays that
 // hit the ground), or the perigee t_p = -r mu in between. Each monotonic piece [low, high] is
 // mapped with t = low + l u^2 (dense at the low end, where the density is a smooth function of
 // u: exp(-c u^2) going up, exp(-c u^4) around a perigee) and integrated with Gauss-Legendre in
 // u: integral f dt = integral f(t(u)) 2 l u du. A ray through its perigee gets half the nodes
-// on each side.
+// on each side (perigee_node).
 void ray_node(int i, float r, float mu, float L, out float t, out float dt) {
     float t_p = clamp(-r * mu, 0.0, L);
     if (t_p <= 0.0) {
@@ -33,15 +50,8 @@ void ray_node(int i, float r, float mu, float L, out float t, out float dt) {
         vec2 q = u_ray_rule[i];
         t = L * (1.0 - q.x * q.x);
         dt = 2.0 * L * q.x * q.y;
-    } else if (i < RAY_SAMPLES / 2) {
-        vec2 q = u_ray_rule_half[i];
-        t = t_p * (1.0 - q.x * q.x);
-        dt = 2.0 * t_p * q.x * q.y;
     } else {
-        vec2 q = u_ray_rule_half[i - RAY_SAMPLES / 2];
-        float l = L - t_p;
-        t = t_p + l * q.x * q.x;
-        dt = 2.0 * l * q.x * q.y;
+        perigee_node(i, t_p, 0.0, L, t, dt);
     }
 }
 
@@ -61,18 +71,7 @@ void segment_node(int i, float r, float mu, float a, float b, bool full, out flo
     float l = b - a;
     float t_p = clamp(-r * mu, a, b);
     if (full && t_p > a && t_p < b) {
-        // perigee inside: half the nodes on each side, dense at the perigee
-        if (i < RAY_SAMPLES / 2) {
-            vec2 q = u_ray_rule_half[i];
-            float lp = t_p - a;
-            t = t_p - lp * q.x * q.x;
-            dt = 2.0 * lp * q.x * q.y;
-        } else {
-            vec2 q = u_ray_rule_half[i - RAY_SAMPLES / 2];
-            float lp = b - t_p;
-            t = t_p + lp * q.x * q.x;
-            dt = 2.0 * lp * q.x * q.y;
-        }
+        perigee_node(i, t_p, a, b, t, dt);
         return;
     }
     vec2 q = full ? u_ray_rule[i] : u_ray_rule_half[i];
