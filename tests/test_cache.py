@@ -75,3 +75,27 @@ def test_cache_dir_from_environment(monkeypatch, tmp_path):
     monkeypatch.delenv("SKYDOME_CACHE")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "x"))
     assert cache_dir() == tmp_path / "x" / "skydome"
+
+
+def test_table_key_follows_the_shader_sources(tmp_path, monkeypatch):
+    # Tables made by different GLSL must never be mistaken for each other: editing any shader
+    # (here one appended comment) changes the key.
+    import shutil
+
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+    from skydome.atmosphere.tables import tables_key
+    from skydome.gpu import shaders
+
+    before = tables_key(earth(), PrecomputeConfig())
+    copy = tmp_path / "shaders"
+    shutil.copytree(shaders.SHADER_DIR, copy)
+    with open(copy / "precompute_ray.glsl", "a") as f:
+        f.write("// edited\n")
+    monkeypatch.setattr(shaders, "SHADER_DIR", copy)
+    shaders.sources_digest.cache_clear()
+    try:
+        assert tables_key(earth(), PrecomputeConfig()) != before
+    finally:
+        monkeypatch.undo()
+        shaders.sources_digest.cache_clear()
+    assert tables_key(earth(), PrecomputeConfig()) == before

@@ -13,8 +13,11 @@ from skydome.errors import CacheError
 
 
 def tables_key(params: AtmosphereParams, config: PrecomputeConfig) -> str:
-    """Cache key of the tables: every parameter, every config field, the package version."""
-    return cache_key("precomputed", params.to_dict(), config.key())
+    """Cache key of the tables: every parameter, every config field, the package version and
+    the shader sources."""
+    from skydome.gpu.shaders import sources_digest
+
+    return cache_key("precomputed", params.to_dict(), config.key(), sources_digest())
 
 
 def load_tables(

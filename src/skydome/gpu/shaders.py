@@ -8,6 +8,7 @@ mapped back to ``file.glsl:12``.
 
 from __future__ import annotations
 
+import hashlib
 import re
 from functools import cache
 from importlib import resources
@@ -22,6 +23,15 @@ _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
 
 
 @cache
+def sources_digest() -> str:
+    """SHA-256 (hex) of every shader file: part of the keys of cached GPU results, so that a
+    change to the GLSL (a new table layout, a fixed integral) never reuses stale tables."""
+    h = hashlib.sha256()
+    for path in sorted(SHADER_DIR.glob("*.glsl")):
+        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
 def _read(name: str) -> str:
     path = SHADER_DIR / name
     if not path.is_file():

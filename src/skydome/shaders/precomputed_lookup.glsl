@@ -167,9 +167,8 @@ vec4 sky_radiance_to_point(vec3 camera, vec3 point, float shadow_length, vec3 su
 vec4 sky_irradiance_group(int g, vec3 point, vec3 normal, vec3 sun_direction) {
     float r = length(point);
     float mu_s = clamp_cosine(dot(point, sun_direction) / r);
-    vec2 uv = irradiance_uv(r, mu_s, u_irradiance_size);
-    uv.y = (float(g) + uv.y) / float(NUM_GROUPS);
-    return exp(texture(u_irradiance_spectral, uv)) * sun_cutoff_fade(mu_s)
+    return exp(sample_irradiance(u_irradiance_spectral, r, mu_s, u_irradiance_size, g, NUM_GROUPS))
+         * sun_cutoff_fade(mu_s)
          * (0.5 + 0.5 * dot(normal, point) / r);
 }
 
@@ -192,7 +191,7 @@ vec4 sun_and_sky_irradiance(vec3 point, vec3 normal, vec3 sun_direction, out vec
     float r = length(point);
     float mu_s = clamp_cosine(dot(point, sun_direction) / r);
     sky_irradiance = u_table_to_output
-                   * exp(texture(u_irradiance_texture, irradiance_uv(r, mu_s, u_irradiance_size)))
+                   * exp(sample_irradiance(u_irradiance_texture, r, mu_s, u_irradiance_size, 0, 1))
                    * (sun_cutoff_fade(mu_s) * (0.5 + 0.5 * dot(normal, point) / r));
     vec4 sun = vec4(0.0);
     float f = sun_visible_fraction(r, mu_s) * max(dot(normal, sun_direction), 0.0);

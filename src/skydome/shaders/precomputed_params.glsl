@@ -215,15 +215,31 @@ vec4 lookup_log_table(sampler3D tex, float r, float mu, float mu_s, float nu, bo
 // (Bruneton's is linear in mu_s over [-1, 1]: 1.8 degrees per texel at 64 texels, too coarse
 // for twilight, where the sky irradiance falls by an e-fold per degree; here 0.4 degrees at
 // sunset). Stored as logarithms. size = (MU_S, R) texels.
-vec2 irradiance_uv(float r, float mu_s, vec2 size) {
-    float x_r = clamp((r - u_bottom_radius) / (u_top_radius - u_bottom_radius), 0.0, 1.0);
-    return vec2(texcoord_from_unit(mu_s_unit_smooth(r, mu_s), size.x), texcoord_from_unit(x_r, size.y));
-}
-
 void irradiance_texel_params(ivec2 texel, vec2 size, out float r, out float mu_s) {
     float x_r = float(texel.y) / (size.y - 1.0);
     r = u_bottom_radius + x_r * (u_top_radius - u_bottom_radius);
     mu_s = mu_s_from_unit_smooth(r, float(texel.x) / (size.x - 1.0));
+}
+
+// The stored value at (r, mu_s), for a table whose height holds `groups` stacked tables of
+// `size` (group `group` is read). The two rows around r are read each with the mu_s texture
+// coordinate of its own radius, then mixed linearly in r: the mu_s mapping depends on r
+// through the horizon dip, which grows as sqrt(r - Rb), so one coordinate for both rows would
+// read a point 10 m above the ground with its Sun shifted by 0.1 degree on the ground row
+// (+8% sky irradiance at Sun -6 degrees).
+vec4 sample_irradiance(sampler2D tex, float r, float mu_s, vec2 size, int group, int groups) {
+    float height = u_top_radius - u_bottom_radius;
+    float y = clamp((r - u_bottom_radius) / height, 0.0, 1.0) * (size.y - 1.0);
+    float y0 = min(floor(y), size.y - 2.0);
+    vec4 rows[2];
+    for (int k = 0; k < 2; ++k) {
+        float row = y0 + float(k);
+        float r_row = u_bottom_radius + height * row / (size.y - 1.0);
+        vec2 uv = vec2(texcoord_from_unit(mu_s_unit_smooth(r_row, mu_s), size.x),
+                       (float(group) + (row + 0.5) / size.y) / float(groups));
+        rows[k] = texture(tex, uv);
+    }
+    return mix(rows[0], rows[1], y - y0);
 }
 
 // ---------------------------------------------------------------- the lit part of a ray
