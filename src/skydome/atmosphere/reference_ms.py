@@ -343,7 +343,7 @@ class _Medium:
         mu_h = -np.sqrt(np.maximum(0.0, 1.0 - (self.R_b / r) ** 2))
         mu = mu_h[:, None] + (1.0 - mu_h[:, None]) * x[None, :] ** 2
         rr = np.broadcast_to(r[:, None], mu.shape).ravel()
-        cols = _columns_total(self, rr, mu.ravel(), _distance_to_top(self, rr, mu.ravel()), 4, 6)
+        cols = _columns_to_top(self, rr, mu.ravel(), 4, 6)
         tau = cols.T @ self.k_ext.mean(axis=1)
         self.sun_tau_mean = tau.reshape(SUN_TABLE_NU, SUN_TABLE_NX)
 
@@ -455,9 +455,29 @@ def _columns_total(
     return _interval_columns(med, r_p[:, None], nodes[:, :-1], nodes[:, 1:], n_gl).sum(axis=-1)
 
 
+def _node_columns(
+    med: _Medium, r_p: np.ndarray, za: np.ndarray, zb: np.ndarray, n_gl: int
+) -> np.ndarray:
+    """Column densities (m) from the first node of a ray to each of its nodes: (3, ..., M+1).
+
+    The ray's M consecutive intervals [za, zb] (..., M) in the perigee variable z are
+    integrated by :func:`_interval_columns` and summed cumulatively (0 at the first node).
+    """
+    cols = _interval_columns(med, r_p, za, zb, n_gl)
+    return np.concatenate([np.zeros((*cols.shape[:-1], 1)), np.cumsum(cols, axis=-1)], axis=-1)
+
+
 def _distance_to_top(med: _Medium, r: np.ndarray, mu: np.ndarray) -> np.ndarray:
     """Distance (m) to the top of the atmosphere from radius r along direction cosine mu."""
     return -r * mu + np.sqrt(np.maximum(med.R_t * med.R_t - r * r * (1.0 - mu * mu), 0.0))
+
+
+def _columns_to_top(
+    med: _Medium, r: np.ndarray, mu: np.ndarray, n_sub: int = NEE_SUB, n_gl: int = NEE_GL
+) -> np.ndarray:
+    """Column densities (3, N) (m) from radius r along direction cosine mu to the top of the
+    atmosphere (the ray must not hit the ground): the optical depth towards the Sun."""
+    return _columns_total(med, r, mu, _distance_to_top(med, r, mu), n_sub, n_gl)
 
 
 def _ground_hit(med: _Medium, r: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -475,8 +495,7 @@ def _sun_columns(med: _Medium, r: np.ndarray, mu_s: np.ndarray) -> tuple[np.ndar
     vis = (mu_s >= 0.0) | (r * r * (1.0 - mu_s * mu_s) >= med.R_b * med.R_b)
     cols = np.zeros((3, r.size))
     if np.any(vis):
-        rv, mv = r[vis], mu_s[vis]
-        cols[:, vis] = _columns_total(med, rv, mv, _distance_to_top(med, rv, mv))
+        cols[:, vis] = _columns_to_top(med, r[vis], mu_s[vis])
     return vis, cols
 
 
@@ -735,8 +754,7 @@ def _trace(
 
         # --- tabulated optical depth along the segment -------------------------------------
         r_p, s0, znodes = _segment_nodes(med, r, mu, t_end, SEG_SUB)
-        cols = _interval_columns(med, r_p[:, None], znodes[:, :-1], znodes[:, 1:], SEG_GL)
-        cum = np.concatenate([np.zeros((3, n, 1)), np.cumsum(cols, axis=-1)], axis=-1)
+        cum = _node_columns(med, r_p[:, None], znodes[:, :-1], znodes[:, 1:], SEG_GL)
         tau = np.einsum("cnm,cl->nml", cum, med.k_ext)  # (n, M+1, L)
         tnodes = _s_of_z(znodes, r_p[:, None]) - s0[:, None]
         tnodes[:, 0] = 0.0
@@ -772,12 +790,7 @@ def _trace(
             lit = mu_s > 0.0
             if np.any(lit):
                 gl_ = gsel[lit]
-                scol = _columns_total(
-                    med,
-                    np.full(gl_.size, med.R_b),
-                    mu_s[lit],
-                    _distance_to_top(med, np.full(gl_.size, med.R_b), mu_s[lit]),
-                )
+                scol = _columns_to_top(med, np.full(gl_.size, med.R_b), mu_s[lit])
                 contrib = (
                     wt[gl_]
                     * np.exp(-tau_max[gl_])
@@ -1139,8 +1152,7 @@ def single_scattering_quadrature(
         zb = _z_of_s(s0 + np.array(brk, dtype=float), r_p)
         zn = np.unique(np.concatenate([nodes[0], zb]))
         za_, zb_ = zn[:-1], zn[1:]
-        cols = _interval_columns(med, np.array(r_p), za_, zb_, SEG_GL + 2)  # (3, M)
-        cumc = np.concatenate([np.zeros((3, 1)), np.cumsum(cols, axis=1)], axis=1)  # (3, M+1)
+        cumc = _node_columns(med, np.array(r_p), za_, zb_, SEG_GL + 2)  # (3, M+1)
         xg, wg = _gl(n_gl)
         half = 0.5 * (zb_ - za_)
         zq = (0.5 * (za_ + zb_))[:, None] + half[:, None] * xg  # (M, G)
