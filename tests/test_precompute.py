@@ -135,11 +135,12 @@ def test_matches_monte_carlo_reference():
     # the spectral debug mode at those wavelengths (+ 700 nm to fill the group), 10 orders.
     # Directions: the reference's valid sky directions (rays that do not hit the ground),
     # more than 3 deg from the Sun. Day (Sun >= 0 deg): relative RMS <= 2% per case and
-    # wavelength (measured 0.41-1.25%, including the reference's standard error of 0.3-0.6%;
-    # a float64 brute-force check of order 2 suggests the reference is itself ~1-3% high on
-    # that order, which is most of the remaining -0.3..-1% bias). Civil twilight (-6 deg):
-    # the reference's standard error is 0.9-1.4% there, so its share is removed in quadrature
-    # and the rest bounded by 2% (measured 0.8-1.8%; raw RMS 1.5-2.25%).
+    # wavelength (measured 0.34-0.72%, including the reference's standard error of 0.3-0.6%;
+    # the reference's order 2 matches a deterministic quadrature to 0.1%,
+    # test_ms_reference.py; the remaining -0.1..-0.5% bias comes from the coarse grids and
+    # shrinks to -0.1..-0.3% with REFERENCE settings). Civil twilight (-6 deg): the
+    # reference's standard error is 0.9-1.4% there, so its share is removed in quadrature and
+    # the rest bounded by 2% (raw RMS 1.4-2.04%).
     data = _load_mc()
     wl = np.asarray(data["wavelengths_nm"], dtype=np.float64)
     pa = tables(wavelengths=(*wl[:3], 700.0), output="spectral", orders=10)

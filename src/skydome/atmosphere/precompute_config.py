@@ -83,7 +83,9 @@ class PrecomputeConfig:
         scattering_size: (r, mu, mu_s, nu) of the single-scattering tables (mu even).
         multiple_size: (r, mu, mu_s, nu) of the table of orders >= 2 (smooth: coarser).
         ms_size: (r, mu, mu_s, nu) of the grid of the scattering density J, on which the
-            orders >= 2 are computed (internal; not kept): smooth, so coarse is accurate.
+            orders >= 2 are computed (internal; not kept): smooth in direction, so coarse
+            there, but J falls with the air density, and 16 altitudes left the orders >= 2
+            about 1.5% low (the sky 0.8% low at 440 nm against the Monte Carlo; 32: 0.3%).
         irradiance_size: (mu_s, r) of the sky irradiance table.
         transmittance_size: (mu, r) of the column-density table; transmittance_steps its
             Simpson intervals per texel.
@@ -111,7 +113,7 @@ class PrecomputeConfig:
     tolerance: float = 0.0
     scattering_size: Sizes4 = (32, 128, 32, 8)
     multiple_size: Sizes4 = (32, 64, 64, 8)
-    ms_size: Sizes4 = (16, 64, 64, 8)
+    ms_size: Sizes4 = (32, 64, 64, 8)
     irradiance_size: tuple[int, int] = (64, 16)
     transmittance_size: tuple[int, int] = (512, 128)
     transmittance_steps: int = 200
