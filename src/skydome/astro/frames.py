@@ -79,43 +79,34 @@ def _t(jd_tt) -> np.ndarray:
 # ------------------------------------------------------------------ rotation helpers
 
 
-def rot_x(angle) -> np.ndarray:
-    """Rotation matrix R1(angle) (rotates the frame, not the vector), shape (..., 3, 3)."""
+def _frame_rotation(angle, i: int, j: int) -> np.ndarray:
+    """Rotation of the frame by ``angle`` about the axis other than i and j (right-handed
+    order i, j): m[i, i] = m[j, j] = cos, m[i, j] = sin, m[j, i] = -sin. Shape (..., 3, 3)."""
     a = np.asarray(angle, dtype=float)
     c, s = np.cos(a), np.sin(a)
     m = np.zeros(a.shape + (3, 3))
-    m[..., 0, 0] = 1.0
-    m[..., 1, 1] = c
-    m[..., 1, 2] = s
-    m[..., 2, 1] = -s
-    m[..., 2, 2] = c
+    k = 3 - i - j
+    m[..., k, k] = 1.0
+    m[..., i, i] = c
+    m[..., j, j] = c
+    m[..., i, j] = s
+    m[..., j, i] = -s
     return m
+
+
+def rot_x(angle) -> np.ndarray:
+    """Rotation matrix R1(angle) (rotates the frame, not the vector), shape (..., 3, 3)."""
+    return _frame_rotation(angle, 1, 2)
 
 
 def rot_y(angle) -> np.ndarray:
     """Rotation matrix R2(angle), shape (..., 3, 3)."""
-    a = np.asarray(angle, dtype=float)
-    c, s = np.cos(a), np.sin(a)
-    m = np.zeros(a.shape + (3, 3))
-    m[..., 1, 1] = 1.0
-    m[..., 0, 0] = c
-    m[..., 0, 2] = -s
-    m[..., 2, 0] = s
-    m[..., 2, 2] = c
-    return m
+    return _frame_rotation(angle, 2, 0)
 
 
 def rot_z(angle) -> np.ndarray:
     """Rotation matrix R3(angle), shape (..., 3, 3)."""
-    a = np.asarray(angle, dtype=float)
-    c, s = np.cos(a), np.sin(a)
-    m = np.zeros(a.shape + (3, 3))
-    m[..., 2, 2] = 1.0
-    m[..., 0, 0] = c
-    m[..., 0, 1] = s
-    m[..., 1, 0] = -s
-    m[..., 1, 1] = c
-    return m
+    return _frame_rotation(angle, 0, 1)
 
 
 def _apply(m: np.ndarray, v: np.ndarray) -> np.ndarray:
