@@ -6,7 +6,8 @@ Usage: python benchmarks/bench_render.py [--model precomputed|single]
 Prints the GL device, then one line per frame size, e.g. ``1280x720: 13.6 ms``. For the
 precomputed model, frames come from the sky-view tables (the camera turns, the tables are
 kept); ``Sun moving`` lines redraw the tables every frame (the worst case: a moving light or
-camera altitude), ``--direct`` looks every pixel up in the 4D tables instead.
+camera altitude), ``--direct`` looks every pixel up in the 4D tables instead; the last lines
+time frames with a depth image (aerial perspective) and with shadow lengths (light shafts).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import argparse
 import functools
 
+import numpy as np
 from timing import median_ms
 
 from skydome.atmosphere import preset
@@ -89,9 +91,21 @@ def main() -> None:
             renderer.render(VIEW, w, h, sun_direction=moved)
 
         for w, h in ((640, 360), (1280, 720)):
-            print(
-                f"{w}x{h} Sun moving: {median_ms(functools.partial(moving, w, h), args.repeats):.1f} ms"
+            ms = median_ms(functools.partial(moving, w, h), args.repeats)
+            print(f"{w}x{h} Sun moving: {ms:.1f} ms")
+    if args.model == "precomputed":
+        # Per-pixel inputs (always per-pixel lookups): aerial perspective for a scene 5 km
+        # away, light shafts with 2 km of shadow along every ray.
+        w, h = 1280, 720
+        for label, key, value in (
+            ("depth image", "depth_m", 5000.0),
+            ("shadow lengths", "shadow_length_m", 2000.0),
+        ):
+            image = np.full((h, w), value)
+            render = functools.partial(
+                renderer.render, VIEW, w, h, sun_direction=sun, **{key: image}
             )
+            print(f"{w}x{h} with a {label}: {median_ms(render, args.repeats):.1f} ms")
 
 
 if __name__ == "__main__":

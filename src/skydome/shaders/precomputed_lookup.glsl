@@ -113,17 +113,19 @@ vec4 sky_radiance(vec3 camera, vec3 view_ray, float shadow_length, vec3 sun_dire
     bool hits_ground = ray_hits_ground(r, mu);
     column = hits_ground ? column_along_ray(r, mu, distance_to_bottom(r, mu), true)
                          : column_to_top(r, mu);
+    // The light scattered beyond the shadow, seen through the shadowed part: one lookup at
+    // the end of the shadowed part, which is the camera itself when there is no shadow (one
+    // call, not two branches: a CPU rasterizer would run both).
+    float d = clamp(shadow_length, 0.0, ray_length(r, mu, hits_ground));
+    float r_p = r, mu_p = mu, mu_s_p = mu_s;
+    if (d > 0.0) {
+        r_p = clamp(sqrt(d * d + 2.0 * r * mu * d + r * r), u_bottom_radius, u_top_radius);
+        mu_p = clamp_cosine((r * mu + d) / r_p);
+        mu_s_p = clamp_cosine((r * mu_s + d * nu) / r_p);
+    }
     vec4 single_mie;
-    vec4 scattering;
-    if (shadow_length <= 0.0) {
-        scattering = combined_scattering(r, mu, mu_s, nu, hits_ground, single_mie);
-    } else {
-        // The light scattered beyond the shadow, seen through the shadowed part.
-        float d = min(shadow_length, ray_length(r, mu, hits_ground));
-        float r_p = clamp(sqrt(d * d + 2.0 * r * mu * d + r * r), u_bottom_radius, u_top_radius);
-        float mu_p = clamp_cosine((r * mu + d) / r_p);
-        float mu_s_p = clamp_cosine((r * mu_s + d * nu) / r_p);
-        scattering = combined_scattering(r_p, mu_p, mu_s_p, nu, hits_ground, single_mie);
+    vec4 scattering = combined_scattering(r_p, mu_p, mu_s_p, nu, hits_ground, single_mie);
+    if (d > 0.0) {
         vec4 T = output_transmittance(column_along_ray(r, mu, d, hits_ground));
         scattering *= T;
         single_mie *= T;
