@@ -105,7 +105,7 @@ def main() -> None:
             render = functools.partial(
                 renderer.render, VIEW, w, h, sun_direction=sun, **{key: image}
             )
-            print(f"{w}x{h} with a {label}: {median_ms(render, args.repeats):.1f} ms")
+            print(f"{w}x{h} with {label}: {median_ms(render, args.repeats):.1f} ms")
 
 
 if __name__ == "__main__":
