@@ -36,9 +36,10 @@ class PrecomputedRenderer(PassRenderer):
         cache: use the on-disk cache.
         progress: ``progress(stage, fraction)`` during a precomputation.
         ctx: a moderngl context (default: the shared headless one).
-        sky_view: draw frames from sky-view tables (render/sky_view.py) where they apply:
-            a camera inside the atmosphere, without light shafts or a depth image. False
-            looks every pixel up in the 4D tables.
+        sky_view: draw frames from sky-view tables (render/sky_view.py), and the aerial
+            perspective of a depth image from their direction x distance form, wherever they
+            apply: a camera inside the atmosphere, without light shafts. False looks every
+            pixel up in the 4D tables.
         sky_view_size: (azimuth, elevation) texels of those tables.
     """
 
@@ -129,56 +130,44 @@ class PrecomputedRenderer(PassRenderer):
             "u_light2_scale": float(light2_scale) * self.params.solar_scale,
         }
         extra, inputs = (["HAS_LIGHT2"] if light2_scale > 0 else []), {}
+        if shadow_length_m is not None:
+            extra.append("HAS_SHADOW_MAP")
+            inputs["u_shadow_map"] = image_texture(
+                self.ctx, "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM
+            )
+        if depth_m is not None:
+            extra.append("HAS_DEPTH_MAP")
+            inputs["u_depth_map"] = image_texture(
+                self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
+            )
         radius_km = uniforms["u_camera_position"][2]
         use_sky_view = (
             self.sky_view is not None
             and shadow_length_m is None
-            and depth_m is None
             and radius_km < self.params.top_radius_m / M_PER_KM
         )
+        textures = dict(self.textures)
         if use_sky_view:
             # Tables of the sky seen from this altitude, redrawn when it or a light moves.
-            textures = dict(self.textures)
             uniforms.update(self.sky_view.uniforms(radius_km))
             lights = [("sun", sun)] + ([("light2", light2)] if light2_scale > 0 else [])
             for slot, direction in lights:
-                textures.update(
-                    self.sky_view.textures(
-                        slot, radius_km, tuple(direction), uniforms, self.textures
-                    )
-                )
-            outs, ms = self._draw(
-                camera,
-                w,
-                h,
-                uniforms,
-                textures,
-                tuple(extra),
-                surface_pass=True,
-                shader="sky_view.glsl",
-            )
-        else:
-            if shadow_length_m is not None:
-                extra.append("HAS_SHADOW_MAP")
-                inputs["u_shadow_map"] = image_texture(
-                    self.ctx, "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM
-                )
-            if depth_m is not None:
-                extra.append("HAS_DEPTH_MAP")
-                inputs["u_depth_map"] = image_texture(
-                    self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
-                )
-            outs, ms = self._draw(
-                camera,
-                w,
-                h,
-                uniforms,
-                self.textures,
-                tuple(extra),
-                inputs,
-                attachments=2 if depth_m is not None else 1,
-                surface_pass=True,
-            )
+                args = (slot, radius_km, tuple(direction), uniforms, self.textures)
+                textures.update(self.sky_view.textures(*args))
+                if depth_m is not None:
+                    textures.update(self.sky_view.aerial_textures(*args))
+        outs, ms = self._draw(
+            camera,
+            w,
+            h,
+            uniforms,
+            textures,
+            tuple(extra),
+            inputs,
+            attachments=2 if depth_m is not None else 1,
+            surface_pass=True,
+            shader="sky_view.glsl" if use_sky_view else None,
+        )
         info = self._info(
             camera,
             altitude_m,

@@ -3,7 +3,9 @@
 A frame then costs two bilinear fetches per pixel and light instead of six fetches from the
 4D tables (and the ground's spectral lighting). The tables hold phase-free values, so the
 phase functions are still evaluated exactly per pixel (shaders/sky_view_mapping.glsl).
-They are kept between frames and redrawn only when the camera altitude or a light's
+Aerial-perspective tables add the distance along each ray as a third coordinate, for frames
+with a depth image (two trilinear fetches per pixel instead of two 4D lookups and more).
+All are kept between frames and redrawn only when the camera altitude or a light's
 direction changes: turning the camera costs one frame pass.
 """
 
@@ -14,6 +16,8 @@ from skydome.gpu import FullscreenPass
 
 #: Default table size (azimuth from the light over [0, 180] deg, elevation), texels.
 DEFAULT_SKY_VIEW_SIZE = (256, 256)
+#: Aerial-perspective tables (azimuth, elevation, distance), texels: 4.2 MB per light.
+AERIAL_SIZE = (32, 64, 64)
 
 
 class SkyViewTables:
@@ -37,12 +41,18 @@ class SkyViewTables:
             FullscreenPass(ctx, "sky_view_lut.glsl", defines),  # the upper half: sky
             FullscreenPass(ctx, "sky_view_lut.glsl", {**defines, "GROUND_HALF": 1}),
         )
+        self._defines = defines
+        self._aerial_pass = None  # compiled on first use
         self._slots: dict[str, tuple[list, object, tuple | None]] = {}
         self.draws = 0  # table passes drawn (a cache-hit counter for tests and benchmarks)
 
     def uniforms(self, radius_km: float) -> dict[str, object]:
-        """The mapping's uniforms for a camera at ``radius_km`` from the planet's centre."""
-        return {"u_sky_view_size": tuple(float(v) for v in self.size), "u_view_radius": radius_km}
+        """The mappings' uniforms for a camera at ``radius_km`` from the planet's centre."""
+        return {
+            "u_sky_view_size": tuple(float(v) for v in self.size),
+            "u_view_radius": radius_km,
+            "u_aerial_size": tuple(float(v) for v in AERIAL_SIZE),
+        }
 
     def textures(
         self,
@@ -74,11 +84,58 @@ class SkyViewTables:
             self.draws += 1
         return {f"u_{slot}_scattering": texs[0], f"u_{slot}_single_mie": texs[1]}
 
+    def aerial_textures(
+        self,
+        slot: str,
+        radius_km: float,
+        light_direction: tuple[float, float, float],
+        uniforms: dict[str, object],
+        textures: dict[str, object],
+    ) -> dict[str, object]:
+        """Sampler name -> 3D texture of light ``slot``'s aerial-perspective tables, redrawn if
+        stale: drawn into texture arrays (one layer per distance), copied on the GPU into
+        linearly filtered 3D textures, and the arrays released (4.2 MB kept per light)."""
+        key = (float(radius_km), tuple(float(v) for v in light_direction))
+        name = f"{slot}_aerial"
+        w, h, d = AERIAL_SIZE
+        if name not in self._slots:
+            volumes = [self.ctx.texture3d((w, h, d), 4, dtype="f4") for _ in range(2)]
+            for tex in volumes:
+                tex.repeat_x = tex.repeat_y = tex.repeat_z = False
+            self._slots[name] = (volumes, None, None)
+        volumes, _, drawn = self._slots[name]
+        if drawn != key:
+            if self._aerial_pass is None:
+                self._aerial_pass = FullscreenPass(
+                    self.ctx, "aerial_view_lut.glsl", self._defines, layered=True
+                )
+            layers = [self.ctx.texture_array((w, h, d), 4, dtype="f4") for _ in range(2)]
+            fbo = self.ctx.framebuffer(color_attachments=layers)
+            staging = self.ctx.buffer(reserve=w * h * d * 16)
+            try:
+                fbo.viewport = (0, 0, w, h)
+                values = {**uniforms, **self.uniforms(key[0]), "u_light_direction": key[1]}
+                self._aerial_pass.draw(fbo, values, textures, layers=(0, d))
+                for array, volume in zip(layers, volumes, strict=True):
+                    array.read_into(staging)
+                    volume.write(staging)
+            finally:
+                for obj in (staging, fbo, *layers):
+                    obj.release()
+            self._slots[name] = (volumes, None, key)
+            self.draws += 1
+        return {
+            f"u_{slot}_aerial_scattering": volumes[0],
+            f"u_{slot}_aerial_single_mie": volumes[1],
+        }
+
     def release(self) -> None:
         for texs, fbo, _ in self._slots.values():
-            fbo.release()
+            if fbo is not None:
+                fbo.release()
             for tex in texs:
                 tex.release()
         self._slots.clear()
-        for fpass in self._passes:
-            fpass.release()
+        for fpass in (*self._passes, self._aerial_pass):
+            if fpass is not None:
+                fpass.release()

@@ -133,22 +133,25 @@ vec4 sky_radiance(vec3 camera, vec3 view_ray, float shadow_length, vec3 sun_dire
     return scattering * rayleigh_phase(nu) + single_mie * cornette_shanks_phase(nu, u_mie_g);
 }
 
-// Radiance (luminance, cd/m^2) scattered towards the camera by the air between `camera` and
-// `point` (km, the point inside the atmosphere): aerial perspective (Bruneton 2017
-// GetSkyRadianceToPoint), S(camera) - T(camera, point) S(point), with `shadow_length` (km)
-// as in sky_radiance. The transmittance to the point is not included (the renderer computes
-// it per wavelength: column_along_ray).
-vec4 sky_radiance_to_point(vec3 camera, vec3 point, float shadow_length, vec3 sun_direction) {
-    vec3 view_ray = normalize(point - camera);
+// The phase-free parts of sky_radiance_to_point: Rayleigh + orders >= 2 (/ P_R) and single
+// Mie (/ P_M), (R, G, B, scotopic), for the air between `camera` and the point at `distance`
+// (km) along `view_ray` (Bruneton 2017 GetSkyRadianceToPoint), S(camera) - T S(point), with
+// `shadow_length` (km) as in sky_radiance. The transmittance to the point is not included (the
+// renderer computes it per wavelength: column_along_ray).
+void scattering_to_point(vec3 camera, vec3 view_ray, float distance, float shadow_length,
+                         vec3 sun_direction, out vec4 scattering, out vec4 single_mie) {
     float r, rmu;
-    if (!enter_atmosphere(camera, view_ray, r, rmu)) return vec4(0.0);
+    scattering = vec4(0.0);
+    single_mie = vec4(0.0);
+    vec3 start = camera;
+    if (!enter_atmosphere(start, view_ray, r, rmu)) return;
     float mu = clamp_cosine(rmu / r);
-    float mu_s = clamp_cosine(dot(camera, sun_direction) / r);
+    float mu_s = clamp_cosine(dot(start, sun_direction) / r);
     float nu = clamp_cosine(dot(view_ray, sun_direction));
     bool hits_ground = ray_hits_ground(r, mu);
-    float d = min(length(point - camera), ray_length(r, mu, hits_ground));
-    vec4 single_mie;
-    vec4 scattering = combined_scattering(r, mu, mu_s, nu, hits_ground, single_mie);
+    scattering = combined_scattering(r, mu, mu_s, nu, hits_ground, single_mie);
+    // From where the ray enters the atmosphere (the camera itself when it is inside).
+    float d = min(distance - length(start - camera), ray_length(r, mu, hits_ground));
     float dp = max(d - max(shadow_length, 0.0), 0.0);
     float r_p = clamp(sqrt(dp * dp + 2.0 * r * mu * dp + r * r), u_bottom_radius, u_top_radius);
     float mu_p = clamp_cosine((r * mu + dp) / r_p);
@@ -160,6 +163,16 @@ vec4 sky_radiance_to_point(vec3 camera, vec3 point, float shadow_length, vec3 su
     single_mie = max(single_mie - T * single_mie_p, vec4(0.0));
     // Bruneton 2017: the difference of two nearly equal Mie values is noise once the Sun has set.
     single_mie *= smoothstep(0.0, 0.01, mu_s);
+}
+
+// Radiance (luminance, cd/m^2) scattered towards the camera by the air between `camera` and
+// `point` (km): aerial perspective, scattering_to_point with the phase functions applied.
+vec4 sky_radiance_to_point(vec3 camera, vec3 point, float shadow_length, vec3 sun_direction) {
+    vec3 view_ray = normalize(point - camera);
+    float nu = clamp_cosine(dot(view_ray, sun_direction));
+    vec4 scattering, single_mie;
+    scattering_to_point(camera, view_ray, length(point - camera), shadow_length, sun_direction,
+                        scattering, single_mie);
     return scattering * rayleigh_phase(nu) + single_mie * cornette_shanks_phase(nu, u_mie_g);
 }
 

@@ -22,17 +22,6 @@ layout(location = 1) out vec4 frag_transmittance;
 #endif
 layout(location = 0) out vec4 frag;
 
-// Spectral transmittance groups -> (R, G, B) of a white (solar) spectrum seen through them,
-// normalised so that T = 1 gives 1: what a scene's linear sRGB colour is multiplied by.
-vec3 transmittance_rgb(vec3 column) {
-    vec4 t = vec4(0.0), one = vec4(0.0);
-    for (int g = 0; g < NUM_GROUPS; ++g) {
-        t += u_spectral_to_rgbs[g] * exp(-optical_depth(g, column));
-        one += u_spectral_to_rgbs[g] * vec4(1.0);
-    }
-    return t.rgb / one.rgb;
-}
-
 // Radiance of the surfaces at the end of the ray, seen through the air, for one light at unit
 // scale: the Lambertian ground or the light's disk (surface_radiance.glsl).
 vec4 surface_radiance(vec3 camera, vec3 dir, vec3 light, bool with_disk) {

@@ -4,6 +4,9 @@
 // Two passes, as in sky_precomputed.glsl (CPU rasterizers run a branch's body for every
 // pixel): the sky, writing a depth of 0.5 on the Sun's disk and 1.0 elsewhere; then, with
 // SURFACE_PASS, the disk added where an early depth test finds 0.5.
+// With HAS_DEPTH_MAP, pixels with a scene (distance > 0) get the aerial perspective from the
+// aerial-perspective tables (aerial_view_lut.glsl) instead, and location 1 the RGB
+// transmittance to the scene point, as in sky_precomputed.glsl.
 #include "camera.glsl"
 #include "surface_radiance.glsl"
 #include "sky_view_mapping.glsl"
@@ -19,10 +22,29 @@ uniform sampler2D u_light2_scattering;
 uniform sampler2D u_light2_single_mie;
 #endif
 layout(location = 0) out vec4 frag;
+#ifdef HAS_DEPTH_MAP
+uniform sampler2D u_depth_map;  // distance to the user's scene along each ray, km (<= 0: none)
+uniform sampler3D u_sun_aerial_scattering;
+uniform sampler3D u_sun_aerial_single_mie;
+#ifdef HAS_LIGHT2
+uniform sampler3D u_light2_aerial_scattering;
+uniform sampler3D u_light2_aerial_single_mie;
+#endif
+layout(location = 1) out vec4 frag_transmittance;
+
+vec4 aerial_from_table(sampler3D scattering, sampler3D single_mie, vec3 dir, vec3 light,
+                       bool hits_ground, float depth) {
+    vec3 uvw = vec3(sky_view_uv(azimuth_from_light(dir, light), dir.z, hits_ground, u_aerial_size.xy),
+                    aerial_w(depth, ray_length(u_view_radius, dir.z, hits_ground)));
+    float nu = dot(dir, light);
+    return texture(scattering, uvw) * rayleigh_phase(nu)
+         + texture(single_mie, uvw) * cornette_shanks_phase(nu, u_mie_g);
+}
+#endif
 
 vec4 sky_from_table(sampler2D scattering, sampler2D single_mie, vec3 dir, vec3 light,
                     bool hits_ground) {
-    vec2 uv = sky_view_uv(azimuth_from_light(dir, light), dir.z, hits_ground);
+    vec2 uv = sky_view_uv(azimuth_from_light(dir, light), dir.z, hits_ground, u_sky_view_size);
     float nu = dot(dir, light);
     return texture(scattering, uv) * rayleigh_phase(nu)
          + texture(single_mie, uv) * cornette_shanks_phase(nu, u_mie_g);
@@ -35,18 +57,43 @@ void main() {
     vec3 dir;
     if (!camera_ray(gl_FragCoord.xy, dir)) {
         frag = vec4(0.0);
+#ifdef HAS_DEPTH_MAP
+        frag_transmittance = vec4(1.0);
+#endif
         return;
     }
     float r = u_view_radius;
     bool hits_ground = ray_hits_ground(r, dir.z);
+    bool scene = false;
+#ifdef HAS_DEPTH_MAP
+    float depth = texelFetch(u_depth_map, ivec2(gl_FragCoord.xy), 0).r;
+    scene = depth > 0.0;
+#endif
 #ifdef SURFACE_PASS
     frag = u_sun_scale * disk_radiance(r, dir.z);
+#ifdef HAS_DEPTH_MAP
+    frag_transmittance = vec4(0.0);  // added to the sky pass's value
+#endif
 #else
     frag = u_sun_scale * sky_from_table(u_sun_scattering, u_sun_single_mie, dir, u_sun_direction, hits_ground);
 #ifdef HAS_LIGHT2
     frag += u_light2_scale * sky_from_table(u_light2_scattering, u_light2_single_mie, dir,
                                             u_light2_direction, hits_ground);
 #endif
-    gl_FragDepth = !hits_ground && sees_disk(dir, u_sun_direction) ? 0.5 : 1.0;
+#ifdef HAS_DEPTH_MAP
+    frag_transmittance = vec4(0.0, 0.0, 0.0, 1.0);  // no scene: the sky below is all there is
+    if (scene) {
+        frag = u_sun_scale * aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
+                                               dir, u_sun_direction, hits_ground, depth);
+#ifdef HAS_LIGHT2
+        frag += u_light2_scale * aerial_from_table(u_light2_aerial_scattering,
+                                                   u_light2_aerial_single_mie, dir,
+                                                   u_light2_direction, hits_ground, depth);
+#endif
+        float d = min(depth, ray_length(r, dir.z, hits_ground));
+        frag_transmittance = vec4(transmittance_rgb(column_along_ray(r, dir.z, d, hits_ground)), 1.0);
+    }
+#endif
+    gl_FragDepth = !scene && !hits_ground && sees_disk(dir, u_sun_direction) ? 0.5 : 1.0;
 #endif
 }

@@ -14,11 +14,12 @@ uniform float u_view_radius;   // km
 
 float horizon_elevation(float r) { return -acos(clamp(u_bottom_radius / r, 0.0, 1.0)); }
 
-// Texture coordinates of a view direction (mu = its z) for a light at azimuth difference phi.
-vec2 sky_view_uv(float phi, float mu, bool hits_ground) {
+// Texture coordinates of a view direction (mu = its z) for a light at azimuth difference phi,
+// in a table of `size` (phi, elevation) texels.
+vec2 sky_view_uv(float phi, float mu, bool hits_ground, vec2 size) {
     float e = asin(clamp(mu, -1.0, 1.0));
     float e_h = horizon_elevation(u_view_radius);
-    float half_h = 0.5 * u_sky_view_size.y;
+    float half_h = 0.5 * size.y;
     float v;
     if (hits_ground) {
         float x = sqrt(clamp((e_h - e) / (e_h + 0.5 * PI), 0.0, 1.0));
@@ -27,7 +28,7 @@ vec2 sky_view_uv(float phi, float mu, bool hits_ground) {
         float x = sqrt(clamp((e - e_h) / (0.5 * PI - e_h), 0.0, 1.0));
         v = 0.5 + 0.5 * texcoord_from_unit(x, half_h);
     }
-    return vec2(texcoord_from_unit(phi / PI, u_sky_view_size.x), v);
+    return vec2(texcoord_from_unit(phi / PI, size.x), v);
 }
 
 // Azimuth difference phi in [0, pi] between the horizontal parts of dir and light (0 where
@@ -38,12 +39,12 @@ float azimuth_from_light(vec3 dir, vec3 light) {
     return atan(s, c + 1e-30);
 }
 
-// The view direction of texel (i, j) (integer indices) for a light at azimuth light_az (rad);
-// hits_ground tells which half it is in.
-vec3 sky_view_texel_direction(ivec2 texel, float light_az, out bool hits_ground) {
-    float phi = PI * float(texel.x) / (u_sky_view_size.x - 1.0);
+// The view direction of texel (i, j) (integer indices) of a table of `size` texels for a light
+// at azimuth light_az (rad); hits_ground tells which half it is in.
+vec3 sky_view_texel_direction(ivec2 texel, float light_az, vec2 size, out bool hits_ground) {
+    float phi = PI * float(texel.x) / (size.x - 1.0);
     float e_h = horizon_elevation(u_view_radius);
-    float half_h = 0.5 * u_sky_view_size.y;
+    float half_h = 0.5 * size.y;
     float e;
     hits_ground = float(texel.y) < half_h;
     if (hits_ground) {
@@ -55,4 +56,25 @@ vec3 sky_view_texel_direction(ivec2 texel, float light_az, out bool hits_ground)
     }
     float az = light_az + phi;
     return vec3(cos(e) * cos(az), cos(e) * sin(az), sin(e));
+}
+
+// ---------------------------------------------------------------- aerial-perspective tables
+// The same directions with a third coordinate, the distance d (km) from the camera along the
+// ray, as a warped fraction of the ray's own length L in the atmosphere (to the ground or the
+// top): x = ln(1 + d / AERIAL_D0) / ln(1 + L / AERIAL_D0). Slices are ~13% apart in distance
+// at 64 of them (linear within the first km, where scenes are), so that the in-scattered
+// light, ~ 1 - exp(-d / l), interpolates to ~1e-3; and a point on the ground is at x = 1 in
+// every direction, so neighbouring directions, whose rays end at different distances, are
+// never mixed at different fractions of their rays.
+const float AERIAL_D0 = 0.5;  // km
+uniform vec3 u_aerial_size;   // texels (phi, elevation, distance)
+
+float aerial_w(float d_km, float ray_length_km) {
+    float x = log(1.0 + max(d_km, 0.0) / AERIAL_D0) / log(1.0 + ray_length_km / AERIAL_D0);
+    return texcoord_from_unit(clamp(x, 0.0, 1.0), u_aerial_size.z);
+}
+
+float aerial_slice_distance(int slice, float ray_length_km) {
+    float x = float(slice) / (u_aerial_size.z - 1.0);
+    return AERIAL_D0 * (pow(1.0 + ray_length_km / AERIAL_D0, x) - 1.0);
 }

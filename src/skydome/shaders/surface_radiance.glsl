@@ -43,3 +43,14 @@ vec4 disk_radiance(float r, float mu) {
     for (int g = 0; g < NUM_GROUPS; ++g) radiance += u_spectral_to_rgbs[g] * (disk * exp(-optical_depth(g, column)));
     return radiance;
 }
+
+// Spectral transmittance groups -> (R, G, B) of a white (solar) spectrum seen through them,
+// normalised so that T = 1 gives 1: what a scene's linear sRGB colour is multiplied by.
+vec3 transmittance_rgb(vec3 column) {
+    vec4 t = vec4(0.0), one = vec4(0.0);
+    for (int g = 0; g < NUM_GROUPS; ++g) {
+        t += u_spectral_to_rgbs[g] * exp(-optical_depth(g, column));
+        one += u_spectral_to_rgbs[g] * vec4(1.0);
+    }
+    return t.rgb / one.rgb;
+}
