@@ -73,6 +73,8 @@ def main() -> None:
         print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
     if not args.only:
         side_by_side(w, h)
+        if args.model == "precomputed":
+            aerial_perspective(w, h)
 
 
 def side_by_side(w: int, h: int) -> None:
@@ -97,6 +99,34 @@ def side_by_side(w: int, h: int) -> None:
         path, lambda tmp: write_png(tmp, both, {"views": "single | precomputed, Sun -4 deg"})
     )
     print(f"{path.relative_to(OUT.parents[1])}")
+
+
+def aerial_perspective(w: int, h: int) -> None:
+    """Ridges at 3, 15 and 60 km composited through the aerial perspective of a depth image:
+    composite = scene x transmittance + in-scattered light (Sun 6 deg, camera at 2 m)."""
+    import numpy as np
+
+    from skydome.render import direction_from_angles, get_renderer
+
+    cam = PerspectiveCamera(fov_deg=90, yaw_deg=230, pitch_deg=5)
+    x, y = np.arange(w)[None, :], np.arange(h)[:, None]
+    depth_m = np.zeros((h, w))
+    for dist_m, base, amp, freq in (
+        (60e3, 0.42, 0.07, 8.3),
+        (15e3, 0.49, 0.055, 13.4),
+        (3e3, 0.57, 0.05, 21.0),
+    ):
+        top = h * (base + amp * np.sin(freq * x / w + dist_m / 1e4))
+        depth_m = np.where(y > top, dist_m, depth_m)
+    frame = get_renderer().render(
+        cam, w, h, sun_direction=direction_from_angles(6.0, 250.0), altitude_m=2.0, depth_m=depth_m
+    )
+    hills = np.where(depth_m[..., None] > 0, np.array([30.0, 40.0, 25.0]), 0.0)  # cd/m^2
+    composite = frame.rgb + frame.info["transmittance"] * hills
+    ldr = tonemap(composite, "filmic", auto_exposure(composite))
+    path = OUT / "precomputed-aerial-perspective.png"
+    atomic_write(path, lambda tmp: write_png(tmp, ldr, {"views": "ridges at 3, 15, 60 km"}))
+    print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
 if __name__ == "__main__":
