@@ -16,10 +16,8 @@ layout(location = 1) out vec4 frag_single_mie;
 
 void main() {
     vec3 light = u_light_direction;
-    float light_az = atan(light.y, light.x + 1e-30);
     bool hits_ground;
-    vec3 dir = sky_view_texel_direction(ivec2(gl_FragCoord.xy), light_az, u_aerial_size.xy,
-                                        hits_ground);
+    vec3 dir = sky_view_texel_direction(ivec2(gl_FragCoord.xy), light, u_aerial_size.xy, hits_ground);
     float d = aerial_slice_distance(v_layer, ray_length(u_view_radius, dir.z, hits_ground));
     scattering_to_point(vec3(0.0, 0.0, u_view_radius), dir, d, 0.0, light, frag_scattering,
                         frag_single_mie);

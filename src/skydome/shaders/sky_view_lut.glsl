@@ -15,10 +15,8 @@ layout(location = 1) out vec4 frag_single_mie;
 
 void main() {
     vec3 light = u_light_direction;
-    float light_az = atan(light.y, light.x + 1e-30);
     bool hits_ground;
-    vec3 dir = sky_view_texel_direction(ivec2(gl_FragCoord.xy), light_az, u_sky_view_size,
-                                        hits_ground);
+    vec3 dir = sky_view_texel_direction(ivec2(gl_FragCoord.xy), light, u_sky_view_size, hits_ground);
     float r = u_view_radius;
     vec3 camera = vec3(0.0, 0.0, r);
     float mu = dir.z;

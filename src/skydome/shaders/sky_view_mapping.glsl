@@ -40,8 +40,9 @@ float azimuth_from_light(vec3 dir, vec3 light) {
 }
 
 // The view direction of texel (i, j) (integer indices) of a table of `size` texels for a light
-// at azimuth light_az (rad); hits_ground tells which half it is in.
-vec3 sky_view_texel_direction(ivec2 texel, float light_az, vec2 size, out bool hits_ground) {
+// towards `light` (unit, ENU); hits_ground tells which half it is in.
+vec3 sky_view_texel_direction(ivec2 texel, vec3 light, vec2 size, out bool hits_ground) {
+    float light_az = atan(light.y, light.x + 1e-30);
     float phi = PI * float(texel.x) / (size.x - 1.0);
     float e_h = horizon_elevation(u_view_radius);
     float half_h = 0.5 * size.y;
