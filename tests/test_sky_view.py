@@ -108,6 +108,33 @@ def test_aerial_perspective_tables_match_direct_lookups(altitude_m, sun_elevatio
     np.testing.assert_allclose(a.info["transmittance"], b.info["transmittance"], atol=2e-4)
 
 
+@pytest.mark.parametrize("altitude_m", [2.0, 1000.0])
+@pytest.mark.parametrize("sun_elevation", [15.0, 2.0, -3.0])
+def test_light_shafts_from_tables_match_direct_lookups(altitude_m, sun_elevation):
+    # Shadowed lengths of 10 m to 50 km (random per pixel, a quarter of the frame without):
+    # the sky minus the tables' aerial perspective of the shadowed part, against Bruneton's
+    # per-pixel T(x, x_p) S(x_p). Error / sky radiance of the direction: measured <= 0.06%
+    # RMS, p99 <= 0.17%; bounds 0.5% RMS, 2% p99.
+    sun = direction_from_angles(sun_elevation, 90.0)
+    cam = EquirectCamera()
+    w, h = 128, 64
+    rng = np.random.default_rng(0)
+    shadow = np.exp(rng.uniform(np.log(10.0), np.log(50_000.0), (h, w)))
+    shadow[:, : w // 4] = 0.0
+    kw = {"sun_direction": sun, "altitude_m": altitude_m}
+    a = precomputed_renderer().render(cam, w, h, shadow_length_m=shadow, **kw)
+    b = direct_renderer().render(cam, w, h, shadow_length_m=shadow, **kw)
+    assert a.info["path"] == "sky-view"
+    sky = direct_renderer().render(cam, w, h, **kw).data[..., :3] @ SRGB_LUMINANCE
+    ok = sky > 0
+    err = np.abs((a.data[..., :3] - b.data[..., :3]) @ SRGB_LUMINANCE)[ok] / sky[ok]
+    assert np.sqrt(np.mean(err**2)) < 5e-3 and np.percentile(err, 99) < 2e-2
+    # Shadowed pixels are darker than the open sky; unshadowed ones equal it.
+    open_sky = precomputed_renderer().render(cam, w, h, **kw).data
+    assert np.all(a.data[:, w // 2 :, 1] <= open_sky[:, w // 2 :, 1] * (1 + 1e-6))
+    np.testing.assert_allclose(a.data[:, : w // 4], open_sky[:, : w // 4], rtol=1e-6)
+
+
 def test_tables_are_redrawn_only_when_needed():
     r = PrecomputedRenderer(
         preset("earth"), precomputed_renderer().config, ctx=precomputed_renderer().ctx
@@ -134,7 +161,8 @@ def test_tables_are_redrawn_only_when_needed():
     "kwargs",
     [
         {"altitude_m": 2e5},  # above the atmosphere (top at 100 km): its limb is a sharp edge
-        {"shadow_length_m": np.zeros((8, 16))},
+        # light shafts and a depth image together: the shadow inside the aerial perspective
+        {"shadow_length_m": np.zeros((8, 16)), "depth_m": np.full((8, 16), 1000.0)},
     ],
 )
 def test_direct_lookups_where_tables_do_not_apply(kwargs):

@@ -37,9 +37,10 @@ class PrecomputedRenderer(PassRenderer):
         progress: ``progress(stage, fraction)`` during a precomputation.
         ctx: a moderngl context (default: the shared headless one).
         sky_view: draw frames from sky-view tables (render/sky_view.py), and the aerial
-            perspective of a depth image from their direction x distance form, wherever they
-            apply: a camera inside the atmosphere, without light shafts. False looks every
-            pixel up in the 4D tables.
+            perspective of a depth image or the light shafts of shadow lengths from their
+            direction x distance form, wherever they apply: a camera inside the atmosphere, and
+            not both a depth image and shadow lengths. False looks every pixel up in the 4D
+            tables.
         sky_view_size: (azimuth, elevation) texels of those tables.
     """
 
@@ -141,9 +142,11 @@ class PrecomputedRenderer(PassRenderer):
                 self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
             )
         radius_km = uniforms["u_camera_position"][2]
+        # Light shafts with a depth image need the shadow inside the aerial perspective: the
+        # per-pixel lookups (the tables give light shafts or aerial perspective, not both).
         use_sky_view = (
             self.sky_view is not None
-            and shadow_length_m is None
+            and (shadow_length_m is None or depth_m is None)
             and radius_km < self.params.top_radius_m / M_PER_KM
         )
         textures = dict(self.textures)
@@ -154,7 +157,7 @@ class PrecomputedRenderer(PassRenderer):
             for slot, direction in lights:
                 args = (slot, radius_km, tuple(direction), uniforms, self.textures)
                 textures.update(self.sky_view.textures(*args))
-                if depth_m is not None:
+                if depth_m is not None or (slot == "sun" and shadow_length_m is not None):
                     textures.update(self.sky_view.aerial_textures(*args))
         outs, ms = self._draw(
             camera,

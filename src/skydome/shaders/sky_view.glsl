@@ -6,7 +6,11 @@
 // SURFACE_PASS, the disk added where an early depth test finds 0.5.
 // With HAS_DEPTH_MAP, pixels with a scene (distance > 0) get the aerial perspective from the
 // aerial-perspective tables (aerial_view_lut.glsl) instead, and location 1 the RGB
-// transmittance to the scene point, as in sky_precomputed.glsl.
+// transmittance to the scene point, as in sky_precomputed.glsl. With HAS_SHADOW_MAP (light
+// shafts: the first `shadow length` of each ray lies in an occluder's shadow), the Sun's light
+// scattered along that part, read from the same tables, is taken off the sky: Bruneton's
+// T(x, x_p) S(x_p) is exactly S(x) - [S(x) - T(x, x_p) S(x_p)], the sky minus the aerial
+// perspective of the shadowed part.
 #include "camera.glsl"
 #include "surface_radiance.glsl"
 #include "sky_view_mapping.glsl"
@@ -22,15 +26,16 @@ uniform sampler2D u_light2_scattering;
 uniform sampler2D u_light2_single_mie;
 #endif
 layout(location = 0) out vec4 frag;
-#ifdef HAS_DEPTH_MAP
-uniform sampler2D u_depth_map;  // distance to the user's scene along each ray, km (<= 0: none)
+#ifdef HAS_SHADOW_MAP
+uniform sampler2D u_shadow_map;  // shadowed length along each view ray, km
+#endif
+#if defined(HAS_DEPTH_MAP) || defined(HAS_SHADOW_MAP)
 uniform sampler3D u_sun_aerial_scattering;
 uniform sampler3D u_sun_aerial_single_mie;
 #ifdef HAS_LIGHT2
 uniform sampler3D u_light2_aerial_scattering;
 uniform sampler3D u_light2_aerial_single_mie;
 #endif
-layout(location = 1) out vec4 frag_transmittance;
 
 vec4 aerial_from_table(sampler3D scattering, sampler3D single_mie, vec3 dir, vec3 light,
                        bool hits_ground, float depth) {
@@ -40,6 +45,10 @@ vec4 aerial_from_table(sampler3D scattering, sampler3D single_mie, vec3 dir, vec
     return texture(scattering, uvw) * rayleigh_phase(nu)
          + texture(single_mie, uvw) * cornette_shanks_phase(nu, u_mie_g);
 }
+#endif
+#ifdef HAS_DEPTH_MAP
+uniform sampler2D u_depth_map;  // distance to the user's scene along each ray, km (<= 0: none)
+layout(location = 1) out vec4 frag_transmittance;
 #endif
 
 vec4 sky_from_table(sampler2D scattering, sampler2D single_mie, vec3 dir, vec3 light,
@@ -76,6 +85,15 @@ void main() {
 #endif
 #else
     frag = u_sun_scale * sky_from_table(u_sun_scattering, u_sun_single_mie, dir, u_sun_direction, hits_ground);
+#ifdef HAS_SHADOW_MAP
+    float shadow_length = texelFetch(u_shadow_map, ivec2(gl_FragCoord.xy), 0).r;
+    if (shadow_length > 0.0) {
+        frag = max(frag - u_sun_scale * aerial_from_table(u_sun_aerial_scattering,
+                                                          u_sun_aerial_single_mie, dir,
+                                                          u_sun_direction, hits_ground,
+                                                          shadow_length), vec4(0.0));
+    }
+#endif
 #ifdef HAS_LIGHT2
     frag += u_light2_scale * sky_from_table(u_light2_scattering, u_light2_single_mie, dir,
                                             u_light2_direction, hits_ground);
