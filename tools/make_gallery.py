@@ -75,6 +75,7 @@ def main() -> None:
         side_by_side(w, h)
         if args.model == "precomputed":
             aerial_perspective(w, h)
+            light_shafts(w, h)
 
 
 def side_by_side(w: int, h: int) -> None:
@@ -126,6 +127,27 @@ def aerial_perspective(w: int, h: int) -> None:
     ldr = tonemap(composite, "filmic", auto_exposure(composite))
     path = OUT / "precomputed-aerial-perspective.png"
     atomic_write(path, lambda tmp: write_png(tmp, ldr, {"views": "ridges at 3, 15, 60 km"}))
+    print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+
+
+def light_shafts(w: int, h: int) -> None:
+    """Crepuscular rays: 14 wedges around the Sun (4 deg) whose first 8 km lie in shadow."""
+    import numpy as np
+
+    from skydome.render import direction_from_angles, get_renderer
+
+    cam = PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10)
+    angle = np.arctan2((0.59 * h - np.arange(h))[:, None], (np.arange(w) - w / 2)[None, :])
+    shadow_m = np.where(np.sin(14 * angle) > 0.3, 8000.0, 0.0)
+    sun = direction_from_angles(4.0, 250.0)
+    frame = get_renderer().render(
+        cam, w, h, sun_direction=sun, altitude_m=2.0, shadow_length_m=shadow_m
+    )
+    ldr = tonemap(frame, "filmic", auto_exposure(frame.rgb * (shadow_m[..., None] == 0)))
+    path = OUT / "precomputed-light-shafts.png"
+    atomic_write(
+        path, lambda tmp: write_png(tmp, ldr, {"views": "shadow lengths of 8 km in wedges"})
+    )
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
