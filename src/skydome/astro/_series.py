@@ -46,36 +46,279 @@ class VSOPSeries:
         self.a, self.b, self.c = a[order], b[order], c[order]
         self.coord, self.power = coord[order], power[order]
         self.max_power = int(self.power.max())
-        # slices of consecutive terms sharing (coord, power)
-        self.groups: list[tuple[int, int, slice]] = []
-        keys = self.coord * 16 + self.power
-        edges = np.flatnonzero(np.diff(keys)) + 1
-        starts = np.concatenate([[0], edges])
-        stops = np.concatenate([edges, [keys.size]])
-        for s, e in zip(starts, stops, strict=True):
-            self.groups.append((int(self.coord[s]), int(self.power[s]), slice(int(s), int(e))))
+        # distinct frequencies; the phasor of each from few cosines (frequency_plan)
+        freqs, self.term_freq = np.unique(self.c, return_inverse=True)
+        self.plan, self.c_base = frequency_plan(freqs)
+        rows = self.coord * (self.max_power + 1) + self.power
+        self.lbr_sums = PhasorSums(
+            self.plan, self.term_freq, self.a * np.exp(1j * self.b), rows, 3 * (self.max_power + 1)
+        )
+        self._rate_sums: dict[bytes, PhasorSums] = {}
+
+    def _sums(self, tau: np.ndarray, sums: PhasorSums) -> np.ndarray:
+        return sums(lambda blk: self.c_base[:, None] * tau[None, blk], tau.size)
 
     def lbr(self, jd_tt: np.ndarray) -> np.ndarray:
         """Heliocentric L, B (rad) and R (au), ecliptic and equinox of date; shape (3, N).
 
-        Meeus eq. 32.1-32.2: X = sum_alpha tau^alpha * sum A cos(B + C tau).
+        Meeus eq. 32.1-32.2: X = sum_alpha tau^alpha * sum A cos(B + C tau), with
+        A cos(B + C tau) = Re(A exp(iB) exp(iC tau)) and the phasors exp(iC tau) of the
+        distinct frequencies from :func:`frequency_plan`.
         """
         tau = (np.asarray(jd_tt, dtype=float).ravel() - J2000) / DAYS_PER_MILLENNIUM
-        arg = self.b[:, None] + self.c[:, None] * tau[None, :]
-        cosines = np.cos(arg, out=arg)
-        sums = np.zeros((3, self.max_power + 1, tau.size))
-        for coord, power, sl in self.groups:
-            sums[coord, power] = self.a[sl] @ cosines[sl]
+        sums = self._sums(tau, self.lbr_sums).reshape(3, self.max_power + 1, tau.size)
         out = sums[:, self.max_power].copy()
         for p in range(self.max_power - 1, -1, -1):  # Horner in tau
             out = out * tau + sums[:, p]
         return out
+
+    def lbr_rates(self, jd_tt: np.ndarray, keep: np.ndarray) -> np.ndarray:
+        """L, B, R and their rates per day from the terms selected by ``keep``; (6, N).
+
+        d/dtau [tau^a A cos(B + C tau)] = a tau^(a-1) A cos(.) - tau^a A C sin(.), and
+        -A C sin(B + C tau) = Re(i A C exp(iB) exp(iC tau)).
+        """
+        key = keep.tobytes()
+        if key not in self._rate_sums:
+            n_rows = 3 * (self.max_power + 1)
+            rows = (self.coord * (self.max_power + 1) + self.power)[keep]
+            freq = self.term_freq[keep]
+            w = (self.a * np.exp(1j * self.b))[keep]
+            self._rate_sums[key] = PhasorSums(
+                self.plan,
+                np.concatenate([freq, freq]),
+                np.concatenate([w, 1j * self.c[keep] * w]),
+                np.concatenate([rows, n_rows + rows]),
+                2 * n_rows,
+            )
+        tau = (np.asarray(jd_tt, dtype=float).ravel() - J2000) / DAYS_PER_MILLENNIUM
+        both = self._sums(tau, self._rate_sums[key]).reshape(2, 3, self.max_power + 1, -1)
+        val, der = both[0], both[1]
+        p_max = self.max_power
+        out_val = val[:, p_max].copy()
+        out_rate = der[:, p_max].copy()
+        for p in range(p_max - 1, -1, -1):  # Horner in tau for both polynomials
+            out_val = out_val * tau + val[:, p]
+            out_rate = out_rate * tau + der[:, p] + (p + 1) * val[:, p + 1]
+        return np.concatenate([out_val, out_rate / DAYS_PER_MILLENNIUM])
 
 
 @functools.cache
 def vsop(planet: str) -> VSOPSeries:
     """The cached series of ``planet`` (lower-case English name)."""
     return VSOPSeries(planet)
+
+
+# --------------------------------------------------------------------------- phasors
+
+# Times per block in the phasor evaluators: the block's phasor table (a few hundred rows of
+# complex128) then stays in the processor's cache between the steps that build it.
+PHASOR_BLOCK_TIMES = 2048
+
+
+class PhasorPlan:
+    """Recipe for the phasors exp(i phi_u(t)) of many series arguments from few cosines.
+
+    Every argument phi_u is either one of the ``n_base`` base angles supplied at run time
+    (its phasor costs one cosine and one sine) or the sum of two arguments already
+    computed (one complex multiplication, exp(i(a + b)) = exp(ia) exp(ib)), optionally
+    with the second conjugated (exp(i(a - b))). Slots ``0..n_base-1`` hold the base
+    phasors; ``steps`` append one slot each; ``outputs`` lists the slots returned.
+    """
+
+    def __init__(self, n_base: int, steps: list[tuple[int, int, bool]], outputs: list[int]):
+        self.n_base = n_base
+        self.steps = steps  # (slot a, slot b, conjugate b); slot -1 is the constant 1
+        self.outputs = np.asarray(outputs, dtype=np.intp)
+        self.n_slots = n_base + len(steps)
+
+    def run(self, base_angles_rad: np.ndarray) -> np.ndarray:
+        """Phasors (n_outputs, n) complex of the base angles ``(n_base, n)`` (rad)."""
+        n = base_angles_rad.shape[1]
+        ws = np.empty((self.n_slots + 1, n), dtype=complex)
+        ws[-1] = 1.0  # slot -1: exp(i 0)
+        np.cos(base_angles_rad, out=ws.real[: self.n_base])
+        np.sin(base_angles_rad, out=ws.imag[: self.n_base])
+        for k, (a, b, conj) in enumerate(self.steps, start=self.n_base):
+            if conj:
+                np.multiply(ws[a], np.conj(ws[b]), out=ws[k])
+            else:
+                np.multiply(ws[a], ws[b], out=ws[k])
+        return ws[self.outputs]
+
+
+def integer_combination_plan(multipliers: np.ndarray) -> PhasorPlan:
+    """Plan for exp(i sum_j k_tj X_j) of the integer rows ``multipliers`` (T, K).
+
+    The base angles are the K fundamental arguments X_j. Powers exp(i m X_j) come from
+    repeated multiplication, and each row is built factor by factor, sharing the partial
+    products of rows with the same leading multipliers. Output u belongs to row u.
+    """
+    mult = np.asarray(multipliers, dtype=int)
+    n_base = mult.shape[1]
+    steps: list[tuple[int, int, bool]] = []
+    power_slot: dict[tuple[int, int], int] = {(j, 1): j for j in range(n_base)}
+
+    def power(j: int, m: int) -> int:  # slot of exp(i m X_j), m >= 1
+        if (j, m) not in power_slot:
+            steps.append((power(j, m - 1), j, False))
+            power_slot[(j, m)] = n_base + len(steps) - 1
+        return power_slot[(j, m)]
+
+    prefix_slot: dict[tuple[int, ...], int] = {}
+    outputs = []
+    for row in mult:
+        slot = -1  # the constant 1
+        key: tuple[int, ...] = ()
+        for j, m in enumerate(row):
+            key = key + (int(m),)
+            if m == 0:
+                continue
+            if key not in prefix_slot:
+                p = power(j, abs(int(m)))
+                if slot == -1 and m > 0:
+                    prefix_slot[key] = p
+                else:
+                    steps.append((slot, p, bool(m < 0)))
+                    prefix_slot[key] = n_base + len(steps) - 1
+            slot = prefix_slot[key]
+        outputs.append(slot)
+    return PhasorPlan(n_base, steps, outputs)
+
+
+def frequency_plan(freqs: np.ndarray, tol: float = 1e-9) -> tuple[PhasorPlan, np.ndarray]:
+    """Plan for exp(i C_u tau) of the frequencies ``freqs`` (U,), and the base frequencies.
+
+    Frequencies are visited in increasing order; one equal (to ``tol``, in the unit of
+    ``freqs``, so that the phase differs by at most tol * |tau|) to the sum of two already
+    available frequencies, or to an integer multiple (3 to 8) of one, is built by
+    multiplication; the others are base frequencies (one cosine and one sine each). Zero
+    frequencies give the constant 1. The returned base frequencies ``c_base`` give the
+    base angles ``c_base[:, None] * tau``.
+    """
+    freqs = np.asarray(freqs, dtype=float)
+    # nodes: ("base", index among the bases) or ("mul", node a, node b); -1 is the constant
+    nodes: list[tuple] = []
+    base: list[float] = []
+    avail_f: list[float] = []  # frequencies computed so far and their nodes
+    avail_n: list[int] = []
+    out_node = np.full(freqs.size, -1)
+
+    def mul(a: int, b: int) -> int:
+        nodes.append(("mul", a, b))
+        return len(nodes) - 1
+
+    for u in np.argsort(freqs, kind="stable"):
+        x = float(freqs[u])
+        if x == 0.0:
+            continue
+        f = np.asarray(avail_f)
+        node = None
+        for i in range(f.size):  # x = f_i + f_k
+            k = np.flatnonzero(np.abs(x - f[i] - f[i:]) <= tol)
+            if k.size:
+                node = mul(avail_n[i], avail_n[i + int(k[0])])
+                break
+        if node is None:  # x = k f_i: f_i^k by repeated multiplication
+            for i in range(f.size):
+                k = round(x / f[i])
+                if 3 <= k <= 8 and abs(x - k * f[i]) <= tol:
+                    node = avail_n[i]
+                    for _ in range(k - 1):
+                        node = mul(node, avail_n[i])
+                    break
+        if node is None:
+            nodes.append(("base", len(base)))
+            base.append(x)
+            node = len(nodes) - 1
+        avail_f.append(x)
+        avail_n.append(node)
+        out_node[u] = node
+
+    # slots: the bases first, then the products in the order they were made
+    slot = {-1: -1}
+    n_base = len(base)
+    steps: list[tuple[int, int, bool]] = []
+    for i, nd in enumerate(nodes):
+        if nd[0] == "base":
+            slot[i] = nd[1]
+        else:
+            slot[i] = n_base + len(steps)
+            steps.append((slot[nd[1]], slot[nd[2]], False))
+    plan = PhasorPlan(n_base, steps, [slot[int(n)] for n in out_node])
+    return plan, np.asarray(base)
+
+
+def _prune(plan: PhasorPlan, outputs: np.ndarray) -> tuple[np.ndarray, PhasorPlan]:
+    """The base angles (indices) and steps of ``plan`` that ``outputs`` (slots) need, as a
+    plan of its own returning those slots in order."""
+    needed = np.zeros(plan.n_slots, dtype=bool)
+    stack = [int(o) for o in outputs if o >= 0]
+    while stack:
+        k = stack.pop()
+        if needed[k]:
+            continue
+        needed[k] = True
+        if k >= plan.n_base:
+            a, b, _ = plan.steps[k - plan.n_base]
+            stack.extend(x for x in (a, b) if x >= 0)
+    base_index = np.flatnonzero(needed[: plan.n_base])
+    new_slot = np.full(plan.n_slots, -1)
+    new_slot[base_index] = np.arange(base_index.size)
+    steps = []
+    for k in np.flatnonzero(needed[plan.n_base :]) + plan.n_base:
+        a, b, conj = plan.steps[k - plan.n_base]
+        new_slot[k] = base_index.size + len(steps)
+        steps.append((int(new_slot[a]) if a >= 0 else -1, int(new_slot[b]) if b >= 0 else -1, conj))
+    outs = [int(new_slot[o]) if o >= 0 else -1 for o in outputs]
+    return base_index, PhasorPlan(base_index.size, steps, outs)
+
+
+class PhasorSums:
+    """Sums of series terms Re(w_t exp(i phi_t)) into rows, from a :class:`PhasorPlan`.
+
+    ``term_output`` (T,): the plan output holding each term's phasor; ``term_weight`` (T,)
+    complex: w_t (A cos(phi + B) = Re(A exp(iB) exp(i phi)), A sin(phi) =
+    Re(-iA exp(i phi))); ``term_row`` (T,): the row the term adds to, of ``n_rows``.
+    Times are processed in blocks of ``PHASOR_BLOCK_TIMES``; no BLAS call is made (its
+    threads stall on a busy machine for products of this size).
+    """
+
+    def __init__(
+        self,
+        plan: PhasorPlan,
+        term_output: np.ndarray,
+        term_weight: np.ndarray,
+        term_row: np.ndarray,
+        n_rows: int,
+    ) -> None:
+        order = np.argsort(term_row, kind="stable")
+        self.plan = plan
+        self.slot = plan.outputs[np.asarray(term_output)[order]]
+        self.weight = np.asarray(term_weight, dtype=complex)[order][:, None]
+        rows = np.asarray(term_row)[order]
+        used, starts = np.unique(rows, return_index=True)
+        stops = np.append(starts[1:], rows.size)
+        self.segments = [
+            (int(r), int(a), int(b)) for r, a, b in zip(used, starts, stops, strict=True)
+        ]
+        self.n_rows = n_rows
+        self.base_index, self.term_plan = _prune(plan, self.slot)
+
+    def __call__(self, base_angles: Callable[[slice], np.ndarray], n_times: int) -> np.ndarray:
+        """Row sums (n_rows, n_times); ``base_angles(block)`` gives the plan's base angles
+        (rad) of the times in ``block``."""
+        out = np.zeros((self.n_rows, n_times))
+        for start in range(0, n_times, PHASOR_BLOCK_TIMES):
+            block = slice(start, min(start + PHASOR_BLOCK_TIMES, n_times))
+            terms = self.term_plan.run(
+                base_angles(block)[self.base_index]
+            )  # (T, nb): each term's phasor
+            terms *= self.weight
+            real = np.ascontiguousarray(terms.real)
+            for row, a, b in self.segments:
+                np.add.reduce(real[a:b], axis=0, out=out[row, block])
+        return out
 
 
 # --------------------------------------------------------------------------- interpolation

@@ -26,9 +26,18 @@ Models
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
-from skydome.astro._series import DAYS_PER_MILLENNIUM, J2000, smooth, tables, vsop
+from skydome.astro._series import (
+    J2000,
+    PhasorSums,
+    integer_combination_plan,
+    smooth,
+    tables,
+    vsop,
+)
 
 __all__ = [
     "ARCSEC",
@@ -196,14 +205,33 @@ def _fundamental_args(t: np.ndarray) -> np.ndarray:
     return np.stack([d, m, mp, f, om]) * DEG
 
 
+@functools.cache
+def _nutation_sums() -> PhasorSums:
+    """Sums of Meeus table 22.A from the phasors exp(i(kD D + kM M + kM' M' + kF F + kO Om)).
+
+    Rows: sum S sin(arg), sum S' sin(arg), sum C cos(arg), sum C' cos(arg) (table units,
+    0.0001"), with dpsi = (S + S' T) sin(arg) and deps = (C + C' T) cos(arg) per term.
+    """
+    tab = tables()
+    mult = tab["nut_args"].astype(int)
+    dpsi_c, deps_c = tab["nut_dpsi"], tab["nut_deps"]
+    terms = np.arange(mult.shape[0])
+    return PhasorSums(
+        integer_combination_plan(mult),
+        np.concatenate([terms] * 4),
+        np.concatenate([-1j * dpsi_c[:, 0], -1j * dpsi_c[:, 1], deps_c[:, 0], deps_c[:, 1]]),
+        np.repeat(np.arange(4), terms.size),
+        4,
+    )
+
+
 def _nutation_direct(jd_tt: np.ndarray) -> np.ndarray:
     """(dpsi, deps) in radians, shape (2, N), IAU 1980 series of Meeus table 22.A."""
-    tab = tables()
     t = _t(jd_tt).ravel()
-    arg = tab["nut_args"].astype(float) @ _fundamental_args(t)  # (63, N)
-    dpsi_c, deps_c = tab["nut_dpsi"], tab["nut_deps"]
-    dpsi = dpsi_c[:, 0] @ np.sin(arg) + t * (dpsi_c[:, 1] @ np.sin(arg))
-    deps = deps_c[:, 0] @ np.cos(arg) + t * (deps_c[:, 1] @ np.cos(arg))
+    fund = _fundamental_args(t)
+    rows = _nutation_sums()(lambda blk: fund[:, blk], t.size)
+    dpsi = rows[0] + t * rows[1]
+    deps = rows[2] + t * rows[3]
     return np.stack([dpsi, deps]) * (1e-4 * ARCSEC)  # table unit: 0.0001"
 
 
@@ -283,24 +311,10 @@ def ecliptic_of_date_to_j2000_matrix(jd_tt) -> np.ndarray:
 
 def _earth_lbr_rates(jd_tt: np.ndarray) -> np.ndarray:
     """Heliocentric (L, B, R) of the Earth and their rates per day; shape (6, N)."""
-    s = vsop("earth")
-    tau = (np.asarray(jd_tt, dtype=float).ravel() - J2000) / DAYS_PER_MILLENNIUM
     # Rates to 2e-5 relative need only the terms with A*(C + alpha) above 0.013 (2e-6 of the
     # mean motion 6283 rad/millennium) and the values (used only to orient the velocity)
     # the terms above 1e-5; select them once.
-    keep = _earth_rate_terms()
-    a, b, c, coord, power = s.a[keep], s.b[keep], s.c[keep], s.coord[keep], s.power[keep]
-    arg = b[:, None] + c[:, None] * tau[None, :]
-    cos, sin = np.cos(arg), np.sin(arg)
-    taup = tau[None, :] ** power[:, None]
-    taupm1 = np.where(power[:, None] > 0, tau[None, :] ** np.maximum(power - 1, 0)[:, None], 0.0)
-    val = a[:, None] * cos * taup
-    rate = a[:, None] * (power[:, None] * taupm1 * cos - c[:, None] * taup * sin)
-    out = np.zeros((6, tau.size))
-    for k in range(3):
-        out[k] = val[coord == k].sum(axis=0)
-        out[3 + k] = rate[coord == k].sum(axis=0) / DAYS_PER_MILLENNIUM
-    return out
+    return vsop("earth").lbr_rates(jd_tt, _earth_rate_terms())
 
 
 _RATE_KEEP: np.ndarray | None = None

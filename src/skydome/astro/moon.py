@@ -16,12 +16,19 @@ k = (1 + cos i) / 2 (eq. 48.1) and the position angle of the bright limb chi (eq
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
 
 from skydome.astro import frames
-from skydome.astro._series import J2000, smooth, tables
+from skydome.astro._series import (
+    J2000,
+    PhasorSums,
+    integer_combination_plan,
+    smooth,
+    tables,
+)
 
 __all__ = [
     "MOON_RADIUS_KM",
@@ -42,9 +49,33 @@ def _jd(jd_tt: Any) -> np.ndarray:
     return np.asarray(getattr(jd_tt, "jd_tt", jd_tt), dtype=float)
 
 
+@functools.cache
+def _moon_periodic_sums() -> PhasorSums:
+    """Sums of Meeus tables 47.A/47.B from the phasors exp(i(kD D + kM M + kM' M' + kF F)).
+
+    Rows 3q + k, k = |kM| (the power of E the row takes): q = 0 the longitude terms
+    sum A sin(arg), q = 1 the distance terms sum A cos(arg), q = 2 the latitude terms
+    sum A sin(arg), A sin(x) = Re(-iA exp(ix)). The table is unscaled (1e-6 deg, 1e-3 km).
+    """
+    tab = tables()
+    lr, bt = tab["moon_lr"], tab["moon_b"]
+    mult, which = np.unique(np.concatenate([lr[:, :4], bt[:, :4]]), axis=0, return_inverse=True)
+    plan = integer_combination_plan(mult.astype(int))
+    which = which.ravel()
+    n_lr = lr.shape[0]
+    k_lr = np.abs(lr[:, 1]).astype(int)
+    k_b = np.abs(bt[:, 1]).astype(int)
+    return PhasorSums(
+        plan,
+        np.concatenate([which[:n_lr], which[:n_lr], which[n_lr:]]),
+        np.concatenate([-1j * lr[:, 4], lr[:, 5] + 0j, -1j * bt[:, 4]]),
+        np.concatenate([k_lr, 3 + k_lr, 6 + k_b]),
+        9,
+    )
+
+
 def _moon_direct(jd_tt: np.ndarray) -> np.ndarray:
     """(lambda, beta) in rad (lambda unwrapped) and distance in km; shape (3, N)."""
-    tab = tables()
     t = (np.asarray(jd_tt, dtype=float).ravel() - J2000) / 36525.0
     # Meeus eq. 47.1-47.5 (degrees)
     lp = 218.3164477 + t * (481267.88123421 + t * (-0.0015786 + t * (1 / 538841 - t / 65194000)))
@@ -59,20 +90,9 @@ def _moon_direct(jd_tt: np.ndarray) -> np.ndarray:
     fund = np.stack([d, m, mp, f]) * DEG  # (4, N)
     lpr, mpr, fr = lp * DEG, mp * DEG, f * DEG
 
-    lr, bt = tab["moon_lr"], tab["moon_b"]
-    arg_lr = lr[:, :4] @ fund  # (60, N)
-    arg_b = bt[:, :4] @ fund
-    sin_lr, cos_lr, sin_b = np.sin(arg_lr), np.cos(arg_lr), np.sin(arg_b)
-    sl = np.zeros_like(t)
-    sr = np.zeros_like(t)
-    sb = np.zeros_like(t)
-    for k in (0, 1, 2):  # terms in M carry E^|multiple of M|
-        ek = e**k
-        ml = np.abs(lr[:, 1]) == k
-        mb = np.abs(bt[:, 1]) == k
-        sl += ek * (lr[ml, 4] @ sin_lr[ml])
-        sr += ek * (lr[ml, 5] @ cos_lr[ml])
-        sb += ek * (bt[mb, 4] @ sin_b[mb])
+    rows = _moon_periodic_sums()(lambda blk: fund[:, blk], t.size)  # (9, N)
+    e_pow = np.stack([np.ones_like(e), e, e * e])  # E^|multiple of M| (Meeus p. 338)
+    sl, sr, sb = (np.sum(e_pow * rows[3 * q : 3 * q + 3], axis=0) for q in range(3))
     # additive terms (Meeus p. 338): Venus (A1), Jupiter (A2), flattening of the Earth
     sl += 3958.0 * np.sin(a1) + 1962.0 * np.sin(lpr - fr) + 318.0 * np.sin(a2)
     sb += (
