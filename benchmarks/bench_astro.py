@@ -5,7 +5,8 @@ smooth series are then interpolated) and "random" (1e5 random instants over 1900
 every series term evaluated at every time). Prints the median of several runs after a
 warm-up, and the ratio to skyfield.
 
-Usage: python benchmarks/bench_astro.py [--n 100000] [--repeat 5]
+Usage: python benchmarks/bench_astro.py [--n 100000] [--repeat 5] [--no-astropy]
+(astropy takes about a minute per call; --no-astropy leaves it out.)
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=100_000)
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--no-astropy", action="store_true", help="skip the (slow) astropy column")
     args = ap.parse_args()
     n = args.n
 
@@ -48,6 +50,8 @@ def main() -> None:
         ts = None
 
     try:
+        if args.no_astropy:
+            raise ImportError("--no-astropy")
         import astropy.units as u
         from astropy.coordinates import AltAz, EarthLocation, get_body
         from astropy.time import Time as ATime
