@@ -40,9 +40,10 @@ def comparison():
         ours = sky[body].enu_unrefracted
         sep = np.arccos(np.clip(np.sum(ref * ours, axis=-1), -1, 1)) * ARCSEC
         if body not in ("sun", "moon"):
-            # skyfield deflects light by the Sun (we do not: 1.75" at the limb, 0.4" at
-            # 1 deg); for a planet behind the solar disk its formula diverges (30" seen
-            # for Jupiter 0.01 deg from the Sun's centre), so skip elongations < 1 deg.
+            # both deflect light by the Sun (tests/astro/test_planet_deflection.py); for a
+            # planet behind the solar disk skyfield's formula diverges (30" seen for
+            # Jupiter 0.01 deg from the Sun's centre; ours is floored), so skip
+            # elongations < 1 deg.
             elong = np.degrees(np.arccos(np.sum(ours * sky["sun"].enu_unrefracted, axis=-1)))
             valid = elong >= 1.0
         else:

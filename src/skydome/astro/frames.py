@@ -56,6 +56,7 @@ __all__ = [
     "earth_velocity_au_per_day",
     "apply_aberration",
     "aberrate",
+    "deflect_by_sun",
     "equatorial_to_horizontal",
     "horizontal_to_enu",
     "enu_to_horizontal",
@@ -357,6 +358,39 @@ def aberrate(unit_vec, velocity_au_per_day) -> np.ndarray:
     beta = np.asarray(velocity_au_per_day, dtype=float) / C_AU_PER_DAY
     w = u + beta - u * np.sum(u * beta, axis=-1, keepdims=True)
     return w / np.linalg.norm(w, axis=-1, keepdims=True)
+
+
+# 2 G M_sun / c^2 in au: 2 x 1476.625 m (IAU 2015 nominal GM_sun, Resolution B3) / 1 au.
+TWO_GM_SUN_OVER_C2_AU = 2.0 * 1476.6250e-3 / AU_KM
+# Floor of the deflection's denominator 1 + cos(angle at the Sun between body and observer)
+# for a body behind the Sun's disk (there the formula diverges; the body is not visible).
+_MIN_ONE_PLUS_Q_DOT_E = 1.0 - np.cos(np.radians(0.267))
+
+
+def deflect_by_sun(obs_to_body_au, sun_to_obs_au) -> np.ndarray:
+    """Gravitational light deflection by the Sun of a body at a finite distance.
+
+    ``obs_to_body_au``: astrometric (light-time corrected) vector from the observer to the
+    body; ``sun_to_obs_au``: from the Sun to the observer; same axes, (..., 3). Returns the
+    deflected observer-to-body vector (same length to 1e-11). Kaplan et al. 2005 (USNO
+    Circular 179 / NOVAS ``grav_vec``), with p, q, e the unit vectors observer -> body,
+    Sun -> body and Sun -> observer:
+    p' = p + (2GM/(c^2 |E|)) ((p.q) e - (e.p) q) / (1 + q.e).
+    For a star (q = p) this is the formula of :mod:`skydome.astro.stars`.
+    """
+    pos = np.asarray(obs_to_body_au, dtype=float)
+    pe = np.asarray(sun_to_obs_au, dtype=float)
+    pq = pos + pe  # Sun -> body
+    p_mag = np.linalg.norm(pos, axis=-1, keepdims=True)
+    e_mag = np.linalg.norm(pe, axis=-1, keepdims=True)
+    p_hat = pos / p_mag
+    q_hat = pq / np.linalg.norm(pq, axis=-1, keepdims=True)
+    e_hat = pe / e_mag
+    p_dot_q = np.sum(p_hat * q_hat, axis=-1, keepdims=True)
+    q_dot_e = np.sum(q_hat * e_hat, axis=-1, keepdims=True)
+    e_dot_p = np.sum(e_hat * p_hat, axis=-1, keepdims=True)
+    fac = TWO_GM_SUN_OVER_C2_AU / e_mag / np.maximum(1.0 + q_dot_e, _MIN_ONE_PLUS_Q_DOT_E)
+    return pos + fac * (p_dot_q * e_hat - e_dot_p * q_hat) * p_mag
 
 
 def apply_aberration(unit_vec_j2000, jd_tt) -> np.ndarray:

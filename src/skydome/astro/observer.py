@@ -13,7 +13,9 @@ Chain for every body (all vectorized over times and, by broadcasting, observers)
 2. rotated to the true equator of date with the mean obliquity and the nutation matrix;
 3. topocentric: minus the observer's position (WGS84, rotated by the apparent sidereal
    time; polar motion, < 0.3", is neglected);
-4. aberration with the Earth's orbital velocity plus the observer's diurnal velocity;
+4. for the planets, light deflection by the Sun (finite-distance NOVAS formula,
+   :func:`~skydome.astro.frames.deflect_by_sun`); aberration with the Earth's orbital
+   velocity plus the observer's diurnal velocity;
 5. to East-North-Up with the local apparent sidereal time and the geodetic latitude;
 6. refraction (Saemundsson, with the observer's pressure and temperature) for the
    apparent altitude; ``alt_unrefracted`` is the airless one.
@@ -198,17 +200,26 @@ class Observer:
             "v_total": v_total,
             "v_earth_ecl": v_earth,
             "earth": earth,
+            "sun_to_obs": np.einsum("nij,nj->ni", ecl_to_true, earth) + r_obs,  # au, true eq.
             "enu": enu_m,
             "pressure": np.broadcast_to(np.asarray(self.pressure_hPa, float), shape).ravel(),
             "temperature": np.broadcast_to(np.asarray(self.temperature_C, float), shape).ravel(),
         }
 
-    def _place(self, geo: dict[str, np.ndarray], name: str, geo_ecl: np.ndarray) -> dict:
-        """Topocentric apparent direction of a geocentric astrometric ecliptic vector (au)."""
+    def _place(
+        self, geo: dict[str, np.ndarray], name: str, geo_ecl: np.ndarray, deflect: bool = False
+    ) -> dict:
+        """Topocentric apparent direction of a geocentric astrometric ecliptic vector (au).
+
+        ``deflect``: apply the Sun's gravitational light deflection (for the planets; the
+        geometric ``topo`` vector and distance are returned undeflected).
+        """
         geo_true = np.einsum("nij,nj->ni", geo["ecl_to_true"], geo_ecl)
         topo = geo_true - geo["r_obs"]
         dist = np.linalg.norm(topo, axis=-1)
-        u = frames.aberrate(topo / dist[:, None], geo["v_total"])
+        seen = frames.deflect_by_sun(topo, geo["sun_to_obs"]) if deflect else topo
+        u = seen / np.linalg.norm(seen, axis=-1, keepdims=True)
+        u = frames.aberrate(u, geo["v_total"])
         return self._horizontal(geo, u, dist, topo)
 
     @staticmethod
@@ -365,7 +376,7 @@ class Observer:
 
     def _planet(self, geo, name, shape) -> BodyPosition:
         g_ecl, helio, _ = planets.planet_geocentric_ecliptic(name, geo["jd"], earth=geo["earth"])
-        place = self._place(geo, name, g_ecl)
+        place = self._place(geo, name, g_ecl, deflect=True)
         delta = place["distance_au"]
         r = np.linalg.norm(helio, axis=-1)
         # phase angle at the planet between the Sun (-helio) and the observer (-topo)
