@@ -113,7 +113,7 @@ def vsop(planet: str) -> VSOPSeries:
 
 # Times per block in the phasor evaluators: the block's phasor table (a few hundred rows of
 # complex128) then stays in the processor's cache between the steps that build it.
-PHASOR_BLOCK_TIMES = 2048
+PHASOR_BLOCK_TIMES = 1024
 
 
 # 2 pi = _TWO_PI_HI + _TWO_PI_LO: the high part has 30 significant bits, so that k times

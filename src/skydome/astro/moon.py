@@ -28,6 +28,7 @@ from skydome.astro._series import (
     integer_combination_plan,
     smooth,
     tables,
+    unit_phasor,
 )
 
 __all__ = [
@@ -94,15 +95,11 @@ def _moon_direct(jd_tt: np.ndarray) -> np.ndarray:
     e_pow = np.stack([np.ones_like(e), e, e * e])  # E^|multiple of M| (Meeus p. 338)
     sl, sr, sb = (np.sum(e_pow * rows[3 * q : 3 * q + 3], axis=0) for q in range(3))
     # additive terms (Meeus p. 338): Venus (A1), Jupiter (A2), flattening of the Earth
-    sl += 3958.0 * np.sin(a1) + 1962.0 * np.sin(lpr - fr) + 318.0 * np.sin(a2)
-    sb += (
-        -2235.0 * np.sin(lpr)
-        + 382.0 * np.sin(a3)
-        + 175.0 * np.sin(a1 - fr)
-        + 175.0 * np.sin(a1 + fr)
-        + 127.0 * np.sin(lpr - mpr)
-        - 115.0 * np.sin(lpr + mpr)
-    )
+    args = np.stack([a1, lpr - fr, a2, lpr, a3, a1 - fr, a1 + fr, lpr - mpr, lpr + mpr])
+    sines = np.empty_like(args)
+    unit_phasor(args, np.empty_like(args), sines)
+    sl += np.einsum("k,kn->n", [3958.0, 1962.0, 318.0], sines[:3])
+    sb += np.einsum("k,kn->n", [-2235.0, 382.0, 175.0, 175.0, 127.0, -115.0], sines[3:])
     lam = (lp + sl * 1e-6) * DEG
     beta = sb * 1e-6 * DEG
     dist = 385000.56 + sr * 1e-3
