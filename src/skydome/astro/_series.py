@@ -114,6 +114,9 @@ def vsop(planet: str) -> VSOPSeries:
 # Times per block in the phasor evaluators: the block's phasor table (a few hundred rows of
 # complex128) then stays in the processor's cache between the steps that build it.
 PHASOR_BLOCK_TIMES = 1024
+# Fewer times than this: one argument per output and time instead of products (the
+# products' per-call overhead dominates for short arrays).
+PHASOR_DIRECT_BELOW = 64
 
 
 # 2 pi = _TWO_PI_HI + _TWO_PI_LO: the high part has 30 significant bits, so that k times
@@ -132,6 +135,10 @@ def unit_phasor(angle_rad: np.ndarray, cos_out: np.ndarray, sin_out: np.ndarray)
     uses 2 pi in two parts (Cody & Waite), exact to 1e-20 rad per turn; the formulas add
     a few ulp.
     """
+    if angle_rad.size < 256:  # short arrays: fewer calls win over faster ones
+        np.cos(angle_rad, out=cos_out)
+        np.sin(angle_rad, out=sin_out)
+        return
     k = np.rint(angle_rad * (0.5 / np.pi))
     r = k * -_TWO_PI_HI
     r += angle_rad  # exact for |angle| < 5e7 rad
@@ -163,10 +170,25 @@ class PhasorPlan:
         self.steps = steps  # (slot a, slot b, conjugate b); slot -1 is the constant 1
         self.outputs = np.asarray(outputs, dtype=np.intp)
         self.n_slots = n_base + len(steps)
+        # each slot's argument as an integer combination of the base angles (last row: 0)
+        combos = np.zeros((self.n_slots + 1, n_base))
+        combos[:n_base] = np.eye(n_base)
+        for k, (a, b, conj) in enumerate(steps, start=n_base):
+            combos[k] = combos[a] - combos[b] if conj else combos[a] + combos[b]
+        self.output_combos = combos[self.outputs]
 
     def run(self, base_angles_rad: np.ndarray) -> np.ndarray:
-        """Phasors (n_outputs, n) complex of the base angles ``(n_base, n)`` (rad)."""
+        """Phasors (n_outputs, n) complex of the base angles ``(n_base, n)`` (rad).
+
+        Below ``PHASOR_DIRECT_BELOW`` times the multiplications cost more in call overhead
+        than they save, and each output's argument is formed and evaluated directly.
+        """
         n = base_angles_rad.shape[1]
+        if n < PHASOR_DIRECT_BELOW:
+            args = np.einsum("uk,kn->un", self.output_combos, base_angles_rad)
+            z = np.empty(args.shape, dtype=complex)
+            unit_phasor(args, z.real, z.imag)
+            return z
         ws = np.empty((self.n_slots + 1, n), dtype=complex)
         ws[-1] = 1.0  # slot -1: exp(i 0)
         unit_phasor(base_angles_rad, ws.real[: self.n_base], ws.imag[: self.n_base])
@@ -334,6 +356,7 @@ class PhasorSums:
         rows = term_row[order]
         used, starts = np.unique(rows, return_index=True)
         stops = np.append(starts[1:], rows.size)
+        self.rows, self.starts = used, starts
         self.segments = [
             (int(r), int(a), int(b)) for r, a, b in zip(used, starts, stops, strict=True)
         ]
@@ -346,12 +369,13 @@ class PhasorSums:
         out = np.zeros((self.n_rows, n_times))
         for start in range(0, n_times, PHASOR_BLOCK_TIMES):
             block = slice(start, min(start + PHASOR_BLOCK_TIMES, n_times))
-            terms = self.term_plan.run(
-                base_angles(block)[self.base_index]
-            )  # (T, nb): each term's phasor
+            terms = self.term_plan.run(base_angles(block)[self.base_index])  # (T, nb)
             terms *= self.weight
             real = np.ascontiguousarray(terms.real)
-            for row, a, b in self.segments:
+            if real.shape[1] < PHASOR_DIRECT_BELOW:  # one call for short blocks
+                out[self.rows, block] = np.add.reduceat(real, self.starts, axis=0)
+                continue
+            for row, a, b in self.segments:  # faster than reduceat on long blocks
                 np.add.reduce(real[a:b], axis=0, out=out[row, block])
         return out
 
