@@ -130,8 +130,11 @@ def unit_phasor(angle_rad: np.ndarray, cos_out: np.ndarray, sin_out: np.ndarray)
 
     With r = angle - 2 pi round(angle / 2 pi) in [-pi, pi] and t = tan(r / 2):
     cos = (1 - t^2) / (1 + t^2), sin = 2 t / (1 + t^2) (half-angle formulas; t stays
-    finite, |t| < 2e16). NumPy's float64 tangent is vectorized where its sine and cosine
-    are not, which makes this 3-6 times faster than ``np.cos`` + ``np.sin``. The reduction
+    finite, |t| < 2e16). NumPy's float64 tangent is SIMD-vectorized where its sine and
+    cosine are not (NumPy 2.4, x86-64 with AVX-512: 1 ns against 15-20 ns per value), which
+    makes this 3-6 times faster than ``np.cos`` + ``np.sin`` (where the tangent is scalar
+    too, one transcendental call instead of two should still not be slower; unmeasured).
+    The reduction
     uses 2 pi in two parts (Cody & Waite), exact to 1e-20 rad per turn; the formulas add
     a few ulp.
     """
