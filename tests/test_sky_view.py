@@ -27,6 +27,21 @@ def relative_errors(a, b):
     return float(np.sqrt(np.mean(rel**2))), float(np.percentile(rel, 99))
 
 
+def log_uniform_image(lo: float, hi: float, shape: tuple[int, int], seed: int) -> np.ndarray:
+    """Distances (m) spread evenly in log between lo and hi, one per pixel."""
+    rng = np.random.default_rng(seed)
+    return np.exp(rng.uniform(np.log(lo), np.log(hi), shape))
+
+
+def errors_against_sky(a, b, camera, w, h, **kw):
+    """RMS and 99th percentile of |a - b| in luminance over the luminance of the open sky in
+    the same direction (per-pixel lookups), for frames a, b of ``camera`` rendered with kw."""
+    sky = direct_renderer().render(camera, w, h, **kw).data[..., :3] @ SRGB_LUMINANCE
+    ok = sky > 0
+    err = np.abs((a.data[..., :3] - b.data[..., :3]) @ SRGB_LUMINANCE)[ok] / sky[ok]
+    return float(np.sqrt(np.mean(err**2))), float(np.percentile(err, 99))
+
+
 @pytest.mark.parametrize("altitude_m", [0.0, 10_000.0])
 @pytest.mark.parametrize("sun_elevation", [60.0, 5.0, -6.0, -12.0])
 def test_sky_view_frame_matches_direct_lookups(altitude_m, sun_elevation):
@@ -93,18 +108,14 @@ def test_aerial_perspective_tables_match_direct_lookups(altitude_m, sun_elevatio
     sun = direction_from_angles(sun_elevation, 200.0)
     cam = EquirectCamera()
     w, h = 256, 128
-    rng = np.random.default_rng(1)
-    depth = np.exp(rng.uniform(np.log(50.0), np.log(150_000.0), (h, w)))
+    depth = log_uniform_image(50.0, 150_000.0, (h, w), seed=1)
     depth[:, : w // 2] = 0.0
-    kw = {"sun_direction": sun, "altitude_m": altitude_m, "depth_m": depth}
-    a = precomputed_renderer().render(cam, w, h, **kw)
-    b = direct_renderer().render(cam, w, h, **kw)
+    kw = {"sun_direction": sun, "altitude_m": altitude_m}
+    a = precomputed_renderer().render(cam, w, h, depth_m=depth, **kw)
+    b = direct_renderer().render(cam, w, h, depth_m=depth, **kw)
     assert a.info["path"] == "sky-view" and b.info["path"] == "direct"
-    sky = direct_renderer().render(cam, w, h, sun_direction=sun, altitude_m=altitude_m).data
-    y_sky = sky[..., :3] @ SRGB_LUMINANCE
-    ok = y_sky > 0
-    err = np.abs((a.data[..., :3] - b.data[..., :3]) @ SRGB_LUMINANCE)[ok] / y_sky[ok]
-    assert np.sqrt(np.mean(err**2)) < 1e-2 and np.percentile(err, 99) < 3e-2
+    rms, p99 = errors_against_sky(a, b, cam, w, h, **kw)
+    assert rms < 1e-2 and p99 < 3e-2
     np.testing.assert_allclose(a.info["transmittance"], b.info["transmittance"], atol=2e-4)
 
 
@@ -118,17 +129,14 @@ def test_light_shafts_from_tables_match_direct_lookups(altitude_m, sun_elevation
     sun = direction_from_angles(sun_elevation, 90.0)
     cam = EquirectCamera()
     w, h = 128, 64
-    rng = np.random.default_rng(0)
-    shadow = np.exp(rng.uniform(np.log(10.0), np.log(50_000.0), (h, w)))
+    shadow = log_uniform_image(10.0, 50_000.0, (h, w), seed=0)
     shadow[:, : w // 4] = 0.0
     kw = {"sun_direction": sun, "altitude_m": altitude_m}
     a = precomputed_renderer().render(cam, w, h, shadow_length_m=shadow, **kw)
     b = direct_renderer().render(cam, w, h, shadow_length_m=shadow, **kw)
     assert a.info["path"] == "sky-view"
-    sky = direct_renderer().render(cam, w, h, **kw).data[..., :3] @ SRGB_LUMINANCE
-    ok = sky > 0
-    err = np.abs((a.data[..., :3] - b.data[..., :3]) @ SRGB_LUMINANCE)[ok] / sky[ok]
-    assert np.sqrt(np.mean(err**2)) < 5e-3 and np.percentile(err, 99) < 2e-2
+    rms, p99 = errors_against_sky(a, b, cam, w, h, **kw)
+    assert rms < 5e-3 and p99 < 2e-2
     # Shadowed pixels are darker than the open sky; unshadowed ones equal it.
     open_sky = precomputed_renderer().render(cam, w, h, **kw).data
     assert np.all(a.data[:, w // 2 :, 1] <= open_sky[:, w // 2 :, 1] * (1 + 1e-6))
