@@ -143,6 +143,27 @@ def test_light_shafts_from_tables_match_direct_lookups(altitude_m, sun_elevation
     np.testing.assert_allclose(a.data[:, : w // 4], open_sky[:, : w // 4], rtol=1e-6)
 
 
+@pytest.mark.parametrize("altitude_m", [2.0, 10_000.0])
+@pytest.mark.parametrize("sun_elevation", [15.0, -3.0])
+def test_light_shafts_with_a_scene_match_direct_lookups(altitude_m, sun_elevation):
+    # Both inputs (Bruneton's GetSkyRadianceToPoint drops the last shadow length before the
+    # scene): measured <= 0.35% RMS, p99 <= 0.31% of the open sky; bounds 1% RMS, 3% p99.
+    sun = direction_from_angles(sun_elevation, 90.0)
+    cam = EquirectCamera()
+    w, h = 128, 64
+    shadow = log_uniform_image(10.0, 50_000.0, (h, w), seed=0)
+    shadow[:, : w // 4] = 0.0
+    depth = log_uniform_image(50.0, 150_000.0, (h, w), seed=1)
+    depth[:, w // 2 : 3 * w // 4] = 0.0
+    kw = {"sun_direction": sun, "altitude_m": altitude_m}
+    both = {"shadow_length_m": shadow, "depth_m": depth}
+    a = precomputed_renderer().render(cam, w, h, **both, **kw)
+    b = direct_renderer().render(cam, w, h, **both, **kw)
+    assert a.info["path"] == "sky-view"
+    rms, p99 = errors_against_sky(a, b, cam, w, h, **kw)
+    assert rms < 1e-2 and p99 < 3e-2
+
+
 def test_tables_are_redrawn_only_when_needed():
     r = PrecomputedRenderer(
         preset("earth"), precomputed_renderer().config, ctx=precomputed_renderer().ctx
@@ -169,8 +190,6 @@ def test_tables_are_redrawn_only_when_needed():
     "kwargs",
     [
         {"altitude_m": 2e5},  # above the atmosphere (top at 100 km): its limb is a sharp edge
-        # light shafts and a depth image together: the shadow inside the aerial perspective
-        {"shadow_length_m": np.zeros((8, 16)), "depth_m": np.full((8, 16), 1000.0)},
     ],
 )
 def test_direct_lookups_where_tables_do_not_apply(kwargs):

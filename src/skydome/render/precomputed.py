@@ -38,9 +38,8 @@ class PrecomputedRenderer(PassRenderer):
         ctx: a moderngl context (default: the shared headless one).
         sky_view: draw frames from sky-view tables (render/sky_view.py), and the aerial
             perspective of a depth image or the light shafts of shadow lengths from their
-            direction x distance form, wherever they apply: a camera inside the atmosphere, and
-            not both a depth image and shadow lengths. False looks every pixel up in the 4D
-            tables.
+            direction x distance form, for a camera inside the atmosphere. False looks every
+            pixel up in the 4D tables.
         sky_view_size: (azimuth, elevation) texels of those tables.
     """
 
@@ -142,13 +141,7 @@ class PrecomputedRenderer(PassRenderer):
                 self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
             )
         radius_km = uniforms["u_camera_position"][2]
-        # Light shafts with a depth image need the shadow inside the aerial perspective: the
-        # per-pixel lookups (the tables give light shafts or aerial perspective, not both).
-        use_sky_view = (
-            self.sky_view is not None
-            and (shadow_length_m is None or depth_m is None)
-            and radius_km < self.params.top_radius_m / M_PER_KM
-        )
+        use_sky_view = self.sky_view is not None and radius_km < self.params.top_radius_m / M_PER_KM
         textures = dict(self.textures)
         if use_sky_view:
             # Tables of the sky seen from this altitude, redrawn when it or a light moves.

@@ -10,7 +10,8 @@
 // shafts: the first `shadow length` of each ray lies in an occluder's shadow), the Sun's light
 // scattered along that part, read from the same tables, is taken off the sky: Bruneton's
 // T(x, x_p) S(x_p) is exactly S(x) - [S(x) - T(x, x_p) S(x_p)], the sky minus the aerial
-// perspective of the shadowed part.
+// perspective of the shadowed part; where a scene is given too, the aerial perspective of its
+// distance less the shadowed length.
 #include "camera.glsl"
 #include "surface_radiance.glsl"
 #include "sky_view_mapping.glsl"
@@ -85,8 +86,9 @@ void main() {
 #endif
 #else
     frag = u_sun_scale * sky_from_table(u_sun_scattering, u_sun_single_mie, dir, u_sun_direction, hits_ground);
+    float shadow_length = 0.0;
 #ifdef HAS_SHADOW_MAP
-    float shadow_length = texelFetch(u_shadow_map, ivec2(gl_FragCoord.xy), 0).r;
+    shadow_length = texelFetch(u_shadow_map, ivec2(gl_FragCoord.xy), 0).r;
     if (shadow_length > 0.0) {
         frag = max(frag - u_sun_scale * aerial_from_table(u_sun_aerial_scattering,
                                                           u_sun_aerial_single_mie, dir,
@@ -101,8 +103,12 @@ void main() {
 #ifdef HAS_DEPTH_MAP
     frag_transmittance = vec4(0.0, 0.0, 0.0, 1.0);  // no scene: the sky below is all there is
     if (scene) {
+        // With light shafts, the last shadow_length before the scene scatters no sunlight
+        // (Bruneton 2017 GetSkyRadianceToPoint: the distance is shortened by it).
         frag = u_sun_scale * aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
-                                               dir, u_sun_direction, hits_ground, depth);
+                                               dir, u_sun_direction, hits_ground,
+                                               max(min(depth, ray_length(r, dir.z, hits_ground))
+                                                   - shadow_length, 0.0));
 #ifdef HAS_LIGHT2
         frag += u_light2_scale * aerial_from_table(u_light2_aerial_scattering,
                                                    u_light2_aerial_single_mie, dir,
