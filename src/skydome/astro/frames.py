@@ -485,6 +485,17 @@ def _refraction_scale(pressure_hPa, temperature_C) -> np.ndarray:
     )
 
 
+def _cot_refraction(alt_deg, a, b, c, lowest_deg, pressure_hPa, temperature_C) -> np.ndarray:
+    """a / tan(h + b / (h + c)) arcmin (the form of Bennett's and Saemundsson's formulas),
+    0 below ``lowest_deg`` and at the zenith, scaled for pressure and temperature."""
+    h = np.asarray(alt_deg, dtype=float)
+    hc = np.maximum(h, lowest_deg)
+    r = a / np.tan(np.radians(hc + b / (hc + c)))
+    r = np.where(h >= lowest_deg, r, 0.0)
+    r = np.where(h >= 90.0, 0.0, np.maximum(r, 0.0))
+    return r * _refraction_scale(pressure_hPa, temperature_C)
+
+
 def refraction_bennett(apparent_alt_deg, pressure_hPa=1010.0, temperature_C=10.0) -> np.ndarray:
     """Refraction R (arcmin) to subtract from an apparent altitude (deg) to get the true one.
 
@@ -492,12 +503,7 @@ def refraction_bennett(apparent_alt_deg, pressure_hPa=1010.0, temperature_C=10.0
     (P/1010)(283/(273+T)). Defined for h0 >= -1 deg; below that 0 is returned (the Sun or
     a star so far below the horizon is not seen). Accurate to 0.07' for 0-90 deg.
     """
-    h = np.asarray(apparent_alt_deg, dtype=float)
-    hc = np.maximum(h, -1.0)
-    r = 1.0 / np.tan(np.radians(hc + 7.31 / (hc + 4.4)))
-    r = np.where(h >= -1.0, r, 0.0)
-    r = np.where(h >= 90.0, 0.0, np.maximum(r, 0.0))
-    return r * _refraction_scale(pressure_hPa, temperature_C)
+    return _cot_refraction(apparent_alt_deg, 1.0, 7.31, 4.4, -1.0, pressure_hPa, temperature_C)
 
 
 def refraction_saemundsson(true_alt_deg, pressure_hPa=1010.0, temperature_C=10.0) -> np.ndarray:
@@ -507,9 +513,4 @@ def refraction_saemundsson(true_alt_deg, pressure_hPa=1010.0, temperature_C=10.0
     (P/1010)(283/(273+T)); consistent with Bennett's formula to 4". Defined for h >= -1.9 deg
     (where the apparent altitude is about -1 deg); below that 0 is returned.
     """
-    h = np.asarray(true_alt_deg, dtype=float)
-    hc = np.maximum(h, -1.9)
-    r = 1.02 / np.tan(np.radians(hc + 10.3 / (hc + 5.11)))
-    r = np.where(h >= -1.9, r, 0.0)
-    r = np.where(h >= 90.0, 0.0, np.maximum(r, 0.0))
-    return r * _refraction_scale(pressure_hPa, temperature_C)
+    return _cot_refraction(true_alt_deg, 1.02, 10.3, 5.11, -1.9, pressure_hPa, temperature_C)
