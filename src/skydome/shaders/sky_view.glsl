@@ -38,11 +38,9 @@ uniform sampler3D u_light2_aerial_scattering;
 uniform sampler3D u_light2_aerial_single_mie;
 #endif
 
-vec4 aerial_from_table(sampler3D scattering, sampler3D single_mie, vec3 dir, vec3 light,
-                       bool hits_ground, float depth) {
-    vec3 uvw = vec3(sky_view_uv(azimuth_from_light(dir, light), dir.z, hits_ground, u_aerial_size.xy),
-                    aerial_w(depth, ray_length(u_view_radius, dir.z, hits_ground)));
-    float nu = dot(dir, light);
+vec4 aerial_from_table(sampler3D scattering, sampler3D single_mie, vec3 unit, float nu,
+                       float distance, float ray_length_km) {
+    vec3 uvw = vec3(sky_view_texcoords(unit, u_aerial_size.xy), aerial_w(distance, ray_length_km));
     return texture(scattering, uvw) * rayleigh_phase(nu)
          + texture(single_mie, uvw) * cornette_shanks_phase(nu, u_mie_g);
 }
@@ -52,10 +50,10 @@ uniform sampler2D u_depth_map;  // distance to the user's scene along each ray, 
 layout(location = 1) out vec4 frag_transmittance;
 #endif
 
-vec4 sky_from_table(sampler2D scattering, sampler2D single_mie, vec3 dir, vec3 light,
-                    bool hits_ground) {
-    vec2 uv = sky_view_uv(azimuth_from_light(dir, light), dir.z, hits_ground, u_sky_view_size);
-    float nu = dot(dir, light);
+// The sky from a light's tables: `unit` = sky_view_unit of the pixel for that light, nu the
+// cosine of the angle between the view and the light.
+vec4 sky_from_table(sampler2D scattering, sampler2D single_mie, vec3 unit, float nu) {
+    vec2 uv = sky_view_texcoords(unit, u_sky_view_size);
     return texture(scattering, uv) * rayleigh_phase(nu)
          + texture(single_mie, uv) * cornette_shanks_phase(nu, u_mie_g);
 }
@@ -85,36 +83,43 @@ void main() {
     frag_transmittance = vec4(0.0);  // added to the sky pass's value
 #endif
 #else
-    frag = u_sun_scale * sky_from_table(u_sun_scattering, u_sun_single_mie, dir, u_sun_direction, hits_ground);
+    // The table coordinates and phase angle of each light, computed once for all its tables.
+    vec3 sun_unit = sky_view_unit(azimuth_from_light(dir, u_sun_direction), dir.z, hits_ground);
+    float sun_nu = dot(dir, u_sun_direction);
+    frag = u_sun_scale * sky_from_table(u_sun_scattering, u_sun_single_mie, sun_unit, sun_nu);
+#if defined(HAS_DEPTH_MAP) || defined(HAS_SHADOW_MAP)
+    float ray_length_km = ray_length(r, dir.z, hits_ground);
+#endif
     float shadow_length = 0.0;
 #ifdef HAS_SHADOW_MAP
     shadow_length = texelFetch(u_shadow_map, ivec2(gl_FragCoord.xy), 0).r;
     if (shadow_length > 0.0) {
         frag = max(frag - u_sun_scale * aerial_from_table(u_sun_aerial_scattering,
-                                                          u_sun_aerial_single_mie, dir,
-                                                          u_sun_direction, hits_ground,
-                                                          shadow_length), vec4(0.0));
+                                                          u_sun_aerial_single_mie, sun_unit,
+                                                          sun_nu, shadow_length, ray_length_km),
+                   vec4(0.0));
     }
 #endif
 #ifdef HAS_LIGHT2
-    frag += u_light2_scale * sky_from_table(u_light2_scattering, u_light2_single_mie, dir,
-                                            u_light2_direction, hits_ground);
+    vec3 light2_unit = sky_view_unit(azimuth_from_light(dir, u_light2_direction), dir.z, hits_ground);
+    float light2_nu = dot(dir, u_light2_direction);
+    frag += u_light2_scale * sky_from_table(u_light2_scattering, u_light2_single_mie, light2_unit,
+                                            light2_nu);
 #endif
 #ifdef HAS_DEPTH_MAP
     frag_transmittance = vec4(0.0, 0.0, 0.0, 1.0);  // no scene: the sky below is all there is
     if (scene) {
+        float d = min(depth, ray_length_km);
         // With light shafts, the last shadow_length before the scene scatters no sunlight
         // (Bruneton 2017 GetSkyRadianceToPoint: the distance is shortened by it).
         frag = u_sun_scale * aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
-                                               dir, u_sun_direction, hits_ground,
-                                               max(min(depth, ray_length(r, dir.z, hits_ground))
-                                                   - shadow_length, 0.0));
+                                               sun_unit, sun_nu, max(d - shadow_length, 0.0),
+                                               ray_length_km);
 #ifdef HAS_LIGHT2
         frag += u_light2_scale * aerial_from_table(u_light2_aerial_scattering,
-                                                   u_light2_aerial_single_mie, dir,
-                                                   u_light2_direction, hits_ground, depth);
+                                                   u_light2_aerial_single_mie, light2_unit,
+                                                   light2_nu, d, ray_length_km);
 #endif
-        float d = min(depth, ray_length(r, dir.z, hits_ground));
         frag_transmittance = vec4(transmittance_rgb(column_along_ray(r, dir.z, d, hits_ground)), 1.0);
     }
 #endif

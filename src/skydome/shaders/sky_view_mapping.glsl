@@ -14,21 +14,20 @@ uniform float u_view_radius;   // km
 
 float horizon_elevation(float r) { return -acos(clamp(u_bottom_radius / r, 0.0, 1.0)); }
 
-// Texture coordinates of a view direction (mu = its z) for a light at azimuth difference phi,
-// in a table of `size` (phi, elevation) texels.
-vec2 sky_view_uv(float phi, float mu, bool hits_ground, vec2 size) {
+// Unit coordinates of a view direction (mu = its z) for a light at azimuth difference phi:
+// (phi / pi, x, side) with x the warped distance from the horizon and side +1 above it, -1
+// below. Independent of the table size, so a pixel computes them once for all its tables.
+vec3 sky_view_unit(float phi, float mu, bool hits_ground) {
     float e = asin(clamp(mu, -1.0, 1.0));
     float e_h = horizon_elevation(u_view_radius);
-    float half_h = 0.5 * size.y;
-    float v;
-    if (hits_ground) {
-        float x = sqrt(clamp((e_h - e) / (e_h + 0.5 * PI), 0.0, 1.0));
-        v = 0.5 - 0.5 * texcoord_from_unit(x, half_h);
-    } else {
-        float x = sqrt(clamp((e - e_h) / (0.5 * PI - e_h), 0.0, 1.0));
-        v = 0.5 + 0.5 * texcoord_from_unit(x, half_h);
-    }
-    return vec2(texcoord_from_unit(phi / PI, size.x), v);
+    float x = hits_ground ? (e_h - e) / (e_h + 0.5 * PI) : (e - e_h) / (0.5 * PI - e_h);
+    return vec3(phi / PI, sqrt(clamp(x, 0.0, 1.0)), hits_ground ? -1.0 : 1.0);
+}
+
+// Texture coordinates of unit coordinates in a table of `size` (phi, elevation) texels.
+vec2 sky_view_texcoords(vec3 unit, vec2 size) {
+    return vec2(texcoord_from_unit(unit.x, size.x),
+                0.5 + 0.5 * unit.z * texcoord_from_unit(unit.y, 0.5 * size.y));
 }
 
 // Azimuth difference phi in [0, pi] between the horizontal parts of dir and light (0 where
