@@ -32,10 +32,13 @@ void main() {
         vec3 q = x + v * t_ground.x;
         vec3 n = normalize(q);
         q = n * u_bottom_radius;
+#if PROBE_GROUND == 2
+        SkyIrradiancePoint sky_q = sky_irradiance_point(q, n, s);
+#endif
         for (int g = 0; g < NUM_GROUPS; ++g) {
             vec4 E = sun_irradiance_group(g, q, n, s);
 #if PROBE_GROUND == 2
-            E += sky_irradiance_group(g, q, n, s);
+            E += sky_irradiance_group(g, sky_q);
 #endif
             vec4 T = exp(-optical_depth(g, column));
             L += u_spectral_to_rgbs[g] * (T * u_ground_albedo[g] * INV_PI * E);

@@ -176,15 +176,26 @@ vec4 sky_radiance_to_point(vec3 camera, vec3 point, float shadow_length, vec3 su
     return scattering * rayleigh_phase(nu) + single_mie * cornette_shanks_phase(nu, u_mie_g);
 }
 
-// Sky irradiance per unit solar irradiance (dimensionless) of wavelength group g on a surface
-// at `point` (km) with unit `normal`: the horizontal-surface table times (1 + n.z)/2, the view
-// factor of the sky for a tilted surface (Bruneton 2017 GetSunAndSkyIrradiance).
-vec4 sky_irradiance_group(int g, vec3 point, vec3 normal, vec3 sun_direction) {
+// What sky_irradiance_group needs of a surface at `point` (km) with unit `normal`, the same for
+// every group: where to read the table, and the horizontal-surface table's factor, the view
+// factor of the sky for a tilted surface (1 + n.z)/2 times the cut-off fade (Bruneton 2017
+// GetSunAndSkyIrradiance).
+struct SkyIrradiancePoint {
+    IrradianceCoords coords;
+    float factor;
+};
+
+SkyIrradiancePoint sky_irradiance_point(vec3 point, vec3 normal, vec3 sun_direction) {
     float r = length(point);
     float mu_s = clamp_cosine(dot(point, sun_direction) / r);
-    return exp(sample_irradiance(u_irradiance_spectral, r, mu_s, u_irradiance_size, g, NUM_GROUPS))
-         * sun_cutoff_fade(mu_s)
-         * (0.5 + 0.5 * dot(normal, point) / r);
+    return SkyIrradiancePoint(irradiance_coords(r, mu_s, u_irradiance_size),
+                              sun_cutoff_fade(mu_s) * (0.5 + 0.5 * dot(normal, point) / r));
+}
+
+// Sky irradiance per unit solar irradiance (dimensionless) of wavelength group g on the
+// surface of `q`.
+vec4 sky_irradiance_group(int g, SkyIrradiancePoint q) {
+    return exp(irradiance_fetch(u_irradiance_spectral, q.coords, g, NUM_GROUPS)) * q.factor;
 }
 
 // Direct solar irradiance per unit solar irradiance (dimensionless) of group g on a surface at
@@ -206,7 +217,8 @@ vec4 sun_and_sky_irradiance(vec3 point, vec3 normal, vec3 sun_direction, out vec
     float r = length(point);
     float mu_s = clamp_cosine(dot(point, sun_direction) / r);
     sky_irradiance = u_table_to_output
-                   * exp(sample_irradiance(u_irradiance_texture, r, mu_s, u_irradiance_size, 0, 1))
+                   * exp(irradiance_fetch(u_irradiance_texture,
+                                          irradiance_coords(r, mu_s, u_irradiance_size), 0, 1))
                    * (sun_cutoff_fade(mu_s) * (0.5 + 0.5 * dot(normal, point) / r));
     vec4 sun = vec4(0.0);
     float f = sun_visible_fraction(r, mu_s) * max(dot(normal, sun_direction), 0.0);

@@ -221,25 +221,37 @@ void irradiance_texel_params(ivec2 texel, vec2 size, out float r, out float mu_s
     mu_s = mu_s_from_unit_smooth(r, float(texel.x) / (size.x - 1.0));
 }
 
-// The stored value at (r, mu_s), for a table whose height holds `groups` stacked tables of
-// `size` (group `group` is read). The two rows around r are read each with the mu_s texture
-// coordinate of its own radius, then mixed linearly in r: the mu_s mapping depends on r
-// through the horizon dip, which grows as sqrt(r - Rb), so one coordinate for both rows would
-// read a point 10 m above the ground with its Sun shifted by 0.1 degree on the ground row
-// (+8% sky irradiance at Sun -6 degrees).
-vec4 sample_irradiance(sampler2D tex, float r, float mu_s, vec2 size, int group, int groups) {
+// Where the value at (r, mu_s) is read in the irradiance table: the two rows around r, each
+// with the mu_s texture coordinate of its own radius, mixed linearly in r (weight f of the
+// second). The mu_s mapping depends on r through the horizon dip, which grows as
+// sqrt(r - Rb), so one coordinate for both rows would read a point 10 m above the ground with
+// its Sun shifted by 0.1 degree on the ground row (+8% sky irradiance at Sun -6 degrees).
+// uv0, uv1 are within one table of `size`; irradiance_fetch places them in a group's band.
+struct IrradianceCoords {
+    vec2 uv0;
+    vec2 uv1;
+    float f;
+};
+
+IrradianceCoords irradiance_coords(float r, float mu_s, vec2 size) {
     float height = u_top_radius - u_bottom_radius;
     float y = clamp((r - u_bottom_radius) / height, 0.0, 1.0) * (size.y - 1.0);
     float y0 = min(floor(y), size.y - 2.0);
-    vec4 rows[2];
+    vec2 uv[2];
     for (int k = 0; k < 2; ++k) {
         float row = y0 + float(k);
         float r_row = u_bottom_radius + height * row / (size.y - 1.0);
-        vec2 uv = vec2(texcoord_from_unit(mu_s_unit_smooth(r_row, mu_s), size.x),
-                       (float(group) + (row + 0.5) / size.y) / float(groups));
-        rows[k] = texture(tex, uv);
+        uv[k] = vec2(texcoord_from_unit(mu_s_unit_smooth(r_row, mu_s), size.x), (row + 0.5) / size.y);
     }
-    return mix(rows[0], rows[1], y - y0);
+    return IrradianceCoords(uv[0], uv[1], y - y0);
+}
+
+// The stored value at `c` in group `group` of a table whose height holds `groups` stacked
+// tables.
+vec4 irradiance_fetch(sampler2D tex, IrradianceCoords c, int group, int groups) {
+    vec2 band = vec2(1.0, 1.0 / float(groups));
+    vec2 offset = vec2(0.0, float(group) / float(groups));
+    return mix(texture(tex, c.uv0 * band + offset), texture(tex, c.uv1 * band + offset), c.f);
 }
 
 // ---------------------------------------------------------------- the lit part of a ray

@@ -24,10 +24,11 @@ vec4 ground_radiance(vec3 entry, vec3 dir, float r, float mu, vec3 light) {
     float mu_s = clamp_cosine(dot(n, light));
     float sun_factor = sun_visible_fraction(u_bottom_radius, mu_s) * max(mu_s, 0.0);
     vec3 c_sun = column_to_top(u_bottom_radius, max(mu_s, 0.0));
+    SkyIrradiancePoint sky = sky_irradiance_point(p, n, light);
     vec4 radiance = vec4(0.0);
     for (int g = 0; g < NUM_GROUPS; ++g) {
         vec4 e_sun = sun_factor * exp(-optical_depth(g, c_sun));
-        vec4 source = u_ground_albedo[g] * INV_PI * (e_sun + sky_irradiance_group(g, p, n, light));
+        vec4 source = u_ground_albedo[g] * INV_PI * (e_sun + sky_irradiance_group(g, sky));
         radiance += u_spectral_to_rgbs[g] * (source * exp(-optical_depth(g, column)));
     }
     return radiance;
