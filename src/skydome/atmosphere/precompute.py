@@ -61,6 +61,7 @@ from skydome.atmosphere.transmittance import TransmittanceTable
 from skydome.atmosphere.uniforms import geometry_uniforms, spectral_uniforms
 from skydome.errors import CacheError, ParameterError
 from skydome.gpu import FullscreenPass
+from skydome.gpu.textures import copy_array_to_3d, linear_clamped
 from skydome.spectra import LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, spectral_to_rgbs_matrix
 
 __all__ = [
@@ -235,14 +236,6 @@ def _program(ctx, name: str, defines: dict[str, object], layered: bool = False) 
     if key not in cache:
         cache[key] = FullscreenPass(ctx, name, defines, layered=layered)
     return cache[key]
-
-
-def _linear(tex, ctx):
-    tex.filter = (ctx.LINEAR, ctx.LINEAR)
-    tex.repeat_x = tex.repeat_y = False
-    if hasattr(tex, "repeat_z"):
-        tex.repeat_z = False
-    return tex
 
 
 def _nearest(tex, ctx):
@@ -424,10 +417,10 @@ class PrecomputedAtmosphere:
 
         def tex3d(a, size, dtype):
             data = np.ascontiguousarray(a).tobytes()
-            return _linear(ctx.texture3d(size, 4, data, dtype=_GL_DTYPE[dtype]), ctx)
+            return linear_clamped(ctx.texture3d(size, 4, data, dtype=_GL_DTYPE[dtype]), ctx)
 
         def tex2d(a, size):
-            return _linear(
+            return linear_clamped(
                 ctx.texture(size, 4, np.ascontiguousarray(a, dtype="f4").tobytes(), dtype="f4"), ctx
             )
 
@@ -519,11 +512,8 @@ class _Precomputation:
 
     def _to_3d(self, arr, dtype: str = "f4"):
         """Copy a float32 texture array into a new (linearly filtered) 3D texture."""
-        w, h, d = arr.size
-        tex = _linear(self.ctx.texture3d((w, h, d), 4, dtype=dtype), self.ctx)
-        buf = self._keep(self.ctx.buffer(reserve=w * h * d * 16))
-        arr.read_into(buf)
-        tex.write(buf)
+        tex = linear_clamped(self.ctx.texture3d(arr.size, 4, dtype=dtype), self.ctx)
+        copy_array_to_3d(self.ctx, arr, tex)
         return tex
 
     # ------------------------------------------------------------------ stages
@@ -600,14 +590,14 @@ class _Precomputation:
             "u_ms_size": cfg.glsl_size(cfg.multiple_size),
         }
         w, h, d = self.j_shape
-        self.j3d = self._keep(_linear(ctx.texture3d((w, h, d * gm), 4, dtype="f4"), ctx))
+        self.j3d = self._keep(linear_clamped(ctx.texture3d((w, h, d * gm), 4, dtype="f4"), ctx))
         if cfg.orders < 2:
             return
         self.field = self._keep(
             _nearest(ctx.texture((self.n_dir * gm, mu_s * r), 4, dtype="f4"), ctx)
         )
         self.field_fbo = self._keep(ctx.framebuffer(color_attachments=[self.field]))
-        self.ground = self._keep(_linear(ctx.texture((mu_s, gm), 4, dtype="f4"), ctx))
+        self.ground = self._keep(linear_clamped(ctx.texture((mu_s, gm), 4, dtype="f4"), ctx))
         self.ground_fbo = self._keep(ctx.framebuffer(color_attachments=[self.ground]))
         self.j_arrays = [self._keep(ctx.texture_array((w, h, d), 4, dtype="f4")) for _ in range(gm)]
         self.j_fbo = self._keep(ctx.framebuffer(color_attachments=self.j_arrays))
@@ -653,7 +643,7 @@ class _Precomputation:
             data, log_range = encode_log_table(
                 np.full((d, h, w, 4), -87.0, dtype="f4"), cfg.ms_dtype
             )
-            return _linear(
+            return linear_clamped(
                 ctx.texture3d((w, h, d), 4, data.tobytes(), dtype=_GL_DTYPE[cfg.ms_dtype]), ctx
             ), log_range
         arr = self._keep(ctx.texture_array((w, h, d), 4, dtype="f4"))
@@ -672,7 +662,9 @@ class _Precomputation:
         if cfg.ms_dtype == "f4":
             return self._to_3d(arr), (0.0, 1.0)
         data, log_range = encode_log_table(_read_array(arr), cfg.ms_dtype)
-        return _linear(ctx.texture3d((w, h, d), 4, data.tobytes(), dtype="nu2"), ctx), log_range
+        return linear_clamped(
+            ctx.texture3d((w, h, d), 4, data.tobytes(), dtype="nu2"), ctx
+        ), log_range
 
     def _single_scattering(self):
         """The single-scattering tables at the render wavelengths (divided by F)."""
@@ -699,7 +691,7 @@ class _Precomputation:
         peak = max(float(np.abs(x).max()) for x in data)
         scale = F16_TABLE_MAX / peak if peak > 0 else 1.0
         out = [
-            _linear(
+            linear_clamped(
                 ctx.texture3d((w, h, d), 4, (x * scale).astype(np.float16).tobytes(), dtype="f2"),
                 ctx,
             )
@@ -760,7 +752,7 @@ class _Precomputation:
 
         def log_tex(a, size):
             la = np.log(np.maximum(a, 1e-37)).astype("f4")
-            return _linear(
+            return linear_clamped(
                 ctx.texture(size, 4, np.ascontiguousarray(la).tobytes(), dtype="f4"), ctx
             )
 

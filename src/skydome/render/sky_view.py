@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
+from skydome.gpu.textures import copy_array_to_3d, linear_clamped
 
 #: Default table size (azimuth from the light over [0, 180] deg, elevation), texels.
 DEFAULT_SKY_VIEW_SIZE = (256, 256)
@@ -69,9 +70,10 @@ class SkyViewTables:
         """
         key = (float(radius_km), tuple(float(v) for v in light_direction))
         if slot not in self._slots:
-            texs = [self.ctx.texture(self.size, 4, dtype="f4") for _ in range(2)]
-            for tex in texs:
-                tex.repeat_x = tex.repeat_y = False
+            texs = [
+                linear_clamped(self.ctx.texture(self.size, 4, dtype="f4"), self.ctx)
+                for _ in range(2)
+            ]
             self._slots[slot] = (texs, self.ctx.framebuffer(color_attachments=texs), None)
         texs, fbo, drawn = self._slots[slot]
         if drawn != key:
@@ -99,9 +101,10 @@ class SkyViewTables:
         name = f"{slot}_aerial"
         w, h, d = AERIAL_SIZE
         if name not in self._slots:
-            volumes = [self.ctx.texture3d((w, h, d), 4, dtype="f4") for _ in range(2)]
-            for tex in volumes:
-                tex.repeat_x = tex.repeat_y = tex.repeat_z = False
+            volumes = [
+                linear_clamped(self.ctx.texture3d((w, h, d), 4, dtype="f4"), self.ctx)
+                for _ in range(2)
+            ]
             self._slots[name] = (volumes, None, None)
         volumes, _, drawn = self._slots[name]
         if drawn != key:
@@ -111,16 +114,14 @@ class SkyViewTables:
                 )
             layers = [self.ctx.texture_array((w, h, d), 4, dtype="f4") for _ in range(2)]
             fbo = self.ctx.framebuffer(color_attachments=layers)
-            staging = self.ctx.buffer(reserve=w * h * d * 16)
             try:
                 fbo.viewport = (0, 0, w, h)
                 values = {**uniforms, **self.uniforms(key[0]), "u_light_direction": key[1]}
                 self._aerial_pass.draw(fbo, values, textures, layers=(0, d))
                 for array, volume in zip(layers, volumes, strict=True):
-                    array.read_into(staging)
-                    volume.write(staging)
+                    copy_array_to_3d(self.ctx, array, volume)
             finally:
-                for obj in (staging, fbo, *layers):
+                for obj in (fbo, *layers):
                     obj.release()
             self._slots[name] = (volumes, None, key)
             self.draws += 1

@@ -1,0 +1,26 @@
+"""Texture helpers shared by the precomputation and the renderers."""
+
+from __future__ import annotations
+
+
+def linear_clamped(tex, ctx):
+    """Set ``tex`` (2D, array or 3D) to linear filtering with clamped edges; returns it."""
+    tex.filter = (ctx.LINEAR, ctx.LINEAR)
+    tex.repeat_x = tex.repeat_y = False
+    if hasattr(tex, "repeat_z"):
+        tex.repeat_z = False
+    return tex
+
+
+def copy_array_to_3d(ctx, array, volume) -> None:
+    """Copy a texture array (rendered layer by layer) into a 3D texture of the same size and
+    format, through a GPU buffer (no trip through host memory on a GPU): 3D textures filter
+    across layers, which texture arrays do not."""
+    w, h, d = array.size
+    bytes_per_component = int(array.dtype[-1])  # moderngl dtypes: "f1", "f2", "f4", "u2", ...
+    buffer = ctx.buffer(reserve=w * h * d * array.components * bytes_per_component)
+    try:
+        array.read_into(buffer)
+        volume.write(buffer)
+    finally:
+        buffer.release()
