@@ -99,3 +99,51 @@ def test_table_key_follows_the_shader_sources(tmp_path, monkeypatch):
         monkeypatch.undo()
         shaders.sources_digest.cache_clear()
     assert tables_key(earth(), PrecomputeConfig()) == before
+
+
+def test_table_code_files_cover_what_shapes_the_tables():
+    # The files behind the key are found from the imports, so a new module cannot be missed;
+    # these are the ones the issue names: the ln L interpolation (precompute.py), the
+    # conversion matrix (spectra) with its CIE data, and the table file encoding (lutfile.py).
+    from skydome.atmosphere.cache import PACKAGE_ROOT, code_files
+
+    names = {
+        p.relative_to(PACKAGE_ROOT).as_posix() for p in code_files("skydome.atmosphere.tables")
+    }
+    assert {
+        "atmosphere/precompute.py",
+        "atmosphere/precompute_config.py",
+        "spectra/colour.py",
+        "data/cie1931_2deg_cmf_5nm.csv",
+        "data/solar_ozone_10nm.csv",
+        "io/lutfile.py",
+    } <= names
+    # Not the astronomy, the renderers or the tests' oracles: editing them keeps the tables.
+    assert not any(n.startswith(("astro/", "render/", "cli/")) for n in names)
+    assert "atmosphere/reference_ms.py" not in names
+
+
+@pytest.mark.parametrize(
+    "edited", ["atmosphere/precompute.py", "spectra/colour.py", "data/cie1931_2deg_cmf_5nm.csv"]
+)
+def test_table_key_follows_the_python_code_and_data(tmp_path, monkeypatch, edited):
+    # An edited installation (the ln L interpolation, the spectral conversion, its CIE data)
+    # must never reuse tables made by the old code: one appended byte changes the key.
+    import shutil
+
+    from skydome.atmosphere import cache, tables
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+
+    before = tables.tables_key(earth(), PrecomputeConfig())
+    copy = tmp_path / "skydome"
+    shutil.copytree(cache.PACKAGE_ROOT, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    with open(copy / edited, "a") as f:
+        f.write("\n")
+    monkeypatch.setattr(cache, "PACKAGE_ROOT", copy)
+    cache.code_digest.cache_clear()
+    try:
+        assert tables.tables_key(earth(), PrecomputeConfig()) != before
+    finally:
+        monkeypatch.undo()
+        cache.code_digest.cache_clear()
+    assert tables.tables_key(earth(), PrecomputeConfig()) == before

@@ -7,11 +7,13 @@ truncated, corrupt or mismatched file is rebuilt, with a warning for the last th
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import json
 import os
 import warnings
 from collections.abc import Callable
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -44,6 +46,67 @@ def cache_key(*parts: object) -> str:
         [skydome.__version__, CACHE_FORMAT_VERSION, *parts], sort_keys=True, default=repr
     )
     return hashlib.sha256(blob.encode()).hexdigest()
+
+
+#: The installed package's root folder (``.../skydome``).
+PACKAGE_ROOT = Path(__file__).resolve().parents[1]
+
+
+def _module_file(module: str, root: Path) -> Path | None:
+    """The source file of a ``skydome.*`` module or package under ``root``, if it exists."""
+    parts = module.split(".")[1:]
+    for path in (root.joinpath(*parts).with_suffix(".py"), root.joinpath(*parts, "__init__.py")):
+        if parts and path.is_file():
+            return path
+    return (root / "__init__.py") if not parts else None
+
+
+def _imported_modules(path: Path) -> set[str]:
+    """Every ``skydome.*`` module that a source file imports, at any depth (function-level
+    imports too), and for ``from skydome.x import y`` also ``skydome.x.y`` (y may be a
+    submodule)."""
+    names: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            names.update(a.name for a in node.names if a.name.split(".")[0] == "skydome")
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            if node.module.split(".")[0] == "skydome":
+                names.add(node.module)
+                names.update(f"{node.module}.{a.name}" for a in node.names)
+    return names
+
+
+def code_files(module: str, root: Path | None = None) -> list[Path]:
+    """The source files of ``module`` and of every skydome module it imports, transitively,
+    plus the package data files (``data/``) whose names appear in that source: all the Python
+    code and data that can shape what the module computes."""
+    root = root or PACKAGE_ROOT
+    seen: dict[Path, None] = {}
+    todo = [module]
+    while todo:
+        name = todo.pop()
+        # A package's modules are imported through its __init__; each parent package too.
+        parts = name.split(".")
+        todo.extend(".".join(parts[:i]) for i in range(1, len(parts)))
+        path = _module_file(name, root)
+        if path is None or path in seen:
+            continue
+        seen[path] = None
+        todo.extend(_imported_modules(path))
+    text = "\n".join(p.read_text() for p in seen)
+    data = [p for p in sorted((root / "data").glob("*")) if p.is_file() and p.name in text]
+    return sorted(seen) + data
+
+
+@cache
+def code_digest(module: str, root: Path | None = None) -> str:
+    """SHA-256 (hex) of the files of ``code_files(module)``: a cache key part that changes
+    whenever an installation's Python code or data behind a cached result is edited."""
+    root = root or PACKAGE_ROOT
+    h = hashlib.sha256()
+    for path in code_files(module, root):
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
 
 
 def cache_path(key: str, name: str = "tables", directory: Path | None = None) -> Path:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Callable
 
-from skydome.atmosphere.cache import CacheWarning, cache_key, store, try_load
+from skydome.atmosphere.cache import CacheWarning, cache_key, code_digest, store, try_load
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
@@ -13,11 +13,19 @@ from skydome.errors import CacheError
 
 
 def tables_key(params: AtmosphereParams, config: PrecomputeConfig) -> str:
-    """Cache key of the tables: every parameter, every config field, the package version and
-    the shader sources."""
+    """Cache key of the tables: every parameter, every config field, the package version, the
+    shader sources, and the Python code and data files that shape the tables (this module and
+    all it imports: the precomputation, the ln L interpolation, the spectral conversion and
+    its CIE tables, the table file encoding)."""
     from skydome.gpu.shaders import sources_digest
 
-    return cache_key("precomputed", params.to_dict(), config.key(), sources_digest())
+    return cache_key(
+        "precomputed",
+        params.to_dict(),
+        config.key(),
+        sources_digest(),
+        code_digest("skydome.atmosphere.tables"),
+    )
 
 
 def load_tables(

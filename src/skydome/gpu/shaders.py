@@ -27,8 +27,9 @@ def sources_digest() -> str:
     """SHA-256 (hex) of every shader file: part of the keys of cached GPU results, so that a
     change to the GLSL (a new table layout, a fixed integral) never reuses stale tables."""
     h = hashlib.sha256()
-    for path in sorted(SHADER_DIR.glob("*.glsl")):
-        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    for path in sorted(SHADER_DIR.rglob("*.glsl")):
+        name = path.relative_to(SHADER_DIR).as_posix()
+        h.update(name.encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()
 
 
