@@ -23,8 +23,12 @@ def _utc_jd(t):
     [(52.0, 4.3, "2021-03-01"), (-33.9, 18.4, "1995-07-10"), (64.8, -147.7, "2010-12-01")],
 )
 def test_events_match_skyfield_almanac(lat, lon, date):
-    """Rise/set/transit of Sun and Moon and Moon phases within 1 minute of skyfield
-    (measured: 0.01 min; 0.2 min in 1950 where the two Delta T models differ)."""
+    """Rise/set/transit of Sun and Moon and Moon phases against skyfield + DE421.
+
+    Measured (these three sites and weeks): Sun 0.0014 min (0.09 s), Moon 0.0062 min
+    (0.4 s: Meeus' ELP truncation, a few arcseconds, at the Moon's ~15"/s of hour angle),
+    phases 0.124 min (7 s: the Moon's longitude error at its 0.5"/s elongation rate).
+    Bounds: 0.005, 0.02 and 0.25 min. The bisection itself is good to 0.04 s."""
     from skyfield import almanac
     from skyfield.api import wgs84
 
@@ -46,11 +50,12 @@ def test_events_match_skyfield_almanac(lat, lon, date):
             ours = ev.jd_utc[(ev.kind == kind) & (ev.body == body)]
             ref_jd = _utc_jd(ref)
             assert ours.size == ref_jd.size, (body, kind)
-            assert np.abs(np.sort(ours) - np.sort(ref_jd)).max() * 1440 < 1.0, (body, kind)
+            bound_min = 0.005 if body == "sun" else 0.02
+            assert np.abs(np.sort(ours) - np.sort(ref_jd)).max() * 1440 < bound_min, (body, kind)
     tp, _ = almanac.find_discrete(t0, t1, almanac.moon_phases(eph))
     ours = ev.jd_utc[np.isin(ev.kind, ["new_moon", "first_quarter", "full_moon", "last_quarter"])]
     assert ours.size == len(tp)
-    assert np.abs(ours - _utc_jd(tp)).max() * 1440 < 1.0
+    assert np.abs(ours - _utc_jd(tp)).max() * 1440 < 0.25
 
 
 def test_twilight_order_and_polar_day():

@@ -5,16 +5,16 @@ outside the atmosphere; the renderer applies extinction.
 
 Sun
     Total solar irradiance 1361 W/m^2 at 1 au (Kopp & Lean 2011, GRL 38, L01706).
-    Illuminance 132,700 lx at 1 au: the ASTM G-173 extraterrestrial spectrum weighted
-    with the CIE photopic V(lambda) and 683 lm/W (133,200 lx) scaled from its 1366.1 W/m^2
-    to 1361 W/m^2, so that it is consistent with the spectral data the renderer uses
-    (``skydome.spectra``; checked in the tests). Darula, Kittler & Gueymard (2005, LEUKOS
-    1:3) give 133,800 lx. Both scale as 1/r^2.
+    Illuminance 133,334 lx at 1 au: the luminous solar constant of Darula, Kittler &
+    Gueymard (2005, LEUKOS 1(3), 25-44), defined once in ``skydome.spectra``
+    (``LUMINOUS_SOLAR_CONSTANT_LX``, whose comment explains why the renderer's integral of
+    the packaged ASTM G-173 spectrum, 133,177 lx, is 0.12 % lower and why the value stays on
+    the spectrum's 1366.1 W/m^2 scale rather than Kopp & Lean's). Both scale as 1/r^2.
 Stars and planets
     E = 10^(-0.4 (m + 14.18)) lx for a V magnitude m (the conversion used across skydome;
     m = 0 gives 2.13e-6 lx). Note that with this constant the Sun's V = -26.74 would give
     106 klx rather than the 133 klx above: the magnitude zero point and the solar
-    spectrum are independent calibrations that differ by 0.2 mag.
+    spectrum are independent calibrations that differ by 0.25 mag.
 Moon
     V magnitude from Allen's phase law (Astrophysical Quantities, 3rd ed., 1973, sec. 66;
     the form used by the USNO): V = -12.73 + 0.026 |i| + 4e-9 i^4 (i in degrees) at mean
@@ -27,6 +27,8 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+
+from skydome.spectra.colour import LUMINOUS_SOLAR_CONSTANT_LX
 
 __all__ = [
     "SOLAR_CONSTANT_W_M2",
@@ -41,7 +43,7 @@ __all__ = [
 ]
 
 SOLAR_CONSTANT_W_M2 = 1361.0
-SOLAR_ILLUMINANCE_1AU_LX = 132_700.0
+SOLAR_ILLUMINANCE_1AU_LX = LUMINOUS_SOLAR_CONSTANT_LX
 MAGNITUDE_ZERO_POINT = 14.18  # E[lx] = 10^(-0.4 (m + 14.18))
 MOON_MEAN_DISTANCE_KM = 384_400.0
 

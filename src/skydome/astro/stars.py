@@ -60,7 +60,7 @@ from typing import Any
 
 import numpy as np
 
-from skydome.astro import frames, sun
+from skydome.astro import frames, photometry, sun
 from skydome.errors import ParameterError, SkydomeError
 
 __all__ = [
@@ -530,9 +530,8 @@ def horizontal_coordinates(
 def star_illuminance_lux(vmag: Any) -> np.ndarray:
     """Illuminance (lux) on a surface normal to a star of visual magnitude ``vmag`` (V).
 
-    E = 10^(-0.4 (m + 14.18)) lux, the usual V-magnitude to illuminance conversion
-    (m_V = -14.18 - 2.5 log10(E / 1 lux); m = 0 gives 2.1e-6 lux). Outside the
-    atmosphere: apply extinction separately.
+    E = 10^(-0.4 (m + z)) lux with skydome's one zero point
+    z = :data:`skydome.astro.photometry.MAGNITUDE_ZERO_POINT` (14.18; m = 0 gives
+    2.1e-6 lux). Outside the atmosphere: apply extinction separately.
     """
-    m = np.asarray(vmag, dtype=float)
-    return 10.0 ** (-0.4 * (m + 14.18))
+    return photometry.magnitude_to_lux(vmag)

@@ -21,6 +21,22 @@ PHOTOPIC_EFFICACY_LM_PER_W = 683.0
 #: Maximum scotopic luminous efficacy, lm/W (CIE 1951, at 507 nm).
 SCOTOPIC_EFFICACY_LM_PER_W = 1700.0
 
+#: Luminous solar constant, lx: the Sun's illuminance at 1 au outside the atmosphere, on a
+#: surface facing it. Darula, Kittler & Gueymard (2005), "Reference luminous solar constant
+#: and solar luminance for illuminance calculations", LEUKOS 1(3), 25-44: 133 334 lx, from
+#: Gueymard's extraterrestrial spectrum (the one ASTM G-173 tabulates, 1366.1 W/m^2) weighted
+#: with the CIE V(lambda) and 683 lm/W at full resolution. skydome's single value of it: the
+#: astronomy layer (``skydome.astro.photometry.SOLAR_ILLUMINANCE_1AU_LX``) uses it, and the
+#: renderer's Sun, which is the packaged ASTM G-173 table integrated the same way
+#: (``spectral_to_rgbs_matrix``), is tested against it. That integral is 133 177 lx, 0.12 %
+#: lower: the package holds the spectrum as 10 nm bin means, interpolated linearly between
+#: bin centres, which smooths the product E(lambda) V(lambda) over each bin (the 360-830 nm
+#: range loses < 1e-5 of V). The total solar irradiance 1361 W/m^2 (Kopp & Lean 2011) is on
+#: a radiometric scale 0.37 % lower than the spectrum's 1366.1 W/m^2; the luminous constant
+#: is kept on the spectrum's scale so that the Sun of the astronomy layer and the Sun of
+#: the renderer agree.
+LUMINOUS_SOLAR_CONSTANT_LX = 133_334.0
+
 #: XYZ -> linear sRGB (IEC 61966-2-1, D65).
 XYZ_TO_LINEAR_SRGB = np.array(
     [
