@@ -246,6 +246,77 @@ def test_exponential_and_filmic_values():
     assert filmic(np.ones(3))[0] == pytest.approx(2.54 / 3.16, rel=1e-12)
 
 
+def test_filmic_grey_response_is_narkowicz():
+    # Grey goes through Narkowicz's curve unchanged (max RGB = the grey value), as with the
+    # per-channel operator before: by hand, f(0.18) = 0.18 * 0.4818 / (0.18 * 1.0274 + 0.14)
+    # = 0.0867240 / 0.3249320 = 0.266898 (6 decimals, so abs 1e-6).
+    assert filmic(np.full(3, 0.18)) == pytest.approx(0.266898, abs=1e-6)
+    # pre_scale 0.6: f(0.6) = 0.6 * 1.536 / (0.6 * 2.048 + 0.14) = 0.9216 / 1.3688 = 0.673290.
+    assert filmic(np.full(3, 1.0), pre_scale=0.6) == pytest.approx(0.673290, abs=1e-6)
+
+
+def test_filmic_preserves_channel_ratios_below_the_shoulder():
+    # In-gamut colours (max channel <= 1, the EV saturation point, where no desaturation
+    # applies) over four decades of exposure: the output is the input times one number per
+    # pixel, so every ratio between channels is the input's. float64 rounding of
+    # x / max * f(max) is ~1e-16 relative; 1e-6 is the brief's bound and far above it.
+    rng = np.random.default_rng(11)
+    c = rng.uniform(0.0, 1.0, (2000, 3)) * 10.0 ** rng.uniform(-4.0, 0.0, (2000, 1))
+    d = filmic(c)
+    big = c > 1e-3 * c.max(axis=-1, keepdims=True)  # ratios of near-zero channels are noise
+    k = np.where(big, d / np.where(big, c, 1.0), np.nan)
+    k_ref = (d.max(axis=-1) / c.max(axis=-1))[:, None]
+    np.testing.assert_allclose(k[big], np.broadcast_to(k_ref, k.shape)[big], rtol=1e-6)
+    # And the brightest channel gets the grey response of the same value.
+    np.testing.assert_allclose(
+        d.max(axis=-1), filmic(np.repeat(c.max(axis=-1, keepdims=True), 3, -1))[:, 0], rtol=1e-12
+    )
+
+
+@pytest.mark.parametrize("scale", [0.1, 1.0, 10.0])
+def test_filmic_very_bright_saturated_colours_go_to_white(scale):
+    # The issue's case: a very bright, out-of-gamut orange (blue 0) must end near white,
+    # not at yellow (1, 1, 0) as per-channel ACES gives. max = 10 ... 1000 exposed is 3.3 to
+    # 10 stops above saturation: every channel > 0.9 (code > 243), blue not 0.
+    d = filmic(np.array([100.0, 30.0, 0.0]) * scale)
+    assert np.all(d > 0.9), d
+    assert d[2] > 0.0
+    # The Sun -15 deg horizon pixel of the issue (exposed, blue slightly negative).
+    assert np.all(filmic(np.array([21.6, 4.88, -0.027])) > 0.9)
+
+
+def test_filmic_path_to_white_keeps_the_hue():
+    # Orange (1, 0.3, 0) from 1/16 to 64 times saturation: below saturation the colour keeps
+    # its ratios; above, it mixes with white, so the saturation 1 - min/max falls steadily
+    # to 0 while the hue vector (d - min) / (max - min), the HSV hue of linear RGB, stays
+    # (1, 0.3, 0): orange -> pale orange -> white, never yellow. 1e-9: float64 rounding of
+    # differences of values ~1.
+    orange = np.array([1.0, 0.3, 0.0])
+    d = filmic(orange * 2.0 ** np.linspace(-4.0, 6.0, 201)[:, None])
+    saturation = 1.0 - d.min(axis=-1) / d.max(axis=-1)
+    assert np.all(np.diff(saturation) <= 1e-12)
+    assert saturation[0] == pytest.approx(1.0, abs=1e-12) and saturation[-1] < 1e-9
+    coloured = saturation > 1e-6
+    hue = (d - d.min(-1, keepdims=True))[coloured] / np.ptp(d[coloured], axis=-1)[:, None]
+    np.testing.assert_allclose(hue, np.broadcast_to(orange, hue.shape), atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "colour", [(1.0, 0.3, 0.0), (0.05, 0.2, 1.0), (0.0, 1.0, 0.0), (0.9, 0.8, 0.7), (1, 1, 1)]
+)
+def test_filmic_monotonic_and_continuous_in_exposure(colour):
+    # A dense exposure sweep over 8 decades (0.2 % steps) crosses the desaturation start
+    # (max = 1) and end (max = 8): each channel and the luminance never decrease (1e-12:
+    # float64 rounding), and no step jumps (a 0.46 % exposure step moved a display value by
+    # at most 0.0034 here; 0.01 would catch a discontinuity at either end of the blend).
+    exposure = 10.0 ** np.linspace(-4.0, 4.0, 4001)[:, None]
+    d = filmic(np.array(colour) * exposure)
+    steps = np.diff(d, axis=0)
+    assert np.all(steps >= -1e-12)
+    assert np.all(np.diff(d @ SRGB_LUMINANCE) >= -1e-12)
+    assert np.abs(steps).max() < 0.01
+
+
 def test_tonemap_registry_and_errors():
     frame = np.zeros((2, 3, 4), np.float32)
     frame[0] = 100.0  # bright top row
@@ -322,6 +393,28 @@ def test_gl_equals_numpy(mapper, name, params):
         assert diff.max() <= 1, (name, params, np.argwhere(diff > 1)[:5])
         assert (diff > 0).mean() < 0.01
         assert ref.std() > 10  # not a black or flat image
+
+
+@pytest.mark.parametrize("pre_scale", [1.0, 0.6])
+def test_gl_filmic_shoulder_equals_numpy(mapper, pre_scale):
+    # The random frames above put few pixels in the filmic shoulder; here every pixel's max
+    # channel is 0.1 to 100 exposed (through the desaturation blend, max 1 to 8), with
+    # saturated colours (one channel 0 or negative in a third of them). Same criterion as
+    # test_gl_equals_numpy: float32 vs float64 moves a code by at most 1, and rarely.
+    rng = np.random.default_rng(23)
+    h, w = 47, 71
+    rgb = rng.uniform(0.0, 1.0, (h, w, 3)) ** 3
+    rgb /= rgb.max(axis=-1, keepdims=True)
+    rows, cols = np.nonzero(rng.uniform(size=(h, w)) < 0.3)
+    rgb[rows, cols, rng.integers(0, 3, rows.size)] *= -0.05
+    frame = np.zeros((h, w, 4), np.float32)
+    frame[..., :3] = rgb * 10.0 ** rng.uniform(-1.0, 2.0, (h, w, 1))
+    ref = tonemap(frame, "filmic", 1.0, pre_scale=pre_scale)
+    gl = mapper.render(frame, "filmic", 1.0, pre_scale=pre_scale)
+    diff = np.abs(gl.astype(int) - ref.astype(int))
+    assert diff.max() <= 1, np.argwhere(diff > 1)[:5]
+    assert (diff > 0).mean() < 0.01
+    assert ref.std() > 10
 
 
 def test_gl_from_texture_and_orientation(mapper):

@@ -11,6 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from skydome.display.tonemap import (
+    FILMIC_DESATURATION_STOPS,
+    FILMIC_INPUT_CAP,
     as_array,
     check_exposure_scale,
     check_frame,
@@ -54,7 +56,12 @@ class GpuToneMapper:
 
     def __init__(self, ctx=None, *, quantize: bool = True):
         self.ctx = ctx or shared_context()
-        self.pass_ = FullscreenPass(self.ctx, "tonemap.glsl", {"TONEMAP_QUANTIZE": int(quantize)})
+        defines = {
+            "TONEMAP_QUANTIZE": int(quantize),
+            "FILMIC_INPUT_CAP": float(FILMIC_INPUT_CAP),
+            "FILMIC_DESATURATION_STOPS": float(FILMIC_DESATURATION_STOPS),
+        }
+        self.pass_ = FullscreenPass(self.ctx, "tonemap.glsl", defines)
         self._targets: dict[tuple[int, int], tuple] = {}
 
     def uniforms(self, name: str, exposure_scale: float, **params: float) -> dict[str, object]:

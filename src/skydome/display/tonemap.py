@@ -18,7 +18,8 @@ Operators (``TONEMAPS``):
 - ``reinhard``: extended Reinhard on luminance with white point L_white, colours scaled by
   L_d / L (seed 001 eqs. 5.2-5.4; Reinhard et al. 2002 eq. 4).
 - ``hvs``: the bi-logarithmic "HVS" curve of seed 003 eq. 7 on luminance.
-- ``filmic``: Narkowicz's fit of the ACES RRT+ODT curve, per channel.
+- ``filmic``: Narkowicz's fit of the ACES RRT+ODT curve on max(R, G, B), hue preserved,
+  with highlights desaturated towards white over three stops above saturation.
 """
 
 from __future__ import annotations
@@ -173,22 +174,67 @@ def hvs(rgb: np.ndarray, i_max: float = 9.0, white: float = 1.0) -> np.ndarray:
     return _scale_by_luminance(c, lum, lum_display)
 
 
-def filmic(rgb: np.ndarray, pre_scale: float = 1.0) -> np.ndarray:
-    """Narkowicz's ACES filmic curve, per channel.
+#: Narkowicz's fit reaches display 1 at x = (0.56 + sqrt(0.3584)) / 0.16 = 7.24; inputs are
+#: capped here before the fit (no change after clipping, and no float32 overflow of x^2).
+FILMIC_INPUT_CAP = 64.0
+#: Highlight desaturation runs over this many stops above x = 1 (the EV saturation point).
+FILMIC_DESATURATION_STOPS = 3.0
 
-    ``f(x) = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)``, x = pre_scale * c; K. Narkowicz,
-    "ACES Filmic Tone Mapping Curve", blog post, 2016-01-06 (a fit of the ACES RRT + sRGB ODT
-    with the display gamma removed). The fit is pre-exposed (1 -> about 0.8); use
-    ``pre_scale = 0.6`` to match the original ACES curve. Monotonic for x >= 0 (the numerator
-    of f' has only positive coefficients).
+
+def aces_narkowicz(x: np.ndarray) -> np.ndarray:
+    """Narkowicz's ACES fit ``f(x) = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)``.
+
+    K. Narkowicz, "ACES Filmic Tone Mapping Curve", blog post, 2016-01-06: a fit of the ACES
+    RRT + sRGB ODT with the display gamma removed, pre-exposed so that 1 maps to about 0.80.
+    Monotonic for x >= 0 (the numerator of f' has only positive coefficients); f(0) = 0,
+    f(7.24) = 1, f -> 2.51 / 2.43 as x -> inf. Not clipped. Dimensionless in and out.
+    """
+    x = np.asarray(x, dtype=np.float64)
+    return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)
+
+
+def filmic(rgb: np.ndarray, pre_scale: float = 1.0) -> np.ndarray:
+    """Narkowicz's ACES filmic curve on the max channel, hue preserved, highlights to white.
+
+    Applying the curve to each channel separately (as Narkowicz's snippet does) compresses
+    the bright channels more than the dim ones, so hue shifts, and a channel that is 0
+    stays 0: a very bright orange, out of gamut with blue <= 0, ends at pure yellow
+    (1, 1, 0). Instead, with x = pre_scale * c (negative components clipped to 0):
+
+    1. Tone curve on a norm, hue preserved. n = max(x_R, x_G, x_B) goes through the curve
+       (:func:`aces_narkowicz`, capped at 1) and the colour is scaled by f(n) / n: channel
+       ratios are kept exactly, so are hue and saturation, and grey gets f exactly as
+       before (0.18 -> 0.267, 1 -> 0.804). The max-RGB norm never lets a channel exceed
+       the curve (a luminance norm would push saturated blues far above 1). This is the
+       max-RGB norm of darktable's filmic rgb module ("preserve chrominance: max RGB") and
+       of T. Lottes, "Advanced Techniques and Optimization of HDR Color Pipelines", GDC
+       2016, which tone-maps max(R, G, B), scales the colour, then desaturates it
+       ("crosstalk") towards white in the highlights, as step 2 does.
+    2. Path to white. Above the EV saturation point (n > 1) the colour is blended with the
+       grey of the same display value f(n): channel i becomes
+       f(n) (r_i + t (1 - r_i)), r_i = x_i / n, with t = smoothstep(log2(n) / 3) rising
+       from 0 at n = 1 to 1 at n = 8 (three stops, over which f goes from 0.80 to 1), as
+       on film. The mix with white (in linear RGB) keeps the
+       dominant wavelength, so a bright orange goes orange -> pale orange -> white, never
+       to yellow; every channel is non-decreasing in exposure because f(n) and t are.
 
     Args:
         rgb: exposed linear RGB (..., 3), dimensionless.
-        pre_scale: multiplies the input before the fit (> 0).
+        pre_scale: multiplies the input before the curve (> 0); 0.6 matches the original
+            (not pre-exposed) ACES curve.
     Returns: display-linear RGB in [0, 1].
     """
     x = _rgb(rgb) * float(pre_scale)
-    return np.clip((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0)
+    n = np.maximum(np.maximum(x[..., 0], x[..., 1]), x[..., 2])[..., None]
+    n_display = np.clip(aces_narkowicz(np.minimum(n, FILMIC_INPUT_CAP)), 0.0, 1.0)
+    u = np.clip(np.log2(np.maximum(n, 1.0)) / FILMIC_DESATURATION_STOPS, 0.0, 1.0)
+    t = u * u * (3.0 - 2.0 * u)  # smoothstep: C1 at both ends
+    # f(n) (r + t (1 - r)) = x (1 - t) f(n) / n + t f(n): two full-size operations.
+    white = t * n_display
+    gain = (n_display - white) / np.where(n > 0.0, n, 1.0)  # 0 for black (f(0) = 0)
+    out = x * gain
+    out += white
+    return np.clip(out, 0.0, 1.0, out=out)
 
 
 @dataclass(frozen=True)
@@ -269,7 +315,7 @@ TONEMAPS: dict[str, ToneMapOperator] = {
             gl_id=4,
             defaults={"pre_scale": 1.0},
             ranges={"pre_scale": _POSITIVE},
-            summary="ACES filmic fit (Narkowicz 2016), per channel",
+            summary="ACES filmic fit (Narkowicz 2016) on max RGB, hue-preserving, path to white",
         ),
     )
 }

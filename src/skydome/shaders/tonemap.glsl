@@ -9,6 +9,9 @@
 #ifndef TONEMAP_QUANTIZE
 #define TONEMAP_QUANTIZE 0
 #endif
+#if !defined(FILMIC_INPUT_CAP) || !defined(FILMIC_DESATURATION_STOPS)
+#error "define FILMIC_INPUT_CAP and FILMIC_DESATURATION_STOPS (skydome.display.tonemap)"
+#endif
 
 uniform sampler2D u_hdr;            // RGBA32F, GL rows (row 0 = bottom of the image)
 uniform vec2 u_viewport;            // target size in pixels
@@ -49,10 +52,22 @@ vec3 tm_hvs(vec3 c) {
     return scale_by_luminance(c, lum, srgb_decode(clamp(f, 0.0, 1.0)));
 }
 
-// Narkowicz 2016, ACES filmic fit, per channel.
+// Narkowicz 2016, ACES filmic fit (not clipped).
+float aces_narkowicz(float x) { return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14); }
+
+// The fit on n = max(R, G, B), colour scaled by f(n) / n (hue preserved), then above n = 1
+// blended towards the grey f(n) with t = smoothstep(log2(n) / 3): highlights go to white.
+// FILMIC_INPUT_CAP (f(n) = 1 from n = 7.24 on; keeps x^2 finite in float32) and
+// FILMIC_DESATURATION_STOPS are defined by skydome.display.gpu_tonemap from tonemap.py.
 vec3 tm_filmic(vec3 c) {
     vec3 x = c * u_filmic_pre_scale;
-    return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+    float n = max(x.r, max(x.g, x.b));
+    if (n <= 0.0) return vec3(0.0);
+    float n_display = clamp(aces_narkowicz(min(n, FILMIC_INPUT_CAP)), 0.0, 1.0);
+    float u = clamp(log2(max(n, 1.0)) / FILMIC_DESATURATION_STOPS, 0.0, 1.0);
+    float t = u * u * (3.0 - 2.0 * u);
+    float white = t * n_display;
+    return x * ((n_display - white) / n) + white;  // f(n) (r + t (1 - r)), r = x / n
 }
 
 vec3 tonemap_display_linear(vec3 exposed) {
