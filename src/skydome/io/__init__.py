@@ -1,5 +1,5 @@
-"""Output files: EXR (absolute units), PNG (tone-mapped sRGB), NPY; validated up front and
-written atomically.
+"""Output files: EXR and Radiance HDR (absolute units), PNG and JPEG (tone-mapped sRGB), NPY;
+validated up front and written atomically.
 
 Typical use::
 
@@ -10,6 +10,8 @@ Typical use::
 
 from skydome.io.atomic import atomic_write
 from skydome.io.exr import SCOTOPIC_CHANNEL, read_exr, write_exr
+from skydome.io.hdr import RADIANCE_EFFICACY_LM_PER_W, read_hdr, write_hdr
+from skydome.io.jpeg import write_jpeg
 from skydome.io.outputs import (
     SUPPORTED_EXTENSIONS,
     WRITERS,
@@ -22,6 +24,7 @@ from skydome.io.png import PNG_SETTINGS_KEY, write_png
 
 __all__ = [
     "PNG_SETTINGS_KEY",
+    "RADIANCE_EFFICACY_LM_PER_W",
     "SCOTOPIC_CHANNEL",
     "SUPPORTED_EXTENSIONS",
     "WRITERS",
@@ -29,7 +32,10 @@ __all__ = [
     "atomic_write",
     "check_output_path",
     "read_exr",
+    "read_hdr",
     "write_exr",
+    "write_hdr",
+    "write_jpeg",
     "write_npy",
     "write_outputs",
     "write_png",

@@ -4,8 +4,11 @@
 extension    content                                                          input
 ============ ================================================================ ============
 ``.exr``     float32 R, G, B (cd/m^2) + Y_scotopic, absolute-unit header      HDR frame
-``.png``     8-bit sRGB, tone mapped, settings in a tEXt chunk                LDR image
+``.hdr``     Radiance RGBE, linear R, G, B in cd/m^2 / 179 (Radiance units)   HDR frame
 ``.npy``     the float32 frame (H, W, 4) as is (``np.load`` reads it)          HDR frame
+``.png``     8-bit sRGB, tone mapped, settings in a tEXt chunk                LDR image
+``.jpg``     8-bit sRGB JPEG (also ``.jpeg``), tone mapped, quality 95,       LDR image
+             settings in the COM segment
 ============ ================================================================ ============
 """
 
@@ -22,6 +25,8 @@ import numpy as np
 from skydome.errors import OutputError, ParameterError
 from skydome.io.atomic import atomic_write, create_temp_beside
 from skydome.io.exr import check_hdr_frame, write_exr
+from skydome.io.hdr import write_hdr
+from skydome.io.jpeg import write_jpeg
 from skydome.io.png import check_ldr_image, write_png
 
 
@@ -50,6 +55,9 @@ WRITERS: dict[str, Writer] = {
     ".exr": Writer(".exr", write_exr, True, "OpenEXR float32, absolute units"),
     ".png": Writer(".png", write_png, False, "8-bit sRGB PNG, tone mapped"),
     ".npy": Writer(".npy", write_npy, True, "NumPy float32 frame"),
+    ".hdr": Writer(".hdr", write_hdr, True, "Radiance RGBE, cd/m^2 / 179"),
+    ".jpg": Writer(".jpg", write_jpeg, False, "8-bit sRGB JPEG, tone mapped"),
+    ".jpeg": Writer(".jpeg", write_jpeg, False, "8-bit sRGB JPEG, tone mapped"),
 }
 SUPPORTED_EXTENSIONS = tuple(sorted(WRITERS))
 
@@ -57,7 +65,7 @@ SUPPORTED_EXTENSIONS = tuple(sorted(WRITERS))
 def check_output_path(path: str | os.PathLike) -> Path:
     """Validate an output path before rendering; return it as a Path.
 
-    Checks: the extension is one of ``.exr``, ``.png``, ``.npy`` (any case); the path is
+    Checks: the extension is one of :data:`SUPPORTED_EXTENSIONS` (any case); the path is
     not a directory; its parent directory exists and a file can be created in it (a real
     probe, so read-only file systems and permissions are both caught, also for root).
     Raises OutputError with one line naming the path and the problem.
@@ -107,10 +115,11 @@ def write_outputs(
     removed and OutputError is raised.
 
     Args:
-        paths: one path or several (``.exr``, ``.png``, ``.npy``).
-        frame: float32 (H, W, 4) frame in cd/m^2 (row 0 at the top), for .exr and .npy.
-        ldr: tone-mapped uint8 (H, W, 3) sRGB image, for .png.
-        metadata: render settings stored in EXR headers and PNG tEXt chunks (as JSON).
+        paths: one path or several (``.exr``, ``.hdr``, ``.npy``, ``.png``, ``.jpg``).
+        frame: float32 (H, W, 4) frame in cd/m^2 (row 0 at the top), for .exr, .hdr, .npy.
+        ldr: tone-mapped uint8 (H, W, 3) sRGB image, for .png and .jpg.
+        metadata: render settings stored as JSON in EXR and HDR headers, PNG tEXt chunks
+            and JPEG comments.
     Returns: the written paths.
     """
     if isinstance(paths, (str, os.PathLike)):
