@@ -140,6 +140,32 @@ def test_sun_disk_integrates_to_solar_irradiance(renderer_factory, atmosphere):
     assert illuminance == pytest.approx(want, rel=0.01)
 
 
+@pytest.mark.parametrize("sun_el, bound", [(60.0, 0.008), (5.0, 0.004)])
+def test_sixteen_quadratic_samples_against_1024(renderer_factory, sun_el, bound):
+    # The renderer's 16 quadratically spaced samples (t = L u^2) against 1024 on the same
+    # rays: RMS relative error of the luminance over the sky (pixels of a 128x64 equirect
+    # frame above the horizon, more than 1 deg from the Sun's centre). Measured 0.63 % at
+    # Sun 60 deg and 0.30 % at 5 deg (the 16-sample sums run high: mean +0.59 %, +0.28 %);
+    # at 1024 the quadrature is converged far below that (512 samples differ from 1024 by
+    # 7e-6 RMS). Bounds 0.8 % and 0.4 %.
+    cam = EquirectCamera()
+    w, h = 128, 64
+    sun = direction_from_angles(sun_el, 180.0)
+    y = {
+        n: renderer_factory("earth", "accurate", n, False)
+        .render(cam, w, h, sun_direction=sun)
+        .luminance.astype(np.float64)
+        for n in (16, 1024)
+    }
+    el = np.radians(90.0 - (np.arange(h) + 0.5) / h * 180.0)
+    az = np.radians((np.arange(w) + 0.5) / w * 360.0)
+    a, e = np.meshgrid(az, el)
+    pix = np.stack([np.sin(a) * np.cos(e), np.cos(a) * np.cos(e), np.sin(e)], axis=-1)
+    sky = (e > 0) & (np.degrees(np.arccos(np.clip(pix @ sun, -1, 1))) > 1.0)
+    rel = (y[16] / y[1024] - 1.0)[sky]
+    assert np.sqrt(np.mean(rel**2)) < bound
+
+
 def _sky(renderer, sun_el, sun_az=180.0):
     cam = EquirectCamera()
     return renderer.render(cam, 360, 180, sun_direction=direction_from_angles(sun_el, sun_az)).data
