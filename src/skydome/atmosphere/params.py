@@ -5,6 +5,13 @@ The model is Bruneton's (2017 reference implementation, also seed 001 appendix B
 absorbing layer (ozone), each with a density profile made of up to two layers of the form
 ``clamp(exp_term·exp(exp_scale·h) + linear_term·h + constant_term, 0, 1)``.
 Python uses metres; spectral coefficients are per metre.
+
+The atmosphere knobs of pvlib or Blender users (ground albedo, aerosol optical depth at
+550 nm with an Ångström exponent, total ozone in Dobson units) are methods of
+:class:`AtmosphereParams`: ``with_albedo``, ``with_aerosol``, ``with_ozone`` and
+``with_knobs`` (all at once), and read back as ``aod_550``, ``angstrom_exponent`` and
+``ozone_du``. They set the spectra and leave the density profiles' shapes alone, so a later
+physical model (standard-atmosphere air, aerosol types) can keep the same interface.
 """
 
 from __future__ import annotations
@@ -17,6 +24,32 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from skydome.errors import ParameterError, check_range
+
+#: One Dobson unit: 2.687e20 molecules per m^2 of column (0.01 mm of pure ozone at 0 °C and
+#: 1013.25 hPa; WMO definition).
+DOBSON_UNIT_PER_M2 = 2.687e20
+
+#: Valid ranges of the knobs (closed intervals, except the single-scattering albedo's (0, 1]).
+#: Ground albedo: a reflectance. Aerosol optical depth at 550 nm: 0 (none) to 5, past the
+#: heaviest smoke and dust events AERONET records (~4 at 500 nm). Ångström exponent: about 0
+#: (or slightly negative) for coarse dust and sea salt to 2-2.5 for fine smoke (Eck et al.
+#: 1999, J. Geophys. Res. 104, 31333), kept within [-0.5, 3]. Total ozone: record lows near
+#: 90 DU (Antarctic ozone hole) and highs near 650 DU, kept within [0, 700] DU.
+ALBEDO_RANGE = (0.0, 1.0)
+AOD_550_RANGE = (0.0, 5.0)
+ANGSTROM_RANGE = (-0.5, 3.0)
+OZONE_DU_RANGE = (0.0, 700.0)
+SSA_RANGE = (0.0, 1.0)
+
+#: Wavelengths (nm) at which aerosol spectra set from the knobs are sampled: the visible range
+#: of the renderers and the 870 nm band of sun photometers (AERONET's 440/870 nm pair).
+AEROSOL_GRID_NM = np.arange(360.0, 1001.0, 5.0)
+#: The two wavelengths (nm) of the Ångström exponent read back by ``angstrom_exponent``.
+ANGSTROM_PAIR_NM = (440.0, 870.0)
+#: Wavelengths (nm) at which ozone spectra are sampled (where the cross-sections are tabulated).
+OZONE_GRID_NM = np.arange(360.0, 831.0, 5.0)
+
+_GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(8)
 
 
 @dataclass(frozen=True)
@@ -126,6 +159,32 @@ class DensityProfile:
 
         return np.where(h < lo.width_m, eval_layer(lo), eval_layer(hi))
 
+    def column_m(self, top_m: float, subintervals: int = 1024) -> float:
+        """Column of the relative density from the ground to ``top_m``: ∫ density dh, metres.
+
+        The integral is split at the layer boundary and where a purely linear layer is clamped
+        (at 0 or 1), then each piece is integrated by 8-point Gauss-Legendre quadrature on
+        ``subintervals`` equal parts: exact for linear pieces, ~1e-12 relative for
+        exponentials (an exp + linear layer's clamp points fall inside a part: ~1e-6).
+        """
+        top = check_range("top_m", top_m, 0.0, 1e8, "m")
+        lo, hi = self.layers
+        cuts = {0.0, top, min(max(lo.width_m, 0.0), top)}
+        for layer, start, end in ((lo, 0.0, lo.width_m), (hi, lo.width_m, top)):
+            if layer.exp_term == 0.0 and layer.linear_per_m != 0.0:
+                for level in (0.0, 1.0):
+                    h = (level - layer.constant) / layer.linear_per_m
+                    if start < h < min(end, top):
+                        cuts.add(h)
+        edges = np.array(sorted(cuts))
+        total = 0.0
+        for a, b in zip(edges[:-1], edges[1:], strict=True):
+            parts = np.linspace(a, b, subintervals + 1)
+            half = 0.5 * np.diff(parts)[:, None]
+            h = half * _GL_NODES[None, :] + 0.5 * (parts[:-1] + parts[1:])[:, None]
+            total += float(np.sum(self.density(h) * _GL_WEIGHTS[None, :] * half))
+        return total
+
 
 @dataclass(frozen=True)
 class AtmosphereParams:
@@ -211,6 +270,189 @@ class AtmosphereParams:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
 
+    # --- Atmosphere knobs: column-integrated quantities a pvlib or Blender user sets. ---
+
+    @property
+    def mie_column_m(self) -> float:
+        """∫ mie_density dh from the ground to the top, metres (the aerosol's equivalent
+        thickness: its scale height for an exponential profile)."""
+        return self.mie_density.column_m(self.atmosphere_height_m)
+
+    @property
+    def absorption_column_m(self) -> float:
+        """∫ absorption_density dh from the ground to the top, metres (15 km for the ozone
+        tent of the ``earth`` preset)."""
+        return self.absorption_density.column_m(self.atmosphere_height_m)
+
+    def aerosol_optical_depth(self, wavelengths_nm) -> np.ndarray:
+        """Vertical aerosol (Mie extinction) optical depth, ground to top, per wavelength (nm)."""
+        return self.mie_extinction.at(wavelengths_nm) * self.mie_column_m
+
+    @property
+    def aod_550(self) -> float:
+        """Vertical aerosol optical depth at 550 nm."""
+        return float(self.aerosol_optical_depth(550.0))
+
+    @property
+    def angstrom_exponent(self) -> float:
+        """Ångström exponent between 440 and 870 nm, α = -ln(τ(440)/τ(870)) / ln(440/870).
+
+        0 for a wavelength-independent aerosol; NaN when the atmosphere has no aerosol.
+        """
+        a, b = ANGSTROM_PAIR_NM
+        tau_a, tau_b = self.aerosol_optical_depth([a, b])
+        if tau_a <= 0.0 or tau_b <= 0.0:
+            return math.nan
+        return float(-math.log(tau_a / tau_b) / math.log(a / b))
+
+    @property
+    def ozone_du(self) -> float:
+        """Total column of the absorber, in Dobson units, taken as ozone.
+
+        The least-squares fit of ``absorption_extinction`` to peak number density × the ozone
+        cross-section (Serdyuchenko et al. 2014, 360-830 nm), times the absorber column, over
+        2.687e20 m^-2: exact for spectra set by ``with_ozone``, 0 for no absorber.
+        """
+        from skydome.spectra.tables import ozone_cross_section
+
+        sigma = ozone_cross_section(OZONE_GRID_NM)
+        k = self.absorption_extinction.at(OZONE_GRID_NM)
+        peak_per_m3 = float(np.dot(k, sigma) / np.dot(sigma, sigma))
+        return peak_per_m3 * self.absorption_column_m / DOBSON_UNIT_PER_M2
+
+    def with_albedo(self, albedo: float | Spectrum) -> AtmosphereParams:
+        """A copy with a Lambertian ground albedo: a constant in [0, 1] or a Spectrum."""
+        if isinstance(albedo, Spectrum):
+            return self.with_(ground_albedo=albedo)
+        value = check_range("albedo", albedo, *ALBEDO_RANGE)
+        return self.with_(ground_albedo=Spectrum.constant(value))
+
+    def with_ozone(self, dobson: float) -> AtmosphereParams:
+        """A copy whose absorber is ``dobson`` Dobson units of ozone over its own profile.
+
+        Peak number density n = dobson · 2.687e20 m^-2 / ∫ absorption_density dh, and
+        absorption_extinction(λ) = n · σ_O3(λ) with the ozone cross-section of
+        ``skydome.spectra`` (Serdyuchenko et al. 2014, 233 K), sampled every 5 nm over
+        360-830 nm. The profile's shape is kept (the ``earth`` tent: 300 DU over 15 km).
+        """
+        from skydome.spectra.tables import ozone_cross_section
+
+        du = check_range("ozone_du", dobson, *OZONE_DU_RANGE, "DU")
+        column = self.absorption_column_m
+        if column <= 0.0:
+            raise ParameterError(f"{self.name}: the absorber's density profile is zero everywhere")
+        peak = du * DOBSON_UNIT_PER_M2 / column
+        return self.with_(
+            absorption_extinction=Spectrum.sampled(
+                OZONE_GRID_NM, peak * ozone_cross_section(OZONE_GRID_NM)
+            )
+        )
+
+    def with_aerosol(
+        self,
+        aod_550: float | None = None,
+        angstrom: float | None = None,
+        *,
+        ssa: float | None = None,
+        scale_height_m: float | None = None,
+        mie_g: float | None = None,
+    ) -> AtmosphereParams:
+        """A copy with its aerosol (Mie) set by column-integrated knobs; None keeps the current.
+
+        - ``aod_550``: vertical aerosol optical depth at 550 nm, in [0, 5].
+        - ``angstrom``: Ångström exponent α in [-0.5, 3]: τ_a(λ) = τ_550 (λ/550 nm)^(-α)
+          (Ångström 1929, Geogr. Ann. 11, 156), sampled every 5 nm over 360-1000 nm. None
+          keeps the current spectral shape (scaled to ``aod_550``).
+        - ``ssa``: single-scattering albedo (scattering / extinction) in (0, 1], e.g. ~0.9 for
+          continental aerosol; None keeps the current ratio at each wavelength.
+        - ``scale_height_m``: makes the Mie density profile exponential with this scale height
+          (keeping the optical depth unless ``aod_550`` is given); ``mie_g``: the
+          Cornette-Shanks asymmetry parameter.
+
+        The sea-level extinction follows from the profile's column: β_ext(λ) = τ_a(λ) /
+        ∫ mie_density dh (for an exponential profile, τ / H).
+        """
+        if aod_550 is not None:
+            aod_550 = check_range("aod_550", aod_550, *AOD_550_RANGE)
+        if angstrom is not None:
+            angstrom = check_range("angstrom", angstrom, *ANGSTROM_RANGE)
+        if ssa is not None:
+            ssa = _check_ssa(ssa)
+        density = (
+            self.mie_density
+            if scale_height_m is None
+            else DensityProfile.exponential(scale_height_m)
+        )
+        column = density.column_m(self.atmosphere_height_m)
+        if column <= 0.0:
+            raise ParameterError(f"{self.name}: the aerosol's density profile is zero everywhere")
+        old_ext_550 = float(self.mie_extinction.at(550.0))
+        tau_550 = self.aod_550 if aod_550 is None else aod_550
+
+        if angstrom is not None:
+            grid = AEROSOL_GRID_NM
+            tau = tau_550 * (grid / 550.0) ** (-angstrom)
+            extinction = Spectrum.sampled(grid, tau / column)
+        elif old_ext_550 > 0.0:
+            extinction = self.mie_extinction.scaled(tau_550 / (old_ext_550 * column))
+        elif tau_550 == 0.0:
+            extinction = Spectrum.constant(0.0)
+        else:
+            raise ParameterError(
+                f"{self.name} has no aerosol to take a spectral shape from: give angstrom too"
+            )
+
+        # Scattering = extinction × albedo, sampled wherever either spectrum has a sample.
+        grid = np.asarray(extinction.wavelengths_nm)
+        if ssa is None:
+            grid = np.union1d(grid, self.mie_scattering.wavelengths_nm)
+            grid = np.union1d(grid, self.mie_extinction.wavelengths_nm)
+        ext = extinction.at(grid)
+        if ssa is None:
+            old_ext = self.mie_extinction.at(grid)
+            old_sca = self.mie_scattering.at(grid)
+            if np.any((old_ext <= 0.0) & (ext > 0.0)):
+                raise ParameterError(
+                    f"{self.name} has no aerosol to take a single-scattering albedo from: "
+                    "give ssa too"
+                )
+            ratio = np.divide(old_sca, old_ext, out=np.zeros_like(ext), where=old_ext > 0.0)
+        else:
+            ratio = np.full_like(ext, ssa)
+        changes: dict[str, object] = {
+            "mie_extinction": extinction,
+            "mie_scattering": Spectrum.sampled(grid, ext * ratio),
+            "mie_density": density,
+        }
+        if mie_g is not None:
+            changes["mie_g"] = mie_g
+        return self.with_(**changes)
+
+    def with_knobs(
+        self,
+        *,
+        albedo: float | Spectrum | None = None,
+        aod_550: float | None = None,
+        angstrom: float | None = None,
+        ozone_du: float | None = None,
+        ssa: float | None = None,
+    ) -> AtmosphereParams:
+        """A copy with any of the knobs set (None keeps this atmosphere's own value).
+
+        ``albedo`` as in :meth:`with_albedo`, ``aod_550``, ``angstrom`` and ``ssa`` as in
+        :meth:`with_aerosol`, ``ozone_du`` (total ozone, DU, in [0, 700]) as in
+        :meth:`with_ozone`. Linke turbidity is not offered: converting it to an aerosol optical
+        depth (Ineichen & Perez 2002) needs the water-vapour column, which this model lacks.
+        """
+        params = self
+        if albedo is not None:
+            params = params.with_albedo(albedo)
+        if aod_550 is not None or angstrom is not None or ssa is not None:
+            params = params.with_aerosol(aod_550, angstrom, ssa=ssa)
+        if ozone_du is not None:
+            params = params.with_ozone(ozone_du)
+        return params
+
     def coefficients(self, wavelengths_nm) -> dict[str, np.ndarray]:
         """Per-wavelength coefficients (per metre), albedo and solar irradiance."""
         wl = np.asarray(wavelengths_nm, float)
@@ -235,3 +477,15 @@ class AtmosphereParams:
 
 
 _CHECK_NM = np.linspace(360.0, 830.0, 48)
+
+
+def _check_ssa(ssa: float) -> float:
+    """The single-scattering albedo as a float, or ParameterError naming (0, 1]."""
+    lo, hi = SSA_RANGE
+    try:
+        value = float(ssa)
+    except (TypeError, ValueError):
+        raise ParameterError(f"ssa must be a number, got {ssa!r}") from None
+    if not (lo < value <= hi):  # also rejects NaN
+        raise ParameterError(f"ssa = {ssa} is outside the valid range ({lo}, {hi}]")
+    return value

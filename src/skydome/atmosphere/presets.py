@@ -6,9 +6,14 @@ import math
 
 import numpy as np
 
-from skydome.atmosphere.params import AtmosphereParams, DensityProfile, Spectrum
+from skydome.atmosphere.params import (
+    DOBSON_UNIT_PER_M2,
+    AtmosphereParams,
+    DensityProfile,
+    Spectrum,
+)
 from skydome.errors import ParameterError
-from skydome.spectra.tables import ozone_cross_section, solar_irradiance
+from skydome.spectra.tables import solar_irradiance
 
 #: Spectra of the presets are tabulated every 5 nm (the tables hold 10 nm bin means at the
 #: bin centres, 365, 375, ... nm, which this grid contains).
@@ -20,7 +25,6 @@ _GRID_NM = np.arange(360.0, 831.0, 5.0)
 EARTH_RAYLEIGH_K = 1.24062e-6
 #: Ozone: 300 Dobson units spread over a tent profile of 15 km equivalent thickness
 #: (Bruneton 2017): peak number density = 300 · 2.687e20 m^-2 / 15 000 m.
-DOBSON_UNIT_PER_M2 = 2.687e20
 OZONE_PEAK_NUMBER_DENSITY = 300.0 * DOBSON_UNIT_PER_M2 / 15000.0
 #: Angular radius of the Sun seen from Earth at 1 AU (0.2666 deg, 959.6 arcsec).
 SUN_ANGULAR_RADIUS_1AU = math.radians(959.63 / 3600.0)
@@ -32,11 +36,6 @@ def _lambda_power(k_at_1um: float, exponent: float) -> Spectrum:
 
 def _sun(scale: float = 1.0) -> Spectrum:
     return Spectrum.sampled(_GRID_NM, scale * solar_irradiance(_GRID_NM))
-
-
-def _ozone(dobson: float = 300.0) -> Spectrum:
-    peak = dobson * DOBSON_UNIT_PER_M2 / 15000.0
-    return Spectrum.sampled(_GRID_NM, peak * ozone_cross_section(_GRID_NM))
 
 
 def earth() -> AtmosphereParams:
@@ -51,13 +50,13 @@ def earth() -> AtmosphereParams:
         mie_extinction=Spectrum.constant(4.440e-6),
         mie_g=0.8,
         mie_density=DensityProfile.exponential(1200.0),
-        absorption_extinction=_ozone(300.0),
+        absorption_extinction=Spectrum.constant(0.0),  # 300 DU of ozone, set below
         absorption_density=DensityProfile.tent(25_000.0, 15_000.0),
         ground_albedo=Spectrum.constant(0.3),
         sun_angular_radius_rad=SUN_ANGULAR_RADIUS_1AU,
         solar_irradiance=_sun(),
         description="Earth, clear sky with ozone (seed 001 appendix B)",
-    )
+    ).with_ozone(300.0)
 
 
 def earth_nishita() -> AtmosphereParams:
@@ -86,22 +85,29 @@ def earth_nishita() -> AtmosphereParams:
     )
 
 
-def hazy() -> AtmosphereParams:
-    """Earth with a hazy boundary layer: aerosol optical depth ~0.27 at 550 nm.
+#: The knob settings of the ``hazy`` preset (``earth`` with them): aerosol optical depth
+#: 0.272 at 550 nm, Ångström exponent 1.3 (continental haze), single-scattering albedo
+#: 150/170 ≈ 0.88, boundary layer of scale height 1600 m, asymmetry g = 0.7.
+HAZY_AEROSOL = {
+    "aod_550": 0.272,
+    "angstrom": 1.3,
+    "ssa": 150.0 / 170.0,
+    "scale_height_m": 1600.0,
+    "mie_g": 0.7,
+}
 
-    Mie scattering 150e-6 m^-1 and absorption 20e-6 m^-1 at 550 nm at the ground (single
-    scattering albedo 0.88, visibility 3.912/β ≈ 20 km), scale height 1600 m, Ångström
-    exponent 1.3 (continental haze), g = 0.7.
+
+def hazy() -> AtmosphereParams:
+    """Earth with a hazy boundary layer: aerosol optical depth 0.272 at 550 nm.
+
+    ``earth().with_aerosol(**HAZY_AEROSOL)``: Mie extinction 170e-6 m^-1 and scattering
+    150e-6 m^-1 at 550 nm at the ground (τ / H = 0.272 / 1600 m; single-scattering albedo
+    0.88; with the air's Rayleigh, visibility 3.912/β ≈ 21 km), scale height 1600 m, Ångström exponent 1.3, g = 0.7.
     """
-    base = earth()
-    angstrom = (_GRID_NM / 550.0) ** -1.3
-    return base.with_(
-        name="hazy",
-        mie_scattering=Spectrum.sampled(_GRID_NM, 150e-6 * angstrom),
-        mie_extinction=Spectrum.sampled(_GRID_NM, 170e-6 * angstrom),
-        mie_g=0.7,
-        mie_density=DensityProfile.exponential(1600.0),
-        description="Earth with hazy boundary layer (AOD 0.27 at 550 nm)",
+    return (
+        earth()
+        .with_aerosol(**HAZY_AEROSOL)
+        .with_(name="hazy", description="Earth with hazy boundary layer (AOD 0.27 at 550 nm)")
     )
 
 
@@ -138,11 +144,24 @@ def mars() -> AtmosphereParams:
 PRESETS = {"earth": earth, "earth_nishita": earth_nishita, "hazy": hazy, "mars": mars}
 
 
-def preset(name: str) -> AtmosphereParams:
-    """The named preset; raises ParameterError listing the valid names."""
+def preset(
+    name: str,
+    *,
+    albedo: float | Spectrum | None = None,
+    aod_550: float | None = None,
+    angstrom: float | None = None,
+    ozone_du: float | None = None,
+    ssa: float | None = None,
+) -> AtmosphereParams:
+    """The named preset, with any knobs set (``AtmosphereParams.with_knobs``; None keeps the
+    preset's own value); raises ParameterError listing the valid names or naming a knob's
+    valid range. E.g. ``preset("earth", aod_550=0.1, angstrom=1.3, ozone_du=300)``."""
     try:
-        return PRESETS[name]()
+        params = PRESETS[name]()
     except KeyError:
         raise ParameterError(
             f"unknown atmosphere preset {name!r}; choose one of {', '.join(PRESETS)}"
         ) from None
+    return params.with_knobs(
+        albedo=albedo, aod_550=aod_550, angstrom=angstrom, ozone_du=ozone_du, ssa=ssa
+    )
