@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+import weakref
 from collections.abc import Callable
 
 from skydome.atmosphere.cache import CacheWarning, cache_key, code_digest, store, try_load
@@ -53,3 +54,43 @@ def load_tables(
     if cache:
         store(key, tables.to_arrays(), name=name, meta={"atmosphere": params.name})
     return tables, False
+
+
+#: Tables in GPU memory by (context, key): renderers of the same atmosphere and configuration
+#: share one set (about 25 MB at the defaults) for as long as any of them holds it.
+_IN_MEMORY: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+
+
+def _release_textures(textures: list) -> None:
+    for tex in textures:
+        tex.release()
+
+
+def shared_tables(
+    ctx,
+    params: AtmosphereParams,
+    config: PrecomputeConfig | None = None,
+    *,
+    progress: Callable[[str, float], None] | None = None,
+) -> tuple[PrecomputedAtmosphere, bool]:
+    """The tables of ``params`` and ``config`` on ``ctx``: the set already in GPU memory for
+    another holder if there is one, else :func:`load_tables` (disk cache or precomputation).
+    Returns (tables, not_computed_now). Their textures are released when the last holder
+    drops them (a renderer that is released or garbage collected)."""
+    config = config or PrecomputeConfig()
+    key = (id(ctx), tables_key(params, config))
+    tables = _IN_MEMORY.get(key)
+    if tables is not None and tables.ctx is ctx:
+        return tables, True
+    tables, loaded = load_tables(ctx, params, config, progress=progress)
+    _IN_MEMORY[key] = tables
+    textures = [
+        tables.transmittance_texture,
+        tables.scattering,
+        tables.single_mie,
+        tables.multiple_scattering,
+        tables.irradiance,
+        tables.irradiance_spectral,
+    ]
+    weakref.finalize(tables, _release_textures, textures).atexit = False
+    return tables, loaded

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from functools import lru_cache
+from collections import OrderedDict
+from collections.abc import Callable
 
 from skydome.atmosphere import AtmosphereParams, preset
 from skydome.errors import ParameterError, check_range
@@ -12,10 +13,22 @@ from skydome.render.frame import Frame
 MODELS = ("precomputed", "single")
 
 
-@lru_cache(maxsize=8)
-def _renderer(
-    model: str, params: AtmosphereParams, spectral, samples: int, jitter: bool, orders: int
-):
+#: Renderers kept for reuse by get_renderer, most recently used last. Two suffice for a
+#: script that alternates two settings; older ones are dropped and their GL objects released
+#: once nothing else holds them (the tables stay while another renderer shares them).
+_KEEP = 2
+_RENDERERS: OrderedDict[tuple, object] = OrderedDict()
+
+
+def _renderer_key(model, params, spectral, samples, jitter, orders) -> tuple:
+    # Only what changes the renderer: the precomputed model ignores samples and jitter, the
+    # single-scattering one the orders.
+    if model == "single":
+        return (model, params, spectral, samples, jitter)
+    return (model, params, spectral, orders)
+
+
+def _make_renderer(model, params, spectral, samples, jitter, orders, progress):
     if model == "single":
         from skydome.render.single import SingleScatteringRenderer
 
@@ -26,18 +39,13 @@ def _renderer(
     from skydome.render.precomputed import PrecomputedRenderer
 
     return PrecomputedRenderer(
-        params, PrecomputeConfig(wavelengths=spectral, orders=orders), progress=_progress
+        params, PrecomputeConfig(wavelengths=spectral, orders=orders), progress=progress
     )
 
 
-#: Progress callback used when a renderer has to precompute its tables (set by the CLI).
-_progress = None
-
-
-def set_progress(callback) -> None:
-    """Report precomputation progress through ``callback(stage, fraction)`` (None: silent)."""
-    global _progress
-    _progress = callback
+def clear_renderers() -> None:
+    """Drop the renderers kept by get_renderer (their GL objects go with the last holder)."""
+    _RENDERERS.clear()
 
 
 def get_renderer(
@@ -48,11 +56,14 @@ def get_renderer(
     samples: int = 16,
     jitter: bool = True,
     orders: int = 4,
+    progress: Callable[[str, float], None] | None = None,
 ):
-    """A renderer for a model and atmosphere, cached so that repeated frames reuse its GL state.
+    """A renderer for a model and atmosphere, kept so that repeated frames reuse its GL state.
 
     ``model="precomputed"`` (every scattering order, ``orders`` of them, tables from the disk
-    cache) or ``"single"`` (single scattering, ``samples`` per view ray).
+    cache; ``samples`` and ``jitter`` do not apply) or ``"single"`` (single scattering,
+    ``samples`` per view ray, ``jitter``). ``progress(stage, fraction)`` reports a table
+    precomputation, if one is needed.
     """
     params = preset(atmosphere) if isinstance(atmosphere, str) else atmosphere
     if model not in MODELS:
@@ -60,7 +71,15 @@ def get_renderer(
     spectral_key = spectral if isinstance(spectral, str) else tuple(spectral)
     if not isinstance(orders, int) or not 1 <= orders <= 20:
         raise ParameterError(f"orders = {orders!r} must be an integer in [1, 20]")
-    return _renderer(model, params, spectral_key, int(samples), bool(jitter), orders)
+    args = (model, params, spectral_key, int(samples), bool(jitter), orders)
+    key = _renderer_key(*args)
+    renderer = _RENDERERS.pop(key, None)
+    if renderer is None:
+        renderer = _make_renderer(*args, progress)
+    _RENDERERS[key] = renderer
+    while len(_RENDERERS) > _KEEP:
+        _RENDERERS.popitem(last=False)
+    return renderer
 
 
 def render_sky(
@@ -77,6 +96,7 @@ def render_sky(
     samples: int = 16,
     jitter: bool = True,
     orders: int = 4,
+    progress: Callable[[str, float], None] | None = None,
 ) -> Frame:
     """Render the sky for a Sun position and camera; returns a Frame in cd/m^2.
 
@@ -84,11 +104,19 @@ def render_sky(
 
         frame = render_sky(sun_elevation_deg=5, sun_azimuth_deg=250,
                            camera=PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10))
+
+    ``progress(stage, fraction)`` is called during a table precomputation, if one is needed.
     """
     el = check_range("sun elevation", sun_elevation_deg, -90.0, 90.0, "deg")
     az = check_range("sun azimuth", sun_azimuth_deg, -360.0, 360.0, "deg")
     renderer = get_renderer(
-        model, atmosphere, spectral=spectral, samples=samples, jitter=jitter, orders=orders
+        model,
+        atmosphere,
+        spectral=spectral,
+        samples=samples,
+        jitter=jitter,
+        orders=orders,
+        progress=progress,
     )
     cam = camera or PerspectiveCamera(fov_deg=90.0, yaw_deg=az, pitch_deg=15.0)
     return renderer.render(

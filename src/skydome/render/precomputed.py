@@ -8,7 +8,7 @@ import numpy as np
 
 from skydome.atmosphere import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
-from skydome.atmosphere.tables import load_tables
+from skydome.atmosphere.tables import load_tables, shared_tables
 from skydome.atmosphere.uniforms import M_PER_KM
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import shared_context
@@ -17,7 +17,7 @@ from skydome.render.base import (
     camera_position_km,
     check_direction,
     check_sun_direction,
-    image_texture,
+    input_image,
 )
 from skydome.render.cameras import Camera
 from skydome.render.frame import Frame
@@ -33,7 +33,8 @@ class PrecomputedRenderer(PassRenderer):
     Args:
         params: the atmosphere.
         config: table sizes, wavelengths and orders (default: ``PrecomputeConfig()``).
-        cache: use the on-disk cache.
+        cache: use the on-disk cache, and share the tables in GPU memory with other renderers
+            of the same atmosphere and config (False: compute them afresh, for this renderer).
         progress: ``progress(stage, fraction)`` during a precomputation.
         ctx: a moderngl context (default: the shared headless one).
         sky_view: draw frames from sky-view tables (render/sky_view.py), and the aerial
@@ -60,15 +61,23 @@ class PrecomputedRenderer(PassRenderer):
         super().__init__(params, ctx or shared_context())
         self.config = config or PrecomputeConfig()
         t0 = time.perf_counter()
-        self.tables, self.loaded_from_cache = load_tables(
-            self.ctx, params, self.config, cache=cache, progress=progress
-        )
+        if cache:
+            self.tables, self.loaded_from_cache = shared_tables(
+                self.ctx, params, self.config, progress=progress
+            )
+        else:
+            self.tables, self.loaded_from_cache = load_tables(
+                self.ctx, params, self.config, cache=False, progress=progress
+            )
+            self._owned.append(self.tables)
         self.setup_s = time.perf_counter() - t0
         self.uniforms = self.tables.uniforms()
         self.textures = self.tables.textures()
         self.sky_view = (
             SkyViewTables(self.ctx, self.tables.defines(), sky_view_size) if sky_view else None
         )
+        if self.sky_view is not None:
+            self._owned.append(self.sky_view)
 
     @property
     def wavelengths_nm(self) -> np.ndarray:
@@ -102,9 +111,10 @@ class PrecomputedRenderer(PassRenderer):
                 and irradiance in units of the params' solar spectrum; its sky and ground light
                 are added (its disk is not drawn).
             shadow_length_m: optional (H, W) image, the length (m) of each view ray, from the
-                camera, that lies in an occluder's shadow (light shafts, Bruneton 2017).
+                camera, that lies in an occluder's shadow (light shafts, Bruneton 2017); +inf
+                for a ray in shadow all along.
             depth_m: optional (H, W) image of distances (m) to a user's scene along each ray
-                (<= 0 where there is none). Where given, the frame holds the aerial perspective
+                (<= 0 or +inf where there is none). Where given, the frame holds the aerial perspective
                 in-scattering between the camera and that point, and ``frame.info
                 ["transmittance"]`` the (H, W, 3) RGB transmittance to multiply the scene by:
                 composite = scene * transmittance + frame.
@@ -132,14 +142,13 @@ class PrecomputedRenderer(PassRenderer):
         extra, inputs = (["HAS_LIGHT2"] if light2_scale > 0 else []), {}
         if shadow_length_m is not None:
             extra.append("HAS_SHADOW_MAP")
-            inputs["u_shadow_map"] = image_texture(
-                self.ctx, "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM
+            # +inf: the whole ray is in shadow (1e30 km is past the end of any ray).
+            inputs["u_shadow_map"] = input_image(
+                "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM, posinf=1e30
             )
         if depth_m is not None:
             extra.append("HAS_DEPTH_MAP")
-            inputs["u_depth_map"] = image_texture(
-                self.ctx, "depth_m", depth_m, (w, h), 1 / M_PER_KM
-            )
+            inputs["u_depth_map"] = input_image("depth_m", depth_m, (w, h), 1 / M_PER_KM)
         radius_km = uniforms["u_camera_position"][2]
         use_sky_view = self.sky_view is not None and radius_km < self.params.top_radius_m / M_PER_KM
         textures = dict(self.textures)
@@ -176,9 +185,3 @@ class PrecomputedRenderer(PassRenderer):
         if depth_m is not None:
             info["transmittance"] = outs[1][..., :3]
         return Frame(outs[0], info)
-
-    def release(self) -> None:
-        super().release()
-        if self.sky_view is not None:
-            self.sky_view.release()
-        self.tables.release()

@@ -49,6 +49,7 @@ class SingleScatteringRenderer(PassRenderer):
         self.view_samples = int(view_samples)
         self.jitter = bool(jitter)
         self.transmittance = TransmittanceTable(self.ctx, params)
+        self._owned.append(self.transmittance)
         matrix = spectral_to_rgbs_matrix(self.wavelengths_nm)  # (4, N)
         groups = len(self.wavelengths_nm) // 4
         # mat4 per group, column j = wavelength j of the group (column-major upload).
@@ -108,7 +109,3 @@ class SingleScatteringRenderer(PassRenderer):
             wavelengths_nm=self.wavelengths_nm.tolist(),
         )
         return Frame(data, info)
-
-    def release(self) -> None:
-        super().release()
-        self.transmittance.release()

@@ -4,10 +4,12 @@
 // edge increasing eastward, zenith at the top), 3 cubemap strip of six square faces
 // (+X east, -X west, +Y north, -Y south, +Z up, -Z down), 4 a direction per pixel given
 // by a texture (u_direction_map).
-// frag_xy is gl_FragCoord.xy (origin bottom-left; images are flipped to top-first on read).
+// frag_xy is gl_FragCoord.xy (origin bottom-left; images are flipped to top-first on read)
+// of a frame drawn whole or tile by tile: u_tile_offset places the tile in the frame.
 #include "constants.glsl"
 
-uniform vec2 u_resolution;       // pixels
+uniform vec2 u_resolution;       // pixels of the whole frame
+uniform vec2 u_tile_offset;      // pixels: the drawn tile's lower-left corner in the frame
 uniform mat3 u_camera_basis;     // columns: right, up, forward (perspective)
 uniform float u_tan_half_fov;    // tan(horizontal fov / 2) (perspective)
 uniform sampler2D u_direction_map;  // unit directions, one texel per pixel (model 4)
@@ -23,7 +25,8 @@ vec3 cube_face_direction(int face, vec2 p) {
     return vec3(p.x, p.y, -1.0);                   // -Z down: right = east
 }
 
-bool camera_ray(vec2 frag_xy, out vec3 dir) {
+bool camera_ray(vec2 tile_xy, out vec3 dir) {
+    vec2 frag_xy = tile_xy + u_tile_offset;
     vec2 uv = frag_xy / u_resolution;
 #if CAMERA_MODEL == 0
     vec2 ndc = uv * 2.0 - 1.0;
@@ -46,7 +49,7 @@ bool camera_ray(vec2 frag_xy, out vec3 dir) {
     dir = vec3(sin(az) * cos(el), cos(az) * cos(el), sin(el));
     return true;
 #elif CAMERA_MODEL == 4
-    dir = normalize(texelFetch(u_direction_map, ivec2(frag_xy), 0).xyz);
+    dir = normalize(texelFetch(u_direction_map, ivec2(tile_xy), 0).xyz);  // the tile's own map
     return true;
 #else
     float face_size = u_resolution.y;
