@@ -8,6 +8,7 @@ from pathlib import Path
 
 import typer
 
+from skydome.cli.render_cmd import atmosphere_with_knobs, knob_option
 from skydome.errors import OutputError, ParameterError, check_range
 
 
@@ -21,17 +22,20 @@ def register(app: typer.Typer) -> None:
             0.0, "--altitude", help="Observer altitude above the ground, metres."
         ),
         atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
+        albedo: float = knob_option("--albedo"),
+        aod: float = knob_option("--aod"),
+        angstrom: float = knob_option("--angstrom"),
+        ozone: float = knob_option("--ozone"),
         as_json: bool = typer.Option(False, "--json", help="Print a JSON object."),
     ) -> None:
         """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance (cd/m^2)."""
         from rich.console import Console
 
-        from skydome.atmosphere import preset
         from skydome.atmosphere.illuminance import horizontal_illuminance
         from skydome.cli.render_cmd import precompute_progress
 
         check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
-        params = preset(atmosphere)
+        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
         console = Console(soft_wrap=True)
         with precompute_progress(console, direct=True) as report:
@@ -58,6 +62,10 @@ def register(app: typer.Typer) -> None:
     @app.command()
     def precompute(
         atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
+        albedo: float = knob_option("--albedo"),
+        aod: float = knob_option("--aod"),
+        angstrom: float = knob_option("--angstrom"),
+        ozone: float = knob_option("--ozone"),
         orders: int = typer.Option(4, "--orders", help="Scattering orders (1..20)."),
         spectral: str = typer.Option(
             "accurate", "--spectral", help="accurate (16 wavelengths) | fast (4)."
@@ -72,7 +80,6 @@ def register(app: typer.Typer) -> None:
         """Precompute the multiple-scattering tables into the cache (and optionally a file)."""
         from rich.console import Console
 
-        from skydome.atmosphere import preset
         from skydome.atmosphere.cache import cache_path
         from skydome.atmosphere.precompute_config import PrecomputeConfig
         from skydome.atmosphere.tables import load_tables, tables_key
@@ -80,7 +87,7 @@ def register(app: typer.Typer) -> None:
         from skydome.gpu import shared_context
         from skydome.io.lutfile import write_lut_file
 
-        params = preset(atmosphere)
+        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         if not isinstance(orders, int) or not 1 <= orders <= 20:
             raise ParameterError(f"--orders {orders} must be an integer in [1, 20]")
         config = PrecomputeConfig(wavelengths=spectral, orders=orders)

@@ -40,6 +40,53 @@ def parse_exposure(text: str) -> float | None:
     return check_range("--exposure", ev, -20.0, 40.0, "EV")
 
 
+#: Help of the atmosphere knob options of ``render``, ``illuminance`` and ``precompute``; the
+#: ranges are those of skydome.atmosphere.params (*_RANGE), written out here so that the
+#: command line starts without importing NumPy (tests/test_cli_knobs.py checks they agree).
+KNOB_HELP = {
+    "--albedo": "Ground albedo, 0..1, on top of --atmosphere (default: the preset's, earth 0.3).",
+    "--aod": "Aerosol optical depth at 550 nm, 0..5, on top of --atmosphere (default: the "
+    "preset's, earth 0.0053, hazy 0.27).",
+    "--angstrom": "Angstrom exponent of the aerosol optical depth, -0.5..3 (0 grey, 1.3 "
+    "continental haze, 2+ smoke), on top of --atmosphere (default: the preset's spectrum).",
+    "--ozone": "Total ozone column, Dobson units, 0..700, on top of --atmosphere (default: "
+    "the preset's, earth 300 DU).",
+}
+
+
+def knob_option(flag: str):
+    """A ``typer.Option`` for one atmosphere knob (default None: the preset's own value)."""
+    return typer.Option(None, flag, help=KNOB_HELP[flag])
+
+
+def atmosphere_with_knobs(
+    atmosphere: str,
+    albedo: float | None = None,
+    aod: float | None = None,
+    angstrom: float | None = None,
+    ozone: float | None = None,
+):
+    """The ``--atmosphere`` preset with the knob options given (None keeps the preset's
+    value); a bad value raises ParameterError naming its flag and range."""
+    from skydome.atmosphere import (
+        ALBEDO_RANGE,
+        ANGSTROM_RANGE,
+        AOD_550_RANGE,
+        OZONE_DU_RANGE,
+        preset,
+    )
+
+    for flag, value, valid, unit in (
+        ("--albedo", albedo, ALBEDO_RANGE, ""),
+        ("--aod", aod, AOD_550_RANGE, ""),
+        ("--angstrom", angstrom, ANGSTROM_RANGE, ""),
+        ("--ozone", ozone, OZONE_DU_RANGE, "DU"),
+    ):
+        if value is not None:
+            check_range(flag, value, *valid, unit)
+    return preset(atmosphere, albedo=albedo, aod_550=aod, angstrom=angstrom, ozone_du=ozone)
+
+
 @contextlib.contextmanager
 def precompute_progress(console, direct: bool = False):
     """A progress bar for table precomputation, shown only while a stage reports.
@@ -113,6 +160,10 @@ def register(app: typer.Typer) -> None:
         atmosphere: str = typer.Option(
             "earth", "--atmosphere", help="Preset: earth | earth_nishita | hazy | mars."
         ),
+        albedo: float = knob_option("--albedo"),
+        aod: float = knob_option("--aod"),
+        angstrom: float = knob_option("--angstrom"),
+        ozone: float = knob_option("--ozone"),
         model: str = typer.Option(
             "precomputed", "--model", help="precomputed (every scattering order) | single."
         ),
@@ -139,7 +190,6 @@ def register(app: typer.Typer) -> None:
         """Render a sky in absolute units (cd/m^2) and write it as PNG (tone mapped), EXR or NPY."""
         from rich.console import Console
 
-        from skydome.atmosphere import preset
         from skydome.display import (
             TONEMAPS,
             auto_exposure,
@@ -163,7 +213,7 @@ def register(app: typer.Typer) -> None:
             )
         if model not in MODELS:
             raise ParameterError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
-        params = preset(atmosphere)
+        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         kwargs = {
             "fov_deg": fov,
             "yaw_deg": az if yaw is None else yaw,

@@ -1,0 +1,159 @@
+"""Atmosphere knob options of the command line: --albedo, --aod, --angstrom, --ozone on
+``render``, ``illuminance`` and ``precompute`` (errors, help, effect, table cache)."""
+
+import math
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+Y = np.array([0.2126, 0.7152, 0.0722])  # linear sRGB -> luminance
+
+
+def run(*args, cwd=None):
+    return subprocess.run(
+        [sys.executable, "-m", "skydome", *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=300,
+    )
+
+
+COMMANDS = {
+    "render": ["render", "--size", "8x8"],
+    "illuminance": ["illuminance", "--sun-elevation", "10"],
+    "precompute": ["precompute", "--orders", "1"],
+}
+BAD = [
+    ("--albedo", "1.5", 0, 1),
+    ("--albedo", "-0.2", 0, 1),
+    ("--aod", "9", 0, 5),
+    ("--aod", "-1", 0, 5),
+    ("--angstrom", "3.5", -0.5, 3),
+    ("--angstrom", "-2", -0.5, 3),
+    ("--ozone", "900", 0, 700),
+    ("--ozone", "-10", 0, 700),
+]
+
+
+def range_words(lo: float, hi: float) -> str:
+    """The range as an error names it: '0 to 5' or '[0.0, 5.0]'."""
+    return rf"({lo:g} to {hi:g}|\[{float(lo)}, {float(hi)}\])"
+
+
+# Every bad value on render; on the other two commands one of each flag (same helper).
+CASES = [("render", *bad) for bad in BAD] + [
+    (command, *bad) for command in ("illuminance", "precompute") for bad in BAD[::2]
+]
+
+
+@pytest.mark.parametrize(("command", "flag", "value", "lo", "hi"), CASES)
+def test_bad_knob_is_one_line_naming_flag_and_range(tmp_path, command, flag, value, lo, hi):
+    out = tmp_path / "sky.png"
+    extra = ["-o", str(out)] if command == "render" else []
+    res = run(*COMMANDS[command], flag, value, *extra, cwd=tmp_path)
+    assert res.returncode == 2, (res.stdout, res.stderr)
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1, res.stderr
+    assert re.search(rf"{flag} =? ?{re.escape(value)}(\.0)? .*{range_words(lo, hi)}", lines[0])
+    assert "Traceback" not in res.stderr and not out.exists()
+    assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_help_names_each_knob_with_its_range():
+    from skydome.atmosphere import ALBEDO_RANGE, ANGSTROM_RANGE, AOD_550_RANGE, OZONE_DU_RANGE
+    from skydome.cli.render_cmd import KNOB_HELP
+
+    # The help's ranges (written out so the CLI starts without NumPy) are the library's.
+    for flag, (lo, hi) in {
+        "--albedo": ALBEDO_RANGE,
+        "--aod": AOD_550_RANGE,
+        "--angstrom": ANGSTROM_RANGE,
+        "--ozone": OZONE_DU_RANGE,
+    }.items():
+        assert f"{lo:g}..{hi:g}" in KNOB_HELP[flag], flag
+    assert "550 nm" in KNOB_HELP["--aod"] and "Dobson" in KNOB_HELP["--ozone"]
+    for command in COMMANDS:
+        res = run(command, "--help")
+        assert res.returncode == 0, res.stderr
+        for flag in KNOB_HELP:
+            assert flag in res.stdout, (command, flag)
+
+
+def render_npy(tmp_path, name: str, *knobs: str) -> np.ndarray:
+    """A 64x32 equirect frame (cd/m^2), single scattering, 4 wavelengths, Sun at 30°."""
+    out = tmp_path / f"{name}.npy"
+    res = run(
+        "render",
+        "--model",
+        "single",
+        "--spectral",
+        "fast",
+        "--camera",
+        "equirect",
+        "--size",
+        "64x32",
+        "--sun-elevation",
+        "30",
+        "--exposure",
+        "10",
+        *knobs,
+        "-o",
+        str(out),
+    )
+    assert res.returncode == 0, res.stderr
+    return np.load(out)
+
+
+def test_render_knobs_act_on_the_frame(tmp_path):
+    base = render_npy(tmp_path, "base")
+    nadir = (base[-1, :, :3] @ Y).mean()
+    # Single scattering lights the Lambertian ground with the direct Sun only, seen over
+    # 1.7 m of air: its radiance is proportional to the albedo (0.3 -> 0.6: x2, to 0.5 %).
+    bright = render_npy(tmp_path, "albedo", "--albedo", "0.6")
+    assert (bright[-1, :, :3] @ Y).mean() / nadir == pytest.approx(2.0, rel=5e-3)
+    # AOD 0.005328 (earth) -> 0.5, wavelength-independent: the Sun's beam on the ground at
+    # 30° loses exp(-Δτ / sin 30°) = 0.372 (Beer-Lambert, air mass 2); 1 % bound.
+    hazy = render_npy(tmp_path, "aod", "--aod", "0.5")
+    expected = math.exp(-(0.5 - 4.44e-6 * 1200.0) / 0.5)
+    assert (hazy[-1, :, :3] @ Y).mean() / nadir == pytest.approx(expected, rel=0.01)
+    # At the same AOD at 550 nm, a steep Ångström exponent (2, fine smoke) dims blue more
+    # than red on the way to the ground: the sunlit ground is redder than with grey haze.
+    smoke = render_npy(tmp_path, "smoke", "--aod", "0.5", "--angstrom", "2")
+    grey = render_npy(tmp_path, "grey", "--aod", "0.5", "--angstrom", "0")
+    assert (
+        smoke[-1, :, 2].mean() / smoke[-1, :, 0].mean()
+        < grey[-1, :, 2].mean() / grey[-1, :, 0].mean()
+    )
+    # Ozone absorbs in the Chappuis band (500-700 nm): more ozone, a bluer zenith
+    # (linear sRGB blue/red measured 2.78 at 0 DU, 3.23 at 600 DU).
+    no_ozone = render_npy(tmp_path, "o0", "--ozone", "0")
+    much_ozone = render_npy(tmp_path, "o600", "--ozone", "600")
+
+    def zenith_blue_red(frame):
+        return frame[0, :, 2].mean() / frame[0, :, 0].mean()
+
+    assert zenith_blue_red(no_ozone) < zenith_blue_red(base) < zenith_blue_red(much_ozone)
+
+
+def cache_file(res) -> str:
+    m = re.search(r"cache (\S+\.lut)", res.stdout)
+    assert m, res.stdout
+    return m.group(1)
+
+
+def test_precompute_knobs_key_the_tables(tmp_path):
+    # A knob at the preset's own value (earth: 300 DU) is the same atmosphere and reuses its
+    # tables; another value is another atmosphere with its own tables.
+    args = ["precompute", "--orders", "1", "--spectral", "fast"]
+    first = run(*args)
+    assert first.returncode == 0, first.stderr
+    same = run(*args, "--ozone", "300")
+    assert same.returncode == 0, same.stderr
+    assert "loaded from the cache" in same.stdout and cache_file(same) == cache_file(first)
+    other = run(*args, "--ozone", "250", "--aod", "0.1")
+    assert other.returncode == 0, other.stderr
+    assert "computed" in other.stdout and cache_file(other) != cache_file(first)
