@@ -1,7 +1,9 @@
 """The command line: outputs, messages and exit status for bad input."""
 
+import os
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -10,12 +12,13 @@ from PIL import Image
 from skydome.io import read_exr
 
 
-def run(*args, cwd=None):
+def run(*args, cwd=None, env=None):
     return subprocess.run(
         [sys.executable, "-m", "skydome", *args],
         capture_output=True,
         text=True,
         cwd=cwd,
+        env=env,
         timeout=300,
     )
 
@@ -93,7 +96,7 @@ def test_equirect_and_cubemap_sizes(tmp_path):
         (["--camera", "pinhole"], "unknown camera"),
         (["--tonemap", "magic"], "unknown tone map"),
         (["--exposure", "bright"], "--exposure"),
-        (["-o", "OUT/x.jpg"], "extension"),
+        (["-o", "OUT/x.tif"], "extension"),
         (["-o", "/nonexistent_dir_xyz/x.png"], "does not exist"),
     ],
 )
@@ -107,3 +110,139 @@ def test_bad_input_one_line_exit_2_nothing_written(tmp_path, args, message):
     assert len(lines) == 1 and message in lines[0], res.stderr
     assert "Traceback" not in res.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def only_error_line(res) -> str:
+    """The one stderr line of a refused command (exit status 2, no traceback)."""
+    lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
+    assert res.returncode == 2 and len(lines) == 1, res.stderr
+    assert lines[0].startswith("skydome: error: ")
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    "args, flag, shown",
+    [
+        # Unknown names: the flag, the value and the choices as plain words.
+        (["--atmosphere", "nope"], "--atmosphere", "earth, earth_nishita, hazy, mars"),
+        (["--camera", "nope"], "--camera", "perspective, fisheye, equirect, cubemap"),
+        (["--tonemap", "nope"], "--tonemap", "filmic"),
+        (["--spectral", "nope"], "--spectral", "fast, accurate"),
+        (["--model", "nope"], "--model", "precomputed, single"),
+        # Out-of-range numbers: the flag (not the library's fov_deg), the range in words.
+        (["--size", "0x0"], "--size", "1 to 16384 pixels"),
+        (["--fov", "500"], "--fov", "0.01 to 179 deg"),
+        (["--pitch", "100"], "--pitch", "-90 to 90 deg"),
+        (["--yaw", "1000"], "--yaw", "-360 to 360 deg"),
+        (["--roll", "-999"], "--roll", "-360 to 360 deg"),
+        (["--altitude", "-5"], "--altitude", "0 to 1e+08 m"),
+        (["--orders", "0"], "--orders", "1 to 20"),
+        (["--model", "single", "--samples", "0"], "--samples", "1 to 4096"),
+        (["--exposure", "bright"], "--exposure", "auto or an EV100 number"),
+        # --samples does not apply to the precomputed model: refused, not ignored.
+        (["--samples", "64"], "--samples", "only to --model single"),
+        (["--model", "precomputed", "--samples", "16"], "--samples", "--model single"),
+        # Usage errors too are one line.
+        (["--fov", "wide"], "--fov", "render --help"),
+        (["--no-such-flag"], "--no-such-flag", "render --help"),
+    ],
+)
+def test_errors_name_the_flag_in_plain_words(tmp_path, args, flag, shown):
+    res = run("render", *args, "-o", str(tmp_path / "sky.png"), cwd=tmp_path)
+    line = only_error_line(res)
+    assert flag in line and shown in line, line
+    if "help" not in shown:  # (Click's own usage messages quote the option)
+        # No Python syntax: no ['a', 'b'] lists, no quoted values, no [lo, hi] intervals.
+        assert not any(ch in line for ch in "[]'\""), line
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["precompute", "--atmosphere", "nope"], "--atmosphere"),
+        (["precompute", "--spectral", "nope"], "--spectral"),
+        (["precompute", "--orders", "21"], "--orders"),
+        (["illuminance", "--sun-elevation", "10", "--atmosphere", "nope"], "--atmosphere"),
+    ],
+)
+def test_other_commands_name_the_flag(tmp_path, args, flag):
+    line = only_error_line(run(*args, cwd=tmp_path))
+    assert flag in line and not any(ch in line for ch in "[]'"), line
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_version():
+    import skydome
+
+    res = run("--version")
+    assert res.returncode == 0 and res.stdout.strip() == f"skydome {skydome.__version__}"
+    assert res.stderr == ""
+
+
+def test_help_says_where_samples_apply():
+    res = run("render", "--help")
+    assert res.returncode == 0
+    text = " ".join(res.stdout.replace("│", " ").split())
+    assert "--samples" in text and "--model single only" in text
+
+
+def test_samples_with_the_single_model_renders(tmp_path):
+    out = tmp_path / "s.npy"
+    res = run(
+        "render", "--model", "single", "--samples", "8", "--size", "8x4", "--spectral", "fast",
+        "-o", str(out),
+    )  # fmt: skip
+    assert res.returncode == 0, res.stderr
+    frame = np.load(out)
+    # A daytime sky in cd/m^2 (as in test_render_png_and_exr): hundreds to tens of thousands.
+    assert frame.shape == (4, 8, 4) and 100 < np.median(frame[:2, :, 1]) < 50_000
+
+
+def test_hdr_and_jpg_outputs(tmp_path):
+    hdr, jpg, exr = tmp_path / "sky.hdr", tmp_path / "sky.jpg", tmp_path / "sky.exr"
+    res = run(
+        "render", "--size", "32x16", "--spectral", "fast",
+        "-o", str(hdr), "-o", str(jpg), "-o", str(exr),
+    )  # fmt: skip
+    assert res.returncode == 0, res.stderr
+    from skydome.io import read_hdr
+
+    rgb, header = read_hdr(hdr)
+    data, _ = read_exr(exr)
+    # The same frame: RGBE keeps every channel within 1/256 of the pixel's largest one.
+    err = np.abs(rgb - np.maximum(data[..., :3], 0)).max(axis=-1)
+    assert np.all(err <= (2.0**-8 + 2.0**-20) * data[..., :3].max(axis=-1))
+    assert '"tonemap":"filmic"' in header["SKYDOME_SETTINGS"]
+    with Image.open(jpg) as im:
+        assert im.format == "JPEG" and im.size == (32, 16) and np.asarray(im).std() > 2
+
+
+def test_cache_warning_is_one_line(tmp_path):
+    """A damaged cache file is rebuilt with one 'skydome: warning:' line, no source line."""
+    env = {**os.environ, "SKYDOME_CACHE": str(tmp_path / "cache")}
+    args = ("precompute", "--spectral", "fast", "--orders", "1")
+    first = run(*args, env=env)
+    assert first.returncode == 0 and first.stderr == "", first.stderr
+    (path,) = (tmp_path / "cache").glob("*.lut")
+    path.write_bytes(path.read_bytes()[:100])  # truncated, as in test_cache.py
+    res = run(*args, env=env)
+    assert res.returncode == 0, res.stderr
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1, res.stderr
+    assert lines[0].startswith("skydome: warning: rebuilding cached tables: ")
+    assert str(path) in lines[0] and "CacheWarning" not in lines[0]
+    assert "computed" in res.stdout  # and it was rebuilt
+
+
+def test_other_warnings_keep_python_format(capsys):
+    from skydome.cli.main import show_warning
+
+    show_warning(UserWarning("something else"), UserWarning, "/x/mod.py", 7)
+    err = capsys.readouterr().err
+    assert "/x/mod.py:7: UserWarning: something else" in err
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # (the import below must not warn)
+        from skydome.atmosphere.cache import CacheWarning
+    show_warning(CacheWarning("rebuilding\ncached tables"), CacheWarning, "/x/mod.py", 7)
+    assert capsys.readouterr().err == "skydome: warning: rebuilding cached tables\n"

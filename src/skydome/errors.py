@@ -26,12 +26,35 @@ class CacheError(SkydomeError):
 
 
 def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -> float:
-    """Return ``float(value)`` or raise ParameterError naming the valid range [lo, hi]."""
+    """Return ``float(value)`` or raise ParameterError naming the valid range [lo, hi].
+
+    A ``name`` that is a command-line flag (starts with ``--``) gets the message in plain
+    words, ``--fov 500 deg is outside the valid range 0.01 to 179 deg``; a keyword argument
+    gets interval notation, ``fov_deg = 500 deg is outside the valid range [0.01, 179.0] deg``.
+    """
     try:
         v = float(value)
     except (TypeError, ValueError):
         raise ParameterError(f"{name} must be a number, got {value!r}") from None
     if not (lo <= v <= hi):  # also rejects NaN
         u = f" {unit}" if unit else ""
+        if name.startswith("--"):
+            raise ParameterError(f"{name} {v:g}{u} is outside the valid range {lo:g} to {hi:g}{u}")
         raise ParameterError(f"{name} = {value}{u} is outside the valid range [{lo}, {hi}]{u}")
     return v
+
+
+def check_choice(name: str, value: str, choices, what: str) -> str:
+    """Return ``value`` if it is one of ``choices``, else raise ParameterError naming them as
+    plain words, e.g. ``--camera pinhole: unknown camera; choose one of perspective, fisheye``.
+
+    Args:
+        name: what the user typed the value as (a CLI flag or a keyword argument).
+        value: the given value.
+        choices: the valid values (an iterable of str, e.g. a dict's keys), in the order shown.
+        what: what the value names, e.g. "camera".
+    """
+    names = [str(c) for c in choices]
+    if value not in names:
+        raise ParameterError(f"{name} {value}: unknown {what}; choose one of {', '.join(names)}")
+    return value

@@ -8,8 +8,7 @@ from pathlib import Path
 
 import typer
 
-from skydome.cli.render_cmd import atmosphere_with_knobs, knob_option
-from skydome.errors import OutputError, ParameterError, check_range
+from skydome.errors import OutputError, check_choice, check_range
 
 
 def register(app: typer.Typer) -> None:
@@ -22,23 +21,22 @@ def register(app: typer.Typer) -> None:
             0.0, "--altitude", help="Observer altitude above the ground, metres."
         ),
         atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
-        albedo: float = knob_option("--albedo"),
-        aod: float = knob_option("--aod"),
-        angstrom: float = knob_option("--angstrom"),
-        ozone: float = knob_option("--ozone"),
         as_json: bool = typer.Option(False, "--json", help="Print a JSON object."),
     ) -> None:
         """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance (cd/m^2)."""
         from rich.console import Console
 
+        from skydome.atmosphere import preset
         from skydome.atmosphere.illuminance import horizontal_illuminance
+        from skydome.atmosphere.presets import PRESETS
         from skydome.cli.render_cmd import precompute_progress
 
         check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
-        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
+        check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
+        params = preset(atmosphere)
         check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
         console = Console(soft_wrap=True)
-        with precompute_progress(console, direct=True) as report:
+        with precompute_progress(console) as report:
             from skydome.atmosphere.tables import load_tables
             from skydome.gpu import shared_context
 
@@ -62,10 +60,6 @@ def register(app: typer.Typer) -> None:
     @app.command()
     def precompute(
         atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
-        albedo: float = knob_option("--albedo"),
-        aod: float = knob_option("--aod"),
-        angstrom: float = knob_option("--angstrom"),
-        ozone: float = knob_option("--ozone"),
         orders: int = typer.Option(4, "--orders", help="Scattering orders (1..20)."),
         spectral: str = typer.Option(
             "accurate", "--spectral", help="accurate (16 wavelengths) | fast (4)."
@@ -80,16 +74,20 @@ def register(app: typer.Typer) -> None:
         """Precompute the multiple-scattering tables into the cache (and optionally a file)."""
         from rich.console import Console
 
+        from skydome.atmosphere import preset
         from skydome.atmosphere.cache import cache_path
         from skydome.atmosphere.precompute_config import PrecomputeConfig
+        from skydome.atmosphere.presets import PRESETS
         from skydome.atmosphere.tables import load_tables, tables_key
-        from skydome.cli.render_cmd import precompute_progress
+        from skydome.cli.render_cmd import MAX_ORDERS, check_int, precompute_progress
         from skydome.gpu import shared_context
         from skydome.io.lutfile import write_lut_file
+        from skydome.spectra.grids import MODES
 
-        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
-        if not isinstance(orders, int) or not 1 <= orders <= 20:
-            raise ParameterError(f"--orders {orders} must be an integer in [1, 20]")
+        check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
+        check_choice("--spectral", spectral, MODES, "wavelength set")
+        check_int("--orders", orders, 1, MAX_ORDERS)
+        params = preset(atmosphere)
         config = PrecomputeConfig(wavelengths=spectral, orders=orders)
         out = None
         if output is not None:
@@ -104,7 +102,7 @@ def register(app: typer.Typer) -> None:
                 )
         console = Console(soft_wrap=True)
         t0 = time.perf_counter()
-        with precompute_progress(console, direct=True) as report:
+        with precompute_progress(console) as report:
             tables, loaded = load_tables(
                 shared_context(), params, config, cache=not no_cache, progress=report
             )

@@ -1,4 +1,4 @@
-"""``skydome render``: render a sky to EXR / PNG / NPY files."""
+"""``skydome render``: render a sky to EXR / HDR / NPY / PNG / JPEG files."""
 
 from __future__ import annotations
 
@@ -8,21 +8,35 @@ import time
 
 import typer
 
-from skydome.errors import ParameterError, check_range
+from skydome.errors import ParameterError, check_choice, check_range
 
 #: Frames larger than this many pixels are refused (a 16k x 8k equirect is 128 Mpixel).
 MAX_PIXELS = 134_217_728
+#: Largest --size side (pixels), as skydome.render.cameras.MAX_SIDE.
+MAX_SIDE = 16384
+#: Ray-march samples per view ray accepted by the single-scattering model.
+MAX_VIEW_SAMPLES = 4096
+#: Scattering orders accepted by the precomputed model.
+MAX_ORDERS = 20
+
+
+def check_int(flag: str, value: int, lo: int, hi: int) -> int:
+    """``value`` if it is an integer in [lo, hi], else ParameterError naming ``flag``."""
+    if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+        raise ParameterError(f"{flag} {value} must be an integer from {lo} to {hi}")
+    return value
 
 
 def parse_size(text: str) -> tuple[int, int]:
     """Parse 'WxH' (e.g. 1280x720) into positive ints."""
     m = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text or "")
     if not m:
-        raise ParameterError(f"--size {text!r} must look like WIDTHxHEIGHT, e.g. 1280x720")
+        raise ParameterError(f"--size {text} must look like WIDTHxHEIGHT, e.g. 1280x720")
     w, h = int(m.group(1)), int(m.group(2))
-    if w < 1 or h < 1 or w > 16384 or h > 16384 or w * h > MAX_PIXELS:
+    if w < 1 or h < 1 or w > MAX_SIDE or h > MAX_SIDE or w * h > MAX_PIXELS:
         raise ParameterError(
-            f"--size {text} must have sides in [1, 16384] pixels and at most {MAX_PIXELS} pixels"
+            f"--size {text} must have sides of 1 to {MAX_SIDE} pixels and at most "
+            f"{MAX_PIXELS} pixels in all"
         )
     return w, h
 
@@ -35,68 +49,19 @@ def parse_exposure(text: str) -> float | None:
         ev = float(text)
     except ValueError:
         raise ParameterError(
-            f"--exposure {text!r} must be 'auto' or an EV100 number such as 14.5"
+            f"--exposure {text} must be auto or an EV100 number such as 14.5"
         ) from None
     return check_range("--exposure", ev, -20.0, 40.0, "EV")
 
 
-#: Help of the atmosphere knob options of ``render``, ``illuminance`` and ``precompute``; the
-#: ranges are those of skydome.atmosphere.params (*_RANGE), written out here so that the
-#: command line starts without importing NumPy (tests/test_cli_knobs.py checks they agree).
-KNOB_HELP = {
-    "--albedo": "Ground albedo, 0..1, on top of --atmosphere (default: the preset's, earth 0.3).",
-    "--aod": "Aerosol optical depth at 550 nm, 0..5, on top of --atmosphere (default: the "
-    "preset's, earth 0.0053, hazy 0.27).",
-    "--angstrom": "Angstrom exponent of the aerosol optical depth, -0.5..3 (0 grey, 1.3 "
-    "continental haze, 2+ smoke), on top of --atmosphere (default: the preset's spectrum).",
-    "--ozone": "Total ozone column, Dobson units, 0..700, on top of --atmosphere (default: "
-    "the preset's, earth 300 DU).",
-}
-
-
-def knob_option(flag: str):
-    """A ``typer.Option`` for one atmosphere knob (default None: the preset's own value)."""
-    return typer.Option(None, flag, help=KNOB_HELP[flag])
-
-
-def atmosphere_with_knobs(
-    atmosphere: str,
-    albedo: float | None = None,
-    aod: float | None = None,
-    angstrom: float | None = None,
-    ozone: float | None = None,
-):
-    """The ``--atmosphere`` preset with the knob options given (None keeps the preset's
-    value); a bad value raises ParameterError naming its flag and range."""
-    from skydome.atmosphere import (
-        ALBEDO_RANGE,
-        ANGSTROM_RANGE,
-        AOD_550_RANGE,
-        OZONE_DU_RANGE,
-        preset,
-    )
-
-    for flag, value, valid, unit in (
-        ("--albedo", albedo, ALBEDO_RANGE, ""),
-        ("--aod", aod, AOD_550_RANGE, ""),
-        ("--angstrom", angstrom, ANGSTROM_RANGE, ""),
-        ("--ozone", ozone, OZONE_DU_RANGE, "DU"),
-    ):
-        if value is not None:
-            check_range(flag, value, *valid, unit)
-    return preset(atmosphere, albedo=albedo, aod_550=aod, angstrom=angstrom, ozone_du=ozone)
-
-
 @contextlib.contextmanager
-def precompute_progress(console, direct: bool = False):
+def precompute_progress(console):
     """A progress bar for table precomputation, shown only while a stage reports.
 
-    Yields the ``report(stage, fraction)`` callback; unless ``direct``, it is also installed
-    for renderers made inside the block (``skydome.render.api.set_progress``).
+    Yields the ``report(stage, fraction)`` callback, to pass as ``progress=`` to what may
+    precompute tables.
     """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-    from skydome.render.api import set_progress
 
     bar = Progress(
         TextColumn("precomputing {task.description}"),
@@ -117,14 +82,11 @@ def precompute_progress(console, direct: bool = False):
             task = bar.add_task(stage, total=1.0)
         bar.update(task, completed=fraction, description=stage)
 
-    if not direct:
-        set_progress(report)
     try:
         yield report
     finally:
         if task is not None:
             bar.stop()
-        set_progress(None)
 
 
 def register(app: typer.Typer) -> None:
@@ -160,17 +122,18 @@ def register(app: typer.Typer) -> None:
         atmosphere: str = typer.Option(
             "earth", "--atmosphere", help="Preset: earth | earth_nishita | hazy | mars."
         ),
-        albedo: float = knob_option("--albedo"),
-        aod: float = knob_option("--aod"),
-        angstrom: float = knob_option("--angstrom"),
-        ozone: float = knob_option("--ozone"),
         model: str = typer.Option(
             "precomputed", "--model", help="precomputed (every scattering order) | single."
         ),
         orders: int = typer.Option(
             4, "--orders", help="Scattering orders of the precomputed model."
         ),
-        samples: int = typer.Option(16, "--samples", help="Ray-march samples per view ray."),
+        samples: int = typer.Option(
+            None,
+            "--samples",
+            help=f"Ray-march samples per view ray (1..{MAX_VIEW_SAMPLES}, default 16), for "
+            "--model single only: the precomputed model has no ray march and refuses it.",
+        ),
         spectral: str = typer.Option(
             "accurate", "--spectral", help="Wavelength set: accurate (16) | fast (4)."
         ),
@@ -184,12 +147,19 @@ def register(app: typer.Typer) -> None:
             "filmic", "--tonemap", help="filmic | reinhard | exponential | hvs | linear."
         ),
         output: list[str] = typer.Option(
-            ["sky.png"], "-o", "--output", help="Output file(s): .png, .exr, .npy; repeatable."
+            ["sky.png"],
+            "-o",
+            "--output",
+            help="Output file(s), repeatable: .exr or .hdr (absolute units), .npy, "
+            ".png or .jpg (tone mapped).",
         ),
     ) -> None:
-        """Render a sky in absolute units (cd/m^2) and write it as PNG (tone mapped), EXR or NPY."""
+        """Render a sky in absolute units (cd/m^2) and write it as EXR, HDR, NPY, or PNG and JPEG
+        (tone mapped)."""
         from rich.console import Console
 
+        from skydome.atmosphere import preset
+        from skydome.atmosphere.presets import PRESETS
         from skydome.display import (
             TONEMAPS,
             auto_exposure,
@@ -199,7 +169,16 @@ def register(app: typer.Typer) -> None:
         )
         from skydome.io import WRITERS, check_output_path, write_outputs
         from skydome.render import MODELS, get_renderer, make_camera
-        from skydome.render.cameras import direction_from_angles
+        from skydome.render.base import MAX_ALTITUDE_M
+        from skydome.render.cameras import (
+            CAMERAS,
+            FOV_RANGE_DEG,
+            PITCH_RANGE_DEG,
+            ROLL_RANGE_DEG,
+            YAW_RANGE_DEG,
+            direction_from_angles,
+        )
+        from skydome.spectra.grids import MODES
 
         # Validate everything before any work, so bad input writes nothing.
         el = check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
@@ -207,13 +186,26 @@ def register(app: typer.Typer) -> None:
         width, height = parse_size(size)
         ev = parse_exposure(exposure)
         check_range("--exposure-compensation", compensation, -20.0, 20.0, "EV")
-        if tonemap not in TONEMAPS:
-            raise ParameterError(
-                f"unknown tone map {tonemap!r}; choose one of {', '.join(TONEMAPS)}"
-            )
-        if model not in MODELS:
-            raise ParameterError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
-        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
+        check_range("--altitude", altitude, 0.0, MAX_ALTITUDE_M, "m")
+        check_choice("--tonemap", tonemap, TONEMAPS, "tone map")
+        check_choice("--model", model, MODELS, "model")
+        check_choice("--camera", camera, CAMERAS, "camera")
+        check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
+        check_choice("--spectral", spectral, MODES, "wavelength set")
+        check_int("--orders", orders, 1, MAX_ORDERS)
+        if samples is not None:
+            if model != "single":
+                raise ParameterError(
+                    f"--samples applies only to --model single; the {model} model reads "
+                    "every ray from its tables (drop --samples or add --model single)"
+                )
+            check_int("--samples", samples, 1, MAX_VIEW_SAMPLES)
+        check_range("--fov", fov, *FOV_RANGE_DEG, "deg")
+        check_range("--pitch", pitch, *PITCH_RANGE_DEG, "deg")
+        check_range("--roll", roll, *ROLL_RANGE_DEG, "deg")
+        if yaw is not None:
+            check_range("--yaw", yaw, *YAW_RANGE_DEG, "deg")
+        params = preset(atmosphere)
         kwargs = {
             "fov_deg": fov,
             "yaw_deg": az if yaw is None else yaw,
@@ -223,12 +215,17 @@ def register(app: typer.Typer) -> None:
         cam = make_camera(camera, **kwargs)
         paths = [check_output_path(p) for p in output]
         if len({str(p.resolve()) for p in paths}) != len(paths):
-            raise ParameterError("the same output path is given twice")
+            raise ParameterError("-o/--output: the same path is given twice")
 
         console = Console(soft_wrap=True)
-        with precompute_progress(console):
+        with precompute_progress(console) as report:
             renderer = get_renderer(
-                model, params, spectral=spectral, samples=samples, orders=orders
+                model,
+                params,
+                spectral=spectral,
+                orders=orders,
+                progress=report,
+                **({} if samples is None else {"samples": samples}),
             )
         frame = renderer.render(
             cam, width, height, sun_direction=direction_from_angles(el, az), altitude_m=altitude

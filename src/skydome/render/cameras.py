@@ -12,10 +12,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from skydome.astro.frames import horizontal_to_enu
-from skydome.errors import ParameterError, check_range
+from skydome.errors import ParameterError, check_choice, check_range
 
 #: Largest frame side accepted (pixels); bigger frames exceed typical GL texture limits.
 MAX_SIDE = 16384
+#: Valid ranges (deg) of the perspective camera's horizontal field of view and orientation.
+FOV_RANGE_DEG = (0.01, 179.0)
+PITCH_RANGE_DEG = (-90.0, 90.0)
+YAW_RANGE_DEG = (-360.0, 360.0)
+ROLL_RANGE_DEG = (-360.0, 360.0)
 
 
 def direction_from_angles(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
@@ -61,10 +66,10 @@ class PerspectiveCamera(Camera):
     name = "perspective"
 
     def __post_init__(self):
-        check_range("fov", self.fov_deg, 0.01, 179.0, "deg")
-        check_range("pitch", self.pitch_deg, -90.0, 90.0, "deg")
-        check_range("yaw", self.yaw_deg, -360.0, 360.0, "deg")
-        check_range("roll", self.roll_deg, -360.0, 360.0, "deg")
+        check_range("fov_deg", self.fov_deg, *FOV_RANGE_DEG, "deg")
+        check_range("pitch_deg", self.pitch_deg, *PITCH_RANGE_DEG, "deg")
+        check_range("yaw_deg", self.yaw_deg, *YAW_RANGE_DEG, "deg")
+        check_range("roll_deg", self.roll_deg, *ROLL_RANGE_DEG, "deg")
 
     def basis(self) -> np.ndarray:
         """3x3 matrix with columns right, up, forward in ENU."""
@@ -162,8 +167,7 @@ CAMERAS = {
 
 def make_camera(name: str, **kwargs) -> Camera:
     """Camera by name; only the perspective camera takes fov/yaw/pitch/roll."""
-    if name not in CAMERAS:
-        raise ParameterError(f"unknown camera {name!r}; choose one of {', '.join(CAMERAS)}")
+    check_choice("camera", name, CAMERAS, "camera")
     if name != "perspective":
         return CAMERAS[name]()
     return PerspectiveCamera(**kwargs)
