@@ -17,6 +17,13 @@ Definitions (those of the Astronomical Almanac and of skyfield's ``almanac``):
 * Moon phases: the geocentric apparent ecliptic longitude of the Moon minus the Sun's
   equals 0 (new), 90 (first quarter), 180 (full), 270 deg (last quarter).
 
+Days without an event (a UTC day of the search, from its start) are events too, dated at
+the start of the day: ``sun_never_sets`` / ``sun_never_rises`` (and the Moon's) when the
+body stays above / below its rise-set altitude all day, ``no_<kind>_dusk`` when the Sun
+never sinks below that twilight's depression on a day it does not stay up (only the
+shallowest such depression: the deeper ones follow), and ``no_<kind>_dawn`` when it never
+climbs to it (only the deepest one). :data:`ALL_DAY_DESCRIPTIONS` words them.
+
 Event times are returned as UTC Julian Dates (and ISO strings).
 """
 
@@ -42,12 +49,32 @@ __all__ = [
     "moon_phases",
     "events",
     "TWILIGHT_DEPRESSION_DEG",
+    "ALL_DAY_DESCRIPTIONS",
+    "all_day",
 ]
 
 SUN_HORIZON_DEG = -0.8333
 REFRACTION_HORIZON_DEG = -34.0 / 60.0
 TWILIGHT_DEPRESSION_DEG = {"civil": 6.0, "nautical": 12.0, "astronomical": 18.0}
 PHASE_NAMES = ("new_moon", "first_quarter", "full_moon", "last_quarter")
+#: Samples per day of the all-day test: the 10-minute grid of :func:`rise_set`.
+_DAY_SAMPLES = 145
+
+#: Plain words for the whole-day events (kind -> description).
+ALL_DAY_DESCRIPTIONS = {
+    "sun_never_sets": "Sun never sets",
+    "sun_never_rises": "Sun never rises",
+    "moon_never_sets": "Moon never sets",
+    "moon_never_rises": "Moon never rises",
+    **{
+        f"no_{k}_dusk": f"never gets dark enough to end {k} twilight (Sun above -{d:g} deg)"
+        for k, d in TWILIGHT_DEPRESSION_DEG.items()
+    },
+    **{
+        f"no_{k}_dawn": f"never gets light enough for {k} twilight (Sun below -{d:g} deg)"
+        for k, d in TWILIGHT_DEPRESSION_DEG.items()
+    },
+}
 
 
 @dataclass
@@ -63,11 +90,15 @@ class Events:
         return [str(s) for s in Time(self.jd_utc, self.jd_utc, self.jd_utc).iso().ravel()]
 
     def as_list(self) -> list[dict[str, str]]:
-        """``[{"time": iso, "event": kind, "body": body}, ...]``."""
-        return [
-            {"time": t, "event": str(k), "body": str(b)}
-            for t, k, b in zip(self.iso(), self.kind, self.body, strict=True)
-        ]
+        """``[{"time": iso, "event": kind, "body": body}, ...]``; whole-day events (dated at
+        the start of their day) also carry ``"description"`` and ``"all_day": True``."""
+        rows = []
+        for t, k, b in zip(self.iso(), self.kind, self.body, strict=True):
+            row = {"time": t, "event": str(k), "body": str(b)}
+            if k in ALL_DAY_DESCRIPTIONS:
+                row.update(description=ALL_DAY_DESCRIPTIONS[k], all_day=True)
+            rows.append(row)
+        return rows
 
     def __len__(self) -> int:
         return int(self.jd_utc.size)
@@ -153,6 +184,34 @@ def rise_set(
     return roots[up], roots[~up]
 
 
+def _daily_range(
+    observer: Observer, start: Any, days: float, body: str, horizon_deg: float | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Start (UTC JD) of each day of [start, start + days) and the least and greatest value
+    of the body's altitude function (rad, see :func:`rise_set`) sampled every 10 minutes
+    over that day (the last day may be shorter)."""
+    t0, t1 = _span(start, days)
+    day0 = t0 + np.arange(int(np.ceil(t1 - t0 - 1e-9)))
+    day1 = np.minimum(day0 + 1.0, t1)
+    frac = np.linspace(0.0, 1.0, _DAY_SAMPLES)
+    grid = day0[:, None] + (day1 - day0)[:, None] * frac
+    f = _altitude_function(observer, body, horizon_deg)(grid.ravel()).reshape(grid.shape)
+    return day0, f.min(axis=1), f.max(axis=1)
+
+
+def all_day(
+    observer: Observer, start: Any, days: float = 1.0, body: str = "sun", horizon_deg=None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Starts (UTC JD) of the days of [start, start + days) on which ``body`` stays above,
+    and those on which it stays below, its rise-set altitude (or ``horizon_deg``) all day.
+
+    Sampled every 10 minutes, as :func:`rise_set` is: a day is "above" when every sample
+    is, so a body grazing the horizon between two samples is missed by both.
+    """
+    day0, lo, hi = _daily_range(observer, start, days, _check_body(body), horizon_deg)
+    return day0[lo > 0], day0[hi < 0]
+
+
 def transits(observer: Observer, start: Any, days: float = 1.0, body: str = "sun") -> np.ndarray:
     """UTC Julian Dates of the upper culminations of ``body`` in [start, start + days)."""
     b = _check_body(body)
@@ -224,10 +283,30 @@ def events(observer: Observer, start: Any, days: float = 1.0) -> Events:
         dawn, dusk = twilight(observer, start, days, k)
         add(dawn, f"{k}_dawn", "sun")
         add(dusk, f"{k}_dusk", "sun")
+    # Whole days without sunrise/sunset or a twilight: one evaluation of the Sun's geometric
+    # altitude; each threshold shifts the altitude function by a constant.
+    day0, lo, hi = _daily_range(observer, start, days, "sun", 0.0)
+    up = lo > np.radians(SUN_HORIZON_DEG)
+    down = hi < np.radians(SUN_HORIZON_DEG)
+    add(day0[up], "sun_never_sets", "sun")
+    add(day0[down], "sun_never_rises", "sun")
+    dark_reported = up.copy()  # the shallowest depression never reached, once per day
+    for k, d in TWILIGHT_DEPRESSION_DEG.items():  # from shallow to deep
+        never_dark = (lo > np.radians(-d)) & ~dark_reported
+        add(day0[never_dark], f"no_{k}_dusk", "sun")
+        dark_reported |= never_dark
+    light_reported = np.zeros_like(down)  # the deepest depression never reached
+    for k, d in reversed(TWILIGHT_DEPRESSION_DEG.items()):
+        never_light = (hi < np.radians(-d)) & ~light_reported
+        add(day0[never_light], f"no_{k}_dawn", "sun")
+        light_reported |= never_light
     r, s = rise_set(observer, start, days, "moon")
     add(r, "moonrise", "moon")
     add(s, "moonset", "moon")
     add(transits(observer, start, days, "moon"), "transit", "moon")
+    m_up, m_down = all_day(observer, start, days, "moon")
+    add(m_up, "moon_never_sets", "moon")
+    add(m_down, "moon_never_rises", "moon")
     ph, k = moon_phases(start, days)
     jd.append(ph)
     kind.append(np.array([PHASE_NAMES[i] for i in k], dtype=object))
