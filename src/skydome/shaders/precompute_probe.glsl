@@ -1,12 +1,13 @@
 // Evaluates the lookups of precomputed_lookup.glsl at given points and directions, one texel
 // per query (atmosphere/precompute_probe.py): for tests, benchmarks and illuminance values.
 // PROBE_MODE 0: sky_radiance (+ the Lambertian ground for rays that hit it, PROBE_GROUND 1:
-//               lit by the Sun only, like the single-scattering renderer; 2: Sun and sky)
+//               lit by the Sun only, like the single-scattering renderer; 2: Sun and sky;
+//               ground_shading.glsl's lambertian_ground, as the frames draw it)
 //               -> location 0; location 1 = column densities to the end of the ray (km).
 // PROBE_MODE 1: sky_radiance_to_point, point = position + direction * distance (km).
 // PROBE_MODE 2: sun_and_sky_irradiance with normal = direction -> location 0 the Sun's,
 //               location 1 the sky's.
-#include "precomputed_lookup.glsl"
+#include "ground_shading.glsl"
 
 uniform sampler2D u_probe_points;  // xyz: planet-centred position (km)
 uniform sampler2D u_probe_dirs;    // xyz: unit direction or normal; w: distance (km, mode 1)
@@ -29,20 +30,8 @@ void main() {
 #if PROBE_GROUND
     vec2 t_ground = ray_sphere(x, v, u_bottom_radius);
     if (t_ground.x > 0.0) {
-        vec3 q = x + v * t_ground.x;
-        vec3 n = normalize(q);
-        q = n * u_bottom_radius;
-#if PROBE_GROUND == 2
-        SkyIrradiancePoint sky_q = sky_irradiance_point(q, n, s);
-#endif
-        for (int g = 0; g < NUM_GROUPS; ++g) {
-            vec4 E = sun_irradiance_group(g, q, n, s);
-#if PROBE_GROUND == 2
-            E += sky_irradiance_group(g, sky_q);
-#endif
-            vec4 T = exp(-optical_depth(g, column));
-            L += u_spectral_to_rgbs[g] * (T * u_ground_albedo[g] * INV_PI * E);
-        }
+        vec3 n = normalize(x + v * t_ground.x);
+        L += lambertian_ground(n * u_bottom_radius, n, s, column, PROBE_GROUND == 2);
     }
 #endif
     out_main = L;

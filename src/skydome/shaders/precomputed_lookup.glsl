@@ -12,7 +12,8 @@
 //
 // Needs the defines of PrecomputedAtmosphere.defines() (NUM_GROUPS) and its uniforms() and
 // textures(). The direct Sun (its disk) and the ground itself are not included: the renderer
-// adds them (transmittance from the returned column densities, ground from the irradiance).
+// adds them (transmittance from the returned column densities, the ground and the irradiance
+// on surfaces from ground_shading.glsl).
 #include "precomputed_params.glsl"
 #include "single_scattering.glsl"
 
@@ -28,8 +29,8 @@ uniform sampler3D u_multiple_scattering_texture;
 uniform vec4 u_multiple_scattering_size;
 // ln v = lo + span * stored (16-bit normalized storage; lo = 0, span = 1 for float32).
 uniform vec2 u_multiple_scattering_log_range;
-uniform sampler2D u_irradiance_texture;  // sky irradiance on a horizontal surface
-uniform sampler2D u_irradiance_spectral; // the same per wavelength (ln E / E_sun), NUM_GROUPS bands in y
+uniform sampler2D u_irradiance_spectral; // sky irradiance on a horizontal surface per wavelength
+                                         // (ln E / E_sun), NUM_GROUPS bands in y
 uniform vec2 u_irradiance_size;          // (MU_S, R)
 uniform mat4 u_table_to_output;
 // Per-group weights giving each output channel an effective transmittance
@@ -174,57 +175,4 @@ vec4 sky_radiance_to_point(vec3 camera, vec3 point, float shadow_length, vec3 su
     scattering_to_point(camera, view_ray, length(point - camera), shadow_length, sun_direction,
                         scattering, single_mie);
     return scattering * rayleigh_phase(nu) + single_mie * cornette_shanks_phase(nu, u_mie_g);
-}
-
-// What sky_irradiance_group needs of a surface at `point` (km) with unit `normal`, the same for
-// every group: where to read the table, and the horizontal-surface table's factor, the view
-// factor of the sky for a tilted surface (1 + n.z)/2 times the cut-off fade (Bruneton 2017
-// GetSunAndSkyIrradiance).
-struct SkyIrradiancePoint {
-    IrradianceCoords coords;
-    float factor;
-};
-
-SkyIrradiancePoint sky_irradiance_point(vec3 point, vec3 normal, vec3 sun_direction) {
-    float r = length(point);
-    float mu_s = clamp_cosine(dot(point, sun_direction) / r);
-    return SkyIrradiancePoint(irradiance_coords(r, mu_s, u_irradiance_size),
-                              sun_cutoff_fade(mu_s) * (0.5 + 0.5 * dot(normal, point) / r));
-}
-
-// Sky irradiance per unit solar irradiance (dimensionless) of wavelength group g on the
-// surface of `q`.
-vec4 sky_irradiance_group(int g, SkyIrradiancePoint q) {
-    return exp(irradiance_fetch(u_irradiance_spectral, q.coords, g, NUM_GROUPS)) * q.factor;
-}
-
-// Direct solar irradiance per unit solar irradiance (dimensionless) of group g on a surface at
-// `point` with unit `normal`: transmittance to the Sun x visible part of its disk x cosine.
-vec4 sun_irradiance_group(int g, vec3 point, vec3 normal, vec3 sun_direction) {
-    float r = length(point);
-    float mu_s = clamp_cosine(dot(point, sun_direction) / r);
-    float f = sun_visible_fraction(r, mu_s) * max(dot(normal, sun_direction), 0.0);
-    if (f <= 0.0) return vec4(0.0);
-    return f * exp(-optical_depth(g, column_to_top(r, mu_s)));
-}
-
-// Direct Sun and sky irradiance (luminance: R, G, B with Y = illuminance in lx, scotopic lx)
-// on a surface at `point` (km) with unit `normal`. Returns the Sun's, writes the sky's.
-// For a Lambertian ground of spectral albedo, the exact reflected radiance needs the spectral
-// forms (sun_irradiance_group, sky_irradiance_group): albedo(λ) (E_sun + E_sky)(λ) / pi per
-// group, then u_spectral_to_rgbs. With a grey albedo, albedo * (sun + sky) / pi is exact.
-vec4 sun_and_sky_irradiance(vec3 point, vec3 normal, vec3 sun_direction, out vec4 sky_irradiance) {
-    float r = length(point);
-    float mu_s = clamp_cosine(dot(point, sun_direction) / r);
-    sky_irradiance = u_table_to_output
-                   * exp(irradiance_fetch(u_irradiance_texture,
-                                          irradiance_coords(r, mu_s, u_irradiance_size), 0, 1))
-                   * (sun_cutoff_fade(mu_s) * (0.5 + 0.5 * dot(normal, point) / r));
-    vec4 sun = vec4(0.0);
-    float f = sun_visible_fraction(r, mu_s) * max(dot(normal, sun_direction), 0.0);
-    if (f > 0.0) {
-        vec3 c = column_to_top(r, mu_s);
-        for (int g = 0; g < NUM_GROUPS; ++g) sun += u_spectral_to_rgbs[g] * exp(-optical_depth(g, c));
-    }
-    return sun * f;
 }

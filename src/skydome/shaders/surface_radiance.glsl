@@ -1,7 +1,7 @@
 // The surfaces a view ray can end on, seen through the air, for one light at unit scale
 // (R, G, B, scotopic in cd/m^2): the Lambertian ground lit by the light and the sky, and the
 // light's disk. Spectral: each wavelength group is attenuated on its own, then converted.
-#include "precomputed_lookup.glsl"
+#include "ground_shading.glsl"
 
 // Where the ray from `camera` along `dir` ends: on the ground (true), else at the top. The
 // test must agree with the one of sky_radiance (same r, mu), or pixels at the horizon would
@@ -14,24 +14,12 @@ bool ray_ends_on_ground(vec3 camera, vec3 dir, out vec3 entry, out float r, out 
 bool sees_disk(vec3 dir, vec3 light) { return dot(dir, light) > cos(u_sun_angular_radius); }
 
 // The ground where the ray from `entry` (radius r, view cosine mu; it must hit the ground)
-// along `dir` meets it: albedo(λ) (E_sun + E_sky)(λ) / pi, times the transmittance to it.
+// along `dir` meets it, lit by `light` and the sky, seen through the air (ground_shading.glsl).
 vec4 ground_radiance(vec3 entry, vec3 dir, float r, float mu, vec3 light) {
     float d_ground = distance_to_bottom(r, mu);
     vec3 column = column_along_ray(r, mu, d_ground, true);
     vec3 n = normalize(entry + dir * d_ground);
-    vec3 p = n * u_bottom_radius;
-    // Direct light on the ground (sun_irradiance_group, with the column fetched once).
-    float mu_s = clamp_cosine(dot(n, light));
-    float sun_factor = sun_visible_fraction(u_bottom_radius, mu_s) * max(mu_s, 0.0);
-    vec3 c_sun = column_to_top(u_bottom_radius, max(mu_s, 0.0));
-    SkyIrradiancePoint sky = sky_irradiance_point(p, n, light);
-    vec4 radiance = vec4(0.0);
-    for (int g = 0; g < NUM_GROUPS; ++g) {
-        vec4 e_sun = sun_factor * exp(-optical_depth(g, c_sun));
-        vec4 source = u_ground_albedo[g] * INV_PI * (e_sun + sky_irradiance_group(g, sky));
-        radiance += u_spectral_to_rgbs[g] * (source * exp(-optical_depth(g, column)));
-    }
-    return radiance;
+    return lambertian_ground(n * u_bottom_radius, n, light, column, true);
 }
 
 // The light's disk seen from radius r along a ray of view cosine mu that leaves the
