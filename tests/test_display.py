@@ -442,3 +442,36 @@ def test_frame_objects_are_accepted(mapper):
     assert s == auto_exposure(data)
     np.testing.assert_array_equal(tonemap(frame, "reinhard", s), tonemap(data, "reinhard", s))
     np.testing.assert_array_equal(mapper.render(frame, "hvs", s), mapper.render(data, "hvs", s))
+
+
+def test_large_frames_expose_from_a_subgrid():
+    # Above AVERAGE_MAX_PIXELS the log-average comes from a regular subgrid; on a sky-like
+    # frame (a smooth gradient over four decades, a bright Sun spot, unlit corners) it agrees
+    # with the every-pixel average within 0.1 %.
+    from skydome.display import exposure
+
+    h, w = 2300, 2000  # 4.6 Mpixel > 4.19 Mpixel
+    y, x = np.mgrid[0:h, 0:w]
+    lum = 10.0 ** (4.0 * y / h) * (1.0 + 0.3 * np.sin(x / 97.0))
+    lum[(y - 400) ** 2 + (x - 900) ** 2 < 30**2] = 1e9
+    lum[:50, :50] = 0.0
+    full = exposure.log_average_luminance(lum, clip_percentile=99.5)
+    original = exposure.AVERAGE_MAX_PIXELS
+    try:
+        exposure.AVERAGE_MAX_PIXELS = h * w  # the same frame, every pixel
+        every = exposure.log_average_luminance(lum, clip_percentile=99.5)
+    finally:
+        exposure.AVERAGE_MAX_PIXELS = original
+    assert full == pytest.approx(every, rel=1e-3)
+
+
+def test_large_frames_tone_map_in_bands(monkeypatch):
+    # Bands of rows give the same bytes as one texture (tone maps are per pixel).
+    import importlib
+
+    gt = importlib.import_module("skydome.display.gpu_tonemap")
+    rng = np.random.default_rng(5)
+    frame = (10.0 ** rng.uniform(-2, 4, size=(90, 70, 4))).astype(np.float32)
+    whole = gt.gpu_tonemap(frame, "filmic", 0.01)
+    monkeypatch.setattr(gt, "BAND_PIXELS", 70 * 16 + 5)  # bands of 16 rows, the last of 10
+    np.testing.assert_array_equal(gt.gpu_tonemap(frame, "filmic", 0.01), whole)

@@ -22,6 +22,9 @@ from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass, shared_context
 from skydome.spectra import SRGB_LUMINANCE
 
+#: NumPy frames larger than this many pixels are tone-mapped in bands of rows (64 MB each).
+BAND_PIXELS = 1 << 22
+
 
 def upload_frame(ctx, frame: np.ndarray):
     """Upload a NumPy frame (H, W, 4) or (H, W, 3), row 0 at the top, as an RGBA32F texture
@@ -107,6 +110,15 @@ class GpuToneMapper:
         """
         if isinstance(getattr(source, "data", None), np.ndarray):
             source = as_array(source)
+        if isinstance(source, np.ndarray) and source.shape[0] * source.shape[1] > BAND_PIXELS:
+            # Large frames go up in bands of rows: GPU memory stays at one band's texture, and
+            # no side reaches GL's texture limit. Tone maps are per pixel: bands are exact.
+            rows = max(1, BAND_PIXELS // source.shape[1])
+            bands = [
+                self.render(source[y : y + rows], name, exposure_scale, **params)
+                for y in range(0, source.shape[0], rows)
+            ]
+            return np.concatenate(bands)
         if isinstance(source, np.ndarray):
             texture = upload_frame(self.ctx, source)
             owned = True
