@@ -67,20 +67,6 @@ def column_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
     return column(params, r, mu, distance_to_top(params, r, mu))
 
 
-def vertical_transmittance(
-    params: AtmosphereParams, wavelengths_nm, altitude_m: float = 0.0
-) -> np.ndarray:
-    """Transmittance of the vertical path from an altitude to the top, per wavelength."""
-    c = params.coefficients(wavelengths_nm)
-    col = column_to_top(params, params.bottom_radius_m + altitude_m, 1.0)
-    tau = (
-        c["rayleigh_scattering"] * col[0]
-        + c["mie_extinction"] * col[1]
-        + c["absorption_extinction"] * col[2]
-    )
-    return np.exp(-tau)
-
-
 def _optical_depth(coef: dict, col: np.ndarray) -> np.ndarray:
     """(..., N) optical depth of column densities (..., 3)."""
     return (
