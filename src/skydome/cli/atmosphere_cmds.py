@@ -8,6 +8,7 @@ from pathlib import Path
 
 import typer
 
+from skydome.cli.render_cmd import atmosphere_with_knobs, knob_option
 from skydome.errors import OutputError, check_choice, check_range
 
 
@@ -21,19 +22,22 @@ def register(app: typer.Typer) -> None:
             0.0, "--altitude", help="Observer altitude above the ground, metres."
         ),
         atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
+        albedo: float = knob_option("--albedo"),
+        aod: float = knob_option("--aod"),
+        angstrom: float = knob_option("--angstrom"),
+        ozone: float = knob_option("--ozone"),
         as_json: bool = typer.Option(False, "--json", help="Print a JSON object."),
     ) -> None:
         """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance (cd/m^2)."""
         from rich.console import Console
 
-        from skydome.atmosphere import preset
         from skydome.atmosphere.illuminance import horizontal_illuminance
         from skydome.atmosphere.presets import PRESETS
         from skydome.cli.render_cmd import precompute_progress
 
         check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
         check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
-        params = preset(atmosphere)
+        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
         console = Console(soft_wrap=True)
         with precompute_progress(console) as report:
@@ -60,6 +64,10 @@ def register(app: typer.Typer) -> None:
     @app.command()
     def precompute(
         atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
+        albedo: float = knob_option("--albedo"),
+        aod: float = knob_option("--aod"),
+        angstrom: float = knob_option("--angstrom"),
+        ozone: float = knob_option("--ozone"),
         orders: int = typer.Option(4, "--orders", help="Scattering orders (1..20)."),
         spectral: str = typer.Option(
             "accurate", "--spectral", help="accurate (16 wavelengths) | fast (4)."
@@ -74,7 +82,6 @@ def register(app: typer.Typer) -> None:
         """Precompute the multiple-scattering tables into the cache (and optionally a file)."""
         from rich.console import Console
 
-        from skydome.atmosphere import preset
         from skydome.atmosphere.cache import cache_path
         from skydome.atmosphere.precompute_config import PrecomputeConfig
         from skydome.atmosphere.presets import PRESETS
@@ -87,7 +94,7 @@ def register(app: typer.Typer) -> None:
         check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
         check_choice("--spectral", spectral, MODES, "wavelength set")
         check_int("--orders", orders, 1, MAX_ORDERS)
-        params = preset(atmosphere)
+        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         config = PrecomputeConfig(wavelengths=spectral, orders=orders)
         out = None
         if output is not None:

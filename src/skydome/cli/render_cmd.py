@@ -54,6 +54,53 @@ def parse_exposure(text: str) -> float | None:
     return check_range("--exposure", ev, -20.0, 40.0, "EV")
 
 
+#: Help of the atmosphere knob options of ``render``, ``illuminance`` and ``precompute``; the
+#: ranges are those of skydome.atmosphere.params (*_RANGE), written out here so that the
+#: command line starts without importing NumPy (tests/test_cli_knobs.py checks they agree).
+KNOB_HELP = {
+    "--albedo": "Ground albedo, 0..1, on top of --atmosphere (default: the preset's, earth 0.3).",
+    "--aod": "Aerosol optical depth at 550 nm, 0..5, on top of --atmosphere (default: the "
+    "preset's, earth 0.0053, hazy 0.27).",
+    "--angstrom": "Angstrom exponent of the aerosol optical depth, -0.5..3 (0 grey, 1.3 "
+    "continental haze, 2+ smoke), on top of --atmosphere (default: the preset's spectrum).",
+    "--ozone": "Total ozone column, Dobson units, 0..700, on top of --atmosphere (default: "
+    "the preset's, earth 300 DU).",
+}
+
+
+def knob_option(flag: str):
+    """A ``typer.Option`` for one atmosphere knob (default None: the preset's own value)."""
+    return typer.Option(None, flag, help=KNOB_HELP[flag])
+
+
+def atmosphere_with_knobs(
+    atmosphere: str,
+    albedo: float | None = None,
+    aod: float | None = None,
+    angstrom: float | None = None,
+    ozone: float | None = None,
+):
+    """The ``--atmosphere`` preset with the knob options given (None keeps the preset's
+    value); a bad value raises ParameterError naming its flag and range."""
+    from skydome.atmosphere import (
+        ALBEDO_RANGE,
+        ANGSTROM_RANGE,
+        AOD_550_RANGE,
+        OZONE_DU_RANGE,
+        preset,
+    )
+
+    for flag, value, valid, unit in (
+        ("--albedo", albedo, ALBEDO_RANGE, ""),
+        ("--aod", aod, AOD_550_RANGE, ""),
+        ("--angstrom", angstrom, ANGSTROM_RANGE, ""),
+        ("--ozone", ozone, OZONE_DU_RANGE, "DU"),
+    ):
+        if value is not None:
+            check_range(flag, value, *valid, unit)
+    return preset(atmosphere, albedo=albedo, aod_550=aod, angstrom=angstrom, ozone_du=ozone)
+
+
 @contextlib.contextmanager
 def precompute_progress(console):
     """A progress bar for table precomputation, shown only while a stage reports.
@@ -122,6 +169,10 @@ def register(app: typer.Typer) -> None:
         atmosphere: str = typer.Option(
             "earth", "--atmosphere", help="Preset: earth | earth_nishita | hazy | mars."
         ),
+        albedo: float = knob_option("--albedo"),
+        aod: float = knob_option("--aod"),
+        angstrom: float = knob_option("--angstrom"),
+        ozone: float = knob_option("--ozone"),
         model: str = typer.Option(
             "precomputed", "--model", help="precomputed (every scattering order) | single."
         ),
@@ -158,7 +209,6 @@ def register(app: typer.Typer) -> None:
         (tone mapped)."""
         from rich.console import Console
 
-        from skydome.atmosphere import preset
         from skydome.atmosphere.presets import PRESETS
         from skydome.display import (
             TONEMAPS,
@@ -205,7 +255,7 @@ def register(app: typer.Typer) -> None:
         check_range("--roll", roll, *ROLL_RANGE_DEG, "deg")
         if yaw is not None:
             check_range("--yaw", yaw, *YAW_RANGE_DEG, "deg")
-        params = preset(atmosphere)
+        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         kwargs = {
             "fov_deg": fov,
             "yaw_deg": az if yaw is None else yaw,
