@@ -37,9 +37,32 @@ stays at about 1% (median 0.9-1.0%, 80th percentile 1.4-1.7%, worst 6-12% in the
 antisolar sky). Results are deterministic (seeded per task) whatever the number of workers.
 57 M paths; 23 minutes with 2 workers on a shared 2-core machine (``--scale 0.01``: 15 s).
 
+``--luminance`` writes ``tests/data/ms_reference_earth_luminance.npz`` instead, for the
+default (luminance) tables and the frames: the same tracer at exactly the 16 ``accurate``
+render wavelengths (380-755 nm), so that the tests convert both sides with the same spectral
+-> XYZ matrix and compare the tables alone (their orders >= 2 are computed at 4 wavelengths
+and interpolated), the same cameras and Sun elevations, on 21 of the 61 views
+(:func:`luminance_view_directions`: every 6th Fibonacci direction, the zenith, the 4 low ones
+and the 8 below the horizon; from 0 m the latter all see the ground at the camera, from 10 km
+-1° sees the sky above the limb and the others the ground 17-150 km away). Arrays:
+
+* ``radiance``, ``stderr`` (A, S, V, W): the air's light, as above (0 where ``view_traced`` is
+  False: from 0 m below the horizon there is no air in front of the ground);
+* ``ground_radiance``, ``ground_stderr`` (A, S, V, W): the lit Lambertian ground itself seen
+  through the air (``reference_ms.ground_radiance_mc``, 0 for rays that miss it), so that
+  radiance + ground_radiance is what a frame shows along any direction but the Sun's disk;
+* ``view_dirs``, ``view_elevation_deg``, ``view_azimuth_deg``, ``view_traced`` and
+  ``view_hits_ground`` (A, V), ``wavelengths_nm``, ``camera_altitude_m``,
+  ``sun_elevation_deg``, ``sun_zenith_rad``, ``n_paths`` and ``n_paths_ground`` (A, S),
+  ``digest``, ``preset``, ``settings``.
+
+Paths per view: 8 192 in daylight, 32 768 at -6°; per ground irradiance 16 384 and 32 768
+(far fewer than above: 16 wavelengths cost twice as much per path; the tests account for
+the larger standard errors, ``stderr`` and ``ground_stderr``).
+
 Usage::
 
-    python tools/make_ms_reference.py [--workers 2] [--scale 1.0] [--out PATH]
+    python tools/make_ms_reference.py [--workers 2] [--scale 1.0] [--out PATH] [--luminance]
 """
 
 from __future__ import annotations
@@ -57,6 +80,7 @@ import numpy as np
 
 from skydome.atmosphere import preset
 from skydome.atmosphere import reference_ms as rms
+from skydome.spectra import wavelengths
 
 PRESET = "earth"
 WAVELENGTHS_NM = (440.0, 550.0, 680.0)
@@ -130,12 +154,178 @@ def _run_task(task):
     return ia, isun, views, res.radiance, res.stderr, single, time.perf_counter() - t0
 
 
+# ------------------------------------------------------------------------------------------
+# --luminance: the 16 render wavelengths, the ground too
+# ------------------------------------------------------------------------------------------
+
+LUM_WAVELENGTHS = "accurate"
+LUM_BASE_SEED = 20_260_214
+LUM_TWILIGHT_DEG = 0.0  # Sun elevations below this get the twilight path counts
+LUM_PATHS_DAY = 8_192
+LUM_PATHS_TWILIGHT = 32_768
+LUM_GROUND_PATHS_DAY = 16_384
+LUM_GROUND_PATHS_TWILIGHT = 32_768
+LUM_VIEWS_PER_TASK = 5
+
+LUMINANCE_OUT = (
+    Path(__file__).resolve().parents[1] / "tests" / "data" / "ms_reference_earth_luminance.npz"
+)
+
+
+def luminance_view_directions() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The 21 views: (indices into the spectral reference's 61, dirs (21, 3), elevation_deg,
+    azimuth_deg)."""
+    dirs, el, az = view_directions()
+    idx = np.concatenate([np.arange(0, N_FIBONACCI, 6), np.arange(N_FIBONACCI, len(dirs))])
+    return idx, dirs[idx], el[idx], az[idx]
+
+
+def _lum_task_seed(kind: int, ia: int, isun: int, ichunk: int) -> int:
+    seq = np.random.SeedSequence([LUM_BASE_SEED, kind, ia, isun, ichunk])
+    return int(seq.generate_state(1)[0])
+
+
+def _run_luminance_task(task):
+    kind, ia, isun, ichunk, views, n_paths = task
+    params = preset(PRESET)
+    wl = wavelengths(LUM_WAVELENGTHS)
+    _, dirs, _, _ = luminance_view_directions()
+    alt = CAMERA_ALTITUDES_M[ia]
+    sz = math.radians(90.0 - SUN_ELEVATIONS_DEG[isun])
+    seed = _lum_task_seed(kind, ia, isun, ichunk)
+    t0 = time.perf_counter()
+    if kind == 0:
+        res = rms.sky_radiance_mc_orders(
+            params, wl, alt, sz, dirs[views], n_paths=n_paths, seed=seed
+        )
+        rad, err = res.total, res.total_stderr
+    else:
+        rad, err = rms.ground_radiance_mc(
+            params, wl, alt, sz, dirs[views], n_paths=n_paths, seed=seed
+        )
+    return kind, ia, isun, views, rad, err, time.perf_counter() - t0
+
+
+def main_luminance(args: argparse.Namespace) -> int:
+    """Write the 16-wavelength reference (``--luminance``, see the module docstring)."""
+
+    params = preset(PRESET)
+    wl = wavelengths(LUM_WAVELENGTHS)
+    idx, dirs, el, az = luminance_view_directions()
+    nA, nS, nV, nW = len(CAMERA_ALTITUDES_M), len(SUN_ELEVATIONS_DEG), len(dirs), len(wl)
+    traced = np.zeros((nA, nV), dtype=bool)
+    ground = np.zeros((nA, nV), dtype=bool)
+    for ia, alt in enumerate(CAMERA_ALTITUDES_M):
+        r = params.bottom_radius_m + alt
+        horizon = -math.sqrt(max(0.0, 1.0 - (params.bottom_radius_m / r) ** 2))
+        ground[ia] = dirs[:, 2] < horizon if alt > 0.0 else dirs[:, 2] < 0.0
+        traced[ia] = dirs[:, 2] > 0.0 if alt == 0.0 else True
+
+    def paths(day: int, twilight: int, sel: float) -> int:
+        return max(nW, int(round((day if sel >= LUM_TWILIGHT_DEG else twilight) * args.scale)))
+
+    n_paths = np.zeros((nA, nS), dtype=np.int64)
+    n_ground = np.zeros((nA, nS), dtype=np.int64)
+    tasks = []
+    for ia in range(nA):
+        for isun, sel in enumerate(SUN_ELEVATIONS_DEG):
+            n_paths[ia, isun] = paths(LUM_PATHS_DAY, LUM_PATHS_TWILIGHT, sel) // nW * nW
+            n_ground[ia, isun] = paths(LUM_GROUND_PATHS_DAY, LUM_GROUND_PATHS_TWILIGHT, sel)
+            for kind, sel_views, n in (
+                (0, np.nonzero(traced[ia])[0], n_paths[ia, isun]),
+                # from 0 m every ground view sees the same point: one estimate, copied
+                (1, np.nonzero(ground[ia])[0][: 1 if CAMERA_ALTITUDES_M[ia] == 0.0 else None],
+                 n_ground[ia, isun]),
+            ):  # fmt: skip
+                for ichunk, k in enumerate(range(0, sel_views.size, LUM_VIEWS_PER_TASK)):
+                    tasks.append((kind, ia, isun, ichunk, sel_views[k : k + LUM_VIEWS_PER_TASK], n))
+    tasks.sort(key=lambda t: -t[5] * len(t[4]))
+    print(f"{len(tasks)} tasks, {args.workers} workers", flush=True)
+
+    rad = np.zeros((nA, nS, nV, nW))
+    err = np.zeros_like(rad)
+    g_rad = np.zeros_like(rad)
+    g_err = np.zeros_like(rad)
+    t_start = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=args.workers) as ex:
+        futures = [ex.submit(_run_luminance_task, t) for t in tasks]
+        for k, fut in enumerate(as_completed(futures), 1):
+            kind, ia, isun, views, r, e, dt = fut.result()
+            (rad if kind == 0 else g_rad)[ia, isun, views] = r
+            (err if kind == 0 else g_err)[ia, isun, views] = e
+            print(
+                f"[{k:3d}/{len(tasks)}] {'air' if kind == 0 else 'ground'} alt "
+                f"{CAMERA_ALTITUDES_M[ia]:7.0f} m, Sun {SUN_ELEVATIONS_DEG[isun]:+5.1f}°, "
+                f"{len(views)} views: {dt:6.1f} s; elapsed {time.perf_counter() - t_start:6.0f} s",
+                flush=True,
+            )
+    for ia, alt in enumerate(CAMERA_ALTITUDES_M):
+        if alt == 0.0:
+            first = np.nonzero(ground[ia])[0][0]
+            g_rad[ia][:, ground[ia]] = g_rad[ia][:, first : first + 1]
+            g_err[ia][:, ground[ia]] = g_err[ia][:, first : first + 1]
+    runtime = time.perf_counter() - t_start
+
+    settings = {
+        "preset": PRESET,
+        "tool": "tools/make_ms_reference.py --luminance",
+        "base_seed": LUM_BASE_SEED,
+        "seed_rule": "SeedSequence([base_seed, kind (0 air, 1 ground), altitude index, "
+        "sun index, chunk index]); ground: per view SeedSequence([task seed, view])",
+        "views": "indices into tools/make_ms_reference.py view_directions(): "
+        + ",".join(str(int(i)) for i in idx),
+        "scale": args.scale,
+        "views_per_task": LUM_VIEWS_PER_TASK,
+        "numpy": np.__version__,
+        "python": sys.version.split()[0],
+        "runtime_s": round(runtime, 1),
+        "workers": args.workers,
+        "conventions": "per unit solar irradiance; radiance: the air's light, the direct Sun "
+        "and the ground excluded; ground_radiance: the ground seen through the air",
+    }
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = args.out.with_suffix(".tmp.npz")
+    np.savez_compressed(
+        tmp,
+        radiance=rad,
+        stderr=err,
+        ground_radiance=g_rad,
+        ground_stderr=g_err,
+        view_dirs=dirs,
+        view_elevation_deg=el,
+        view_azimuth_deg=az,
+        view_traced=traced,
+        view_hits_ground=ground,
+        wavelengths_nm=wl,
+        camera_altitude_m=np.array(CAMERA_ALTITUDES_M),
+        sun_elevation_deg=np.array(SUN_ELEVATIONS_DEG),
+        sun_zenith_rad=np.radians(90.0 - np.array(SUN_ELEVATIONS_DEG)),
+        n_paths=n_paths,
+        n_paths_ground=n_ground,
+        digest=np.array(params.digest()),
+        preset=np.array(PRESET),
+        settings=np.array(json.dumps(settings, sort_keys=True)),
+    )
+    os.replace(tmp, args.out)
+    print(f"wrote {args.out} ({args.out.stat().st_size / 1024:.0f} kB) in {runtime:.0f} s")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--workers", type=int, default=min(2, os.cpu_count() or 1))
     ap.add_argument("--scale", type=float, default=1.0, help="multiply every path count")
-    ap.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    ap.add_argument(
+        "--luminance",
+        action="store_true",
+        help=f"the 16-wavelength reference of the default tables ({LUMINANCE_OUT.name})",
+    )
+    ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args(argv)
+    if args.luminance:
+        args.out = args.out or LUMINANCE_OUT
+        return main_luminance(args)
+    args.out = args.out or DEFAULT_OUT
 
     params = preset(PRESET)
     dirs, el, az = view_directions()

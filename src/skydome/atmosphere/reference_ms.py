@@ -12,6 +12,8 @@ plane-parallel approximation) by brute force:
   composite Gauss-Legendre quadrature, to validate the tracer with ``orders=1``.
 * :func:`ground_irradiance_mc` / :func:`direct_ground_irradiance` - diffuse and direct
   irradiance on the ground, for the indirect-irradiance table and the energy test.
+* :func:`ground_radiance_mc` - the radiance of the lit Lambertian ground itself seen through
+  the air (which :func:`sky_radiance_mc` excludes), for the renderer's ground.
 
 Geometry and conventions
 ------------------------
@@ -101,6 +103,7 @@ __all__ = [
     "MCOrders",
     "cornette_shanks_phase",
     "direct_ground_irradiance",
+    "ground_radiance_mc",
     "ground_irradiance_mc",
     "optical_depth",
     "rayleigh_phase",
@@ -1084,6 +1087,54 @@ def direct_ground_irradiance(
     mu = np.cos(th)
     tau = optical_depth(params, wavelengths_nm, params.bottom_radius_m, np.maximum(mu, 0.0))
     return np.where((mu > 0.0)[..., None], mu[..., None] * np.exp(-tau), 0.0)
+
+
+def ground_radiance_mc(
+    params: AtmosphereParams,
+    wavelengths_nm: ArrayLike,
+    camera_altitude_m: float,
+    sun_zenith_rad: float,
+    view_dirs: ArrayLike,
+    *,
+    n_paths: int = 16384,
+    seed: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Radiance of the Lambertian ground itself as the camera sees it, per unit solar irradiance.
+
+    For a view ray that hits the ground at q: T(x, q)·albedo(λ)/π·(E_dir + E_sky)(θ_q), with
+    θ_q the Sun's zenith angle at q (the planet is a sphere, so q's irradiance is that of a
+    camera at 0 m under a Sun at θ_q), E_dir from :func:`direct_ground_irradiance` (a point
+    Sun), E_sky from :func:`ground_irradiance_mc` (every order, ground-air interreflections
+    included; an independent seed per view, from ``SeedSequence([seed, view])``) and T the
+    transmittance from :func:`optical_depth`. Rays that miss the ground get 0. Added to
+    :func:`sky_radiance_mc` (the air in front of the ground) it gives all the light a camera
+    receives along a ground ray. Same conventions as :func:`sky_radiance_mc`; returns
+    (radiance, stderr), each (n_views, n_wavelengths) in sr^-1; the standard error is that of
+    E_sky (the other factors are deterministic).
+    """
+    h = _check_common(params, camera_altitude_m, sun_zenith_rad)
+    v = _check_dirs(view_dirs)
+    med = _Medium.build(params, wavelengths_nm)
+    sun = sun_direction(float(sun_zenith_rad))
+    r = params.bottom_radius_m + h
+    hits, t_ground = _ground_hit(med, np.full(v.shape[0], r), v[:, 2])
+    out = np.zeros((v.shape[0], med.n_wl))
+    err = np.zeros_like(out)
+    for i in np.nonzero(hits)[0]:
+        q = np.array([0.0, 0.0, r]) + t_ground[i] * v[i]
+        zenith_q = math.acos(float(np.clip(q @ sun / np.linalg.norm(q), -1.0, 1.0)))
+        view_seed = int(np.random.SeedSequence([seed, int(i)]).generate_state(1)[0])
+        e_sky, e_sky_err = ground_irradiance_mc(
+            params, wavelengths_nm, zenith_q, n_paths=n_paths, seed=view_seed
+        )
+        e_dir = direct_ground_irradiance(params, wavelengths_nm, zenith_q)
+        tau = (
+            optical_depth(params, wavelengths_nm, r, v[i, 2], t_ground[i]) if t_ground[i] > 0 else 0
+        )
+        k = np.exp(-tau) * med.albedo / math.pi
+        out[i] = k * (e_dir + e_sky)
+        err[i] = k * e_sky_err
+    return out, err
 
 
 # --------------------------------------------------------------------------------------------
