@@ -1,8 +1,6 @@
 """The command line: outputs, messages and exit status for bad input."""
 
 import os
-import subprocess
-import sys
 import warnings
 
 import numpy as np
@@ -10,17 +8,13 @@ import pytest
 from PIL import Image
 
 from skydome.io import read_exr
+from tests.cli_helpers import run_cli
 
 
 def run(*args, cwd=None, env=None):
-    return subprocess.run(
-        [sys.executable, "-m", "skydome", *args],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        env=env,
-        timeout=300,
-    )
+    # In this process (the console script's own entry point): a subprocess per case costs
+    # seconds of Python and NumPy start-up. test_cli.py keeps a few real subprocesses.
+    return run_cli(*args, cwd=cwd, env=env)
 
 
 def test_info():
@@ -246,3 +240,20 @@ def test_other_warnings_keep_python_format(capsys):
         from skydome.atmosphere.cache import CacheWarning
     show_warning(CacheWarning("rebuilding\ncached tables"), CacheWarning, "/x/mod.py", 7)
     assert capsys.readouterr().err == "skydome: warning: rebuilding cached tables\n"
+
+
+def test_a_real_process(tmp_path):
+    # The in-process runner above calls the same entry point; this checks the process itself:
+    # `python -m skydome` exits 0 for --version and 2 with one stderr line for bad input.
+    import subprocess
+    import sys
+
+    def proc(*args):
+        cmd = [sys.executable, "-m", "skydome", *args]
+        return subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path, timeout=300)
+
+    ok = proc("--version")
+    assert ok.returncode == 0 and ok.stdout.strip() == "skydome 0.1.0"
+    bad = proc("render", "--fov", "500", "-o", "sky.png")
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "--fov" in bad.stderr
+    assert not list(tmp_path.iterdir())

@@ -3,23 +3,19 @@
 
 import math
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+from tests.cli_helpers import run_cli
+
 Y = np.array([0.2126, 0.7152, 0.0722])  # linear sRGB -> luminance
 
 
-def run(*args, cwd=None):
-    return subprocess.run(
-        [sys.executable, "-m", "skydome", *args],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=300,
-    )
+def run(*args, cwd=None, env=None):
+    # In this process (the console script's own entry point): a subprocess per case costs
+    # seconds of Python and NumPy start-up. test_cli.py keeps a few real subprocesses.
+    return run_cli(*args, cwd=cwd, env=env)
 
 
 COMMANDS = {
