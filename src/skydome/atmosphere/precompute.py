@@ -12,9 +12,9 @@ Bruneton's precomputed-luminance mode, or raw transfer values of 4 wavelengths w
   in twilight, so that they can be interpolated linearly (float16 by default);
 * ``multiple_scattering``: orders >= 2 divided by the Rayleigh phase function, stored as
   logarithms (interpolated geometrically: they fall exponentially in twilight);
-* ``irradiance``: the sky irradiance on a horizontal surface (r, mu_s), as luminance (RGB with
-  Y = illuminance in lx, scotopic lx) and per wavelength (``irradiance_spectral``, per unit
-  solar irradiance) so that the renderer can apply a spectral ground albedo.
+* ``irradiance_spectral``: the sky irradiance on a horizontal surface (r, mu_s) per wavelength
+  (per unit solar irradiance), so that the ground shading can apply a spectral albedo and
+  illuminance is converted after summing the groups (``ground_shading.glsl``).
 
 The algorithm (seed 004 ch. 5.2.2.3, Bruneton 2017) computes order n from order n - 1:
 J_n = beta P (x) L_{n-1} (scattering density), L_n = integral T J_n (+ ground reflection),
@@ -292,8 +292,8 @@ class PrecomputedAtmosphere:
 
     Tables (see the shaders for their exact encodings): ``scattering`` and ``single_mie``
     (single scattering / F, times ``table_scale``), ``multiple_scattering`` (ln of orders >= 2,
-    16-bit with ``multiple_log_range`` = (lo, span) or float32), ``irradiance`` and
-    ``irradiance_spectral`` (ln of the sky irradiance), and the transmittance (column densities).
+    16-bit with ``multiple_log_range`` = (lo, span) or float32), ``irradiance_spectral`` (ln of
+    the sky irradiance per wavelength group), and the transmittance (column densities).
     """
 
     ctx: object
@@ -304,7 +304,6 @@ class PrecomputedAtmosphere:
     scattering: object
     single_mie: object
     multiple_scattering: object
-    irradiance: object
     irradiance_spectral: object
     mu_s_min: float
     table_scale: float = 1.0
@@ -351,7 +350,6 @@ class PrecomputedAtmosphere:
             "u_scattering_texture": self.scattering,
             "u_single_mie_texture": self.single_mie,
             "u_multiple_scattering_texture": self.multiple_scattering,
-            "u_irradiance_texture": self.irradiance,
             "u_irradiance_spectral": self.irradiance_spectral,
         }
 
@@ -364,8 +362,8 @@ class PrecomputedAtmosphere:
         """The tables as NumPy arrays, exactly as stored on the GPU.
 
         ``scattering``/``single_mie``: (r, mu, nu * mu_s, 4) float16 or float32;
-        ``multiple_scattering``: (r, mu, nu * mu_s, 4) uint16 or float32; ``irradiance``:
-        (r, mu_s, 4) float32 ln(X, Y, Z, S); ``irradiance_spectral``: (groups, r, mu_s, 4) float32
+        ``multiple_scattering``: (r, mu, nu * mu_s, 4) uint16 or float32;
+        ``irradiance_spectral``: (groups, r, mu_s, 4) float32
         ln(E / E_sun); ``transmittance``: (r, mu, 3) float32 column densities (km); ``meta``:
         mu_s_min, table_scale, multiple_log_range, orders computed.
         """
@@ -382,7 +380,6 @@ class PrecomputedAtmosphere:
             "multiple_scattering": _read_array(
                 self.multiple_scattering, _NP_DTYPE[cfg.ms_dtype]
             ).copy(),
-            "irradiance": _read_2d(self.irradiance).copy(),
             "irradiance_spectral": spec.copy(),
             "meta": np.array(meta, dtype=np.float64),
         }
@@ -403,7 +400,6 @@ class PrecomputedAtmosphere:
             "scattering": ((d, h, w, 4), _NP_DTYPE[cfg.dtype]),
             "single_mie": ((d, h, w, 4), _NP_DTYPE[cfg.dtype]),
             "multiple_scattering": ((dm, hm, wm, 4), _NP_DTYPE[cfg.ms_dtype]),
-            "irradiance": ((eh, ew, 4), "f4"),
             "irradiance_spectral": ((groups, eh, ew, 4), "f4"),
             "meta": ((5,), "f8"),
         }
@@ -433,7 +429,7 @@ class PrecomputedAtmosphere:
             tex3d(arrays["scattering"], (w, h, d), cfg.dtype),
             tex3d(arrays["single_mie"], (w, h, d), cfg.dtype),
             tex3d(arrays["multiple_scattering"], (wm, hm, dm), cfg.ms_dtype),
-            tex2d(arrays["irradiance"], (ew, eh)), tex2d(spec, (ew, eh * groups)),
+            tex2d(spec, (ew, eh * groups)),
             meta[0], meta[1], (meta[2], meta[3]), int(meta[4]), {},
         )  # fmt: skip
 
@@ -443,7 +439,6 @@ class PrecomputedAtmosphere:
             self.scattering,
             self.single_mie,
             self.multiple_scattering,
-            self.irradiance,
             self.irradiance_spectral,
         ):
             tex.release()
@@ -553,7 +548,7 @@ class _Precomputation:
                 "multiple_scattering", 0.5, self._multiple_scattering, j_total is not None
             )
             scat, mie, scale = st.run("single_scattering", 3.0, self._single_scattering)
-            irr, irr_s = st.run("irradiance", 0.5, self._irradiance, j_total is not None)
+            irr_s = st.run("irradiance", 0.5, self._irradiance, j_total is not None)
         finally:
             for obj in self._released:
                 obj.release()
@@ -563,7 +558,7 @@ class _Precomputation:
             self.stages.progress("done", 1.0)
         return PrecomputedAtmosphere(
             ctx, self.params, cfg, self.transmittance.texture, self.transmittance.size,
-            scat, mie, ms_tex, irr, irr_s, self.mu_s_min, scale, ms_range, orders, timings,
+            scat, mie, ms_tex, irr_s, self.mu_s_min, scale, ms_range, orders, timings,
         )  # fmt: skip
 
     def _setup_ms(self) -> None:
@@ -747,7 +742,6 @@ class _Precomputation:
                 linear = np.where(ok, logged, linear)
             e = e + linear
         e = np.maximum(e, 0.0)
-        table = e @ table_matrix(self.wl, cfg.output).T  # (eh, ew, 4)
         spec = np.moveaxis(e.reshape(eh, ew, self.groups, 4), 2, 0)  # (groups, eh, ew, 4)
 
         def log_tex(a, size):
@@ -756,6 +750,4 @@ class _Precomputation:
                 ctx.texture(size, 4, np.ascontiguousarray(la).tobytes(), dtype="f4"), ctx
             )
 
-        irr = log_tex(table, (ew, eh))
-        irr_s = log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))
-        return irr, irr_s
+        return log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))

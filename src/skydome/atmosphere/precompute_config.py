@@ -246,7 +246,6 @@ class PrecomputeConfig:
             "scattering": w * h * d * 4 * b4,
             "single_mie": w * h * d * 4 * b4,
             "multiple_scattering": wm * hm * dm * 4 * bm,
-            "irradiance": ew * eh * 4 * 4,
             "irradiance_spectral": ew * eh * groups * 4 * 4,
         }
 

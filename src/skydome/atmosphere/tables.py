@@ -89,7 +89,6 @@ def shared_tables(
         tables.scattering,
         tables.single_mie,
         tables.multiple_scattering,
-        tables.irradiance,
         tables.irradiance_spectral,
     ]
     weakref.finalize(tables, _release_textures, textures).atexit = False
