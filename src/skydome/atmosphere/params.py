@@ -113,18 +113,39 @@ class DensityLayer:
             raise ParameterError(f"DensityLayer.width_m = {self.width_m} must be >= 0")
 
 
+#: Most samples a tabulated density profile may hold.
+MAX_TABLE_SAMPLES = 1024
+
+
 @dataclass(frozen=True)
 class DensityProfile:
-    """Up to two layers; the first applies below ``layers[0].width_m``, the second above."""
+    """The relative density of one constituent versus altitude, in one of two forms.
 
-    layers: tuple[DensityLayer, ...]
+    - **Layered** (Bruneton 2017): up to two :class:`DensityLayer`; the first applies below
+      ``layers[0].width_m``, the second above. Built by :meth:`exponential`, :meth:`tent` or
+      ``DensityProfile((layer, ...))``.
+    - **Tabulated**: relative densities ``values`` (>= 0) at increasing ``altitudes_m``,
+      built by :meth:`tabulated`; ``layers`` is then empty. See :meth:`tabulated` for the
+      interpolation.
+    """
+
+    layers: tuple[DensityLayer, ...] = ()
+    altitudes_m: tuple[float, ...] = ()
+    values: tuple[float, ...] = ()
 
     def __post_init__(self):
         layers = tuple(self.layers)
-        if not 1 <= len(layers) <= 2:
-            raise ParameterError(f"a DensityProfile has 1 or 2 layers, got {len(layers)}")
-        if len(layers) == 1:
-            layers = (DensityLayer(), layers[0])
+        if self.altitudes_m or self.values:
+            if layers:
+                raise ParameterError("a DensityProfile is either layered or tabulated, not both")
+            alt, val = _check_table(self.altitudes_m, self.values)
+            object.__setattr__(self, "altitudes_m", alt)
+            object.__setattr__(self, "values", val)
+        else:
+            if not 1 <= len(layers) <= 2:
+                raise ParameterError(f"a DensityProfile has 1 or 2 layers, got {len(layers)}")
+            if len(layers) == 1:
+                layers = (DensityLayer(), layers[0])
         object.__setattr__(self, "layers", layers)
 
     @classmethod
@@ -143,9 +164,30 @@ class DensityProfile:
             )
         )
 
+    @classmethod
+    def tabulated(cls, altitudes_m, values) -> DensityProfile:
+        """A profile through relative densities ``values`` (>= 0) at ``altitudes_m`` (m).
+
+        The altitudes increase strictly and the first is at or below the ground (0 m); 2 to
+        ``MAX_TABLE_SAMPLES`` (1024) finite samples. Between two samples the density is
+        log-linear (an exponential through both), or linear where one of them is 0 (the top
+        of an ozone layer). Below the first sample it is the first value; above the last it
+        continues as the last segment's exponential when that decreases, else it holds the
+        last value (so 0 after a 0). Values are not clamped to 1.
+        """
+        alt, val = _check_table(altitudes_m, values)
+        return cls(altitudes_m=alt, values=val)
+
+    @property
+    def is_tabulated(self) -> bool:
+        """True for a tabulated profile, False for a layered one."""
+        return not self.layers
+
     def density(self, altitude_m) -> np.ndarray:
-        """Relative density (0..1) at altitude(s) above the ground, in metres."""
+        """Relative density at altitude(s) above the ground, in metres (0..1 when layered)."""
         h = np.asarray(altitude_m, dtype=np.float64)
+        if self.is_tabulated:
+            return self._table_density(h)
         lo, hi = self.layers
 
         def eval_layer(layer: DensityLayer) -> np.ndarray:
@@ -159,15 +201,48 @@ class DensityProfile:
 
         return np.where(h < lo.width_m, eval_layer(lo), eval_layer(hi))
 
+    def _segments(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Per segment of the table: (base altitude m, base value, ln slope per m, linear?).
+
+        One more segment than gaps: the last one, from the last sample up, continues the last
+        gap's exponential if it decreases, else it is constant (linear with slope 0).
+        """
+        alt = np.asarray(self.altitudes_m)
+        val = np.asarray(self.values)
+        v0, v1 = val[:-1], val[1:]
+        linear = (v0 == 0.0) | (v1 == 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = np.where(linear, (v1 - v0) / np.diff(alt), np.log(v1 / v0) / np.diff(alt))
+        tail_linear = bool(linear[-1]) or slope[-1] >= 0.0
+        tail_slope = 0.0 if tail_linear else float(slope[-1])
+        return (
+            alt,
+            val,
+            np.append(slope, tail_slope),
+            np.append(linear, tail_linear),
+        )
+
+    def _table_density(self, h: np.ndarray) -> np.ndarray:
+        alt, val, slope, linear = self._segments()
+        hc = np.maximum(h, alt[0])  # constant below the first sample
+        i = np.clip(np.searchsorted(alt, hc, side="right") - 1, 0, len(alt) - 1)
+        dh = hc - alt[i]
+        with np.errstate(over="ignore"):
+            d = np.where(linear[i], val[i] + slope[i] * dh, val[i] * np.exp(slope[i] * dh))
+        return np.maximum(d, 0.0)  # rounding of a linear piece that ends at 0
+
     def column_m(self, top_m: float, subintervals: int = 1024) -> float:
         """Column of the relative density from the ground to ``top_m``: ∫ density dh, metres.
 
-        The integral is split at the layer boundary and where a purely linear layer is clamped
-        (at 0 or 1), then each piece is integrated by 8-point Gauss-Legendre quadrature on
-        ``subintervals`` equal parts: exact for linear pieces, ~1e-12 relative for
-        exponentials (an exp + linear layer's clamp points fall inside a part: ~1e-6).
+        Tabulated: exact, piece by piece (log-linear pieces ∫ = Δh (v1 - v0) / ln(v1/v0)).
+        Layered: the integral is split at the layer boundary and where a purely linear layer
+        is clamped (at 0 or 1), then each piece is integrated by 8-point Gauss-Legendre
+        quadrature on ``subintervals`` equal parts: exact for linear pieces, ~1e-12 relative
+        for exponentials (an exp + linear layer's clamp points fall inside a part: ~1e-6).
         """
         top = check_range("top_m", top_m, 0.0, 1e8, "m")
+        if self.is_tabulated:
+            return self._table_column(top)
         lo, hi = self.layers
         cuts = {0.0, top, min(max(lo.width_m, 0.0), top)}
         for layer, start, end in ((lo, 0.0, lo.width_m), (hi, lo.width_m, top)):
@@ -184,6 +259,61 @@ class DensityProfile:
             h = half * _GL_NODES[None, :] + 0.5 * (parts[:-1] + parts[1:])[:, None]
             total += float(np.sum(self.density(h) * _GL_WEIGHTS[None, :] * half))
         return total
+
+    def _table_column(self, top_m: float) -> float:
+        alt, _, slope, linear = self._segments()
+        edges = np.unique(np.concatenate([[0.0, top_m], alt[(alt > 0.0) & (alt < top_m)]]))
+        a, b = edges[:-1], edges[1:]
+        if a.size == 0:
+            return 0.0
+        # Each piece [a, b] lies within one segment (a >= 0 >= the first sample).
+        seg = np.clip(np.searchsorted(alt, a, side="right") - 1, 0, len(alt) - 1)
+        da, db = self.density(a), self.density(b)
+        width = b - a
+        k = slope[seg] * width  # ln(db / da) of a log-linear piece
+        lin = linear[seg]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            log_piece = np.where(np.abs(k) < 1e-9, da * width * (1.0 + 0.5 * k),
+                                 width * (db - da) / k)  # fmt: skip
+        piece = np.where(lin, 0.5 * width * (da + db), log_piece)
+        return float(np.sum(piece))
+
+    def to_dict(self) -> dict:
+        """The fields that define the profile (only those of its form), JSON-ready."""
+        if self.is_tabulated:
+            return {"altitudes_m": self.altitudes_m, "values": self.values}
+        return {"layers": tuple(asdict(layer) for layer in self.layers)}
+
+
+def _check_table(altitudes_m, values) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Validated (altitudes, values) of a tabulated profile, as tuples of floats."""
+    try:
+        alt = np.asarray(altitudes_m, dtype=np.float64).ravel()
+        val = np.asarray(values, dtype=np.float64).ravel()
+    except (TypeError, ValueError):
+        raise ParameterError(
+            "a tabulated DensityProfile needs numeric altitudes and values"
+        ) from None
+    if alt.size != val.size:
+        raise ParameterError(
+            f"a tabulated DensityProfile needs as many values ({val.size}) as altitudes "
+            f"({alt.size})"
+        )
+    if not 2 <= alt.size <= MAX_TABLE_SAMPLES:
+        raise ParameterError(
+            f"a tabulated DensityProfile has 2 to {MAX_TABLE_SAMPLES} samples, got {alt.size}"
+        )
+    if not (np.all(np.isfinite(alt)) and np.all(np.isfinite(val))):
+        raise ParameterError("a tabulated DensityProfile's altitudes and values must be finite")
+    if np.any(np.diff(alt) <= 0.0):
+        raise ParameterError("a tabulated DensityProfile's altitudes must increase strictly")
+    if alt[0] > 0.0:
+        raise ParameterError(
+            f"a tabulated DensityProfile must start at or below the ground (0 m), got {alt[0]} m"
+        )
+    if np.any(val < 0.0):
+        raise ParameterError("a tabulated DensityProfile's values must be >= 0")
+    return tuple(float(x) for x in alt), tuple(float(x) for x in val)
 
 
 @dataclass(frozen=True)
@@ -466,8 +596,12 @@ class AtmosphereParams:
         }
 
     def to_dict(self) -> dict:
+        """Every field that changes the physics; a density profile gives only the fields of
+        its form (a layered one exactly as before tabulated profiles existed)."""
         d = asdict(self)
         d.pop("description", None)
+        for name in ("rayleigh_density", "mie_density", "absorption_density"):
+            d[name] = getattr(self, name).to_dict()
         return d
 
     def digest(self) -> str:

@@ -2,17 +2,31 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from skydome.atmosphere.params import AtmosphereParams, DensityProfile
 
 M_PER_KM = 1000.0
 
+#: Samples per constituent of ``u_profile_table`` (PROFILE_TABLE_SIZE in atmosphere_common.glsl).
+PROFILE_TABLE_SIZE = 256
+#: What the table stores for ln(0) (PROFILE_LOG_ZERO in atmosphere_common.glsl): exp of it is 0
+#: in float32, and any sample at or below it makes its neighbours' interpolation linear.
+PROFILE_LOG_ZERO = -1.0e4
+
 
 def profile_uniform(profiles: tuple[DensityProfile, ...]) -> list[float]:
-    """Flatten density profiles into ``u_profile``: per layer (width, exp, scale, linear, const), km."""
+    """Flatten density profiles into ``u_profile``: per layer (width, exp, scale, linear, const), km.
+
+    A tabulated profile has no layers: its ten entries are 0 (the shader reads its table).
+    """
     out: list[float] = []
     for profile in profiles:
+        if profile.is_tabulated:
+            out += [0.0] * 10
+            continue
         for layer in profile.layers:
             out += [
                 layer.width_m / M_PER_KM,
@@ -24,6 +38,54 @@ def profile_uniform(profiles: tuple[DensityProfile, ...]) -> list[float]:
     return out
 
 
+def profile_table_grid(profile: DensityProfile, top_m: float) -> tuple[float, int]:
+    """The uniform altitude grid a tabulated profile is sampled on for the GPU: (step m, count).
+
+    The grid starts at the ground and reaches at least ``top_m`` with at most
+    ``PROFILE_TABLE_SIZE`` samples. When the table's altitudes are whole metres and their
+    greatest common divisor gives few enough samples, that is the step (500 m for the US
+    Standard Atmosphere 1976 and the AFGL ozone tables): every table sample is a grid node,
+    each grid cell lies within one table segment, and the shader's log-linear interpolation
+    is :meth:`DensityProfile.density` exactly (a linear piece next to a 0 is exact only where
+    it spans one cell). Otherwise the step is top / (PROFILE_TABLE_SIZE - 1) and the profile
+    is resampled log-linearly onto it.
+    """
+    alt = np.asarray(profile.altitudes_m)
+    whole = np.round(alt)
+    if np.all(np.abs(alt - whole) <= 1e-6):
+        step = float(np.gcd.reduce(np.abs(whole).astype(np.int64)))
+        if step > 0.0:
+            count = math.ceil(top_m / step - 1e-9) + 1
+            if count <= PROFILE_TABLE_SIZE:
+                return step, max(count, 2)
+    return top_m / (PROFILE_TABLE_SIZE - 1), PROFILE_TABLE_SIZE
+
+
+def profile_uniforms(profiles: tuple[DensityProfile, ...], top_m: float) -> dict[str, object]:
+    """The density profiles' uniforms (``u_profile``, ``u_profile_inv_step`` 1/km,
+    ``u_profile_last``, ``u_profile_table`` of ln densities) for an atmosphere ``top_m`` thick."""
+    inv_step = [0.0, 0.0, 0.0]
+    last = [1.0, 1.0, 1.0]
+    table = np.full((len(profiles), PROFILE_TABLE_SIZE), PROFILE_LOG_ZERO)
+    for c, profile in enumerate(profiles):
+        if not profile.is_tabulated:
+            continue
+        step_m, count = profile_table_grid(profile, top_m)
+        d = profile.density(step_m * np.arange(count))
+        with np.errstate(divide="ignore"):
+            table[c, :count] = np.where(
+                d > 0.0, np.log(np.where(d > 0.0, d, 1.0)), PROFILE_LOG_ZERO
+            )
+        inv_step[c] = M_PER_KM / step_m
+        last[c] = float(count - 1)
+    return {
+        "u_profile": profile_uniform(profiles),
+        "u_profile_inv_step": tuple(inv_step),
+        "u_profile_last": tuple(last),
+        "u_profile_table": table.ravel().tolist(),
+    }
+
+
 def geometry_uniforms(params: AtmosphereParams) -> dict[str, object]:
     """Radii (km) and density profiles: what the transmittance table depends on."""
     bottom, top = params.bottom_radius_m / M_PER_KM, params.top_radius_m / M_PER_KM
@@ -31,8 +93,9 @@ def geometry_uniforms(params: AtmosphereParams) -> dict[str, object]:
         "u_bottom_radius": bottom,
         "u_top_radius": top,
         "u_horizon_length": (top * top - bottom * bottom) ** 0.5,
-        "u_profile": profile_uniform(
-            (params.rayleigh_density, params.mie_density, params.absorption_density)
+        **profile_uniforms(
+            (params.rayleigh_density, params.mie_density, params.absorption_density),
+            params.atmosphere_height_m,
         ),
     }
 

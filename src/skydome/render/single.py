@@ -73,6 +73,10 @@ class SingleScatteringRenderer(PassRenderer):
             "NUM_GROUPS": self.groups,
             "CAMERA_MODEL": camera.model,
             "PROFILE_VALUES": ", ".join(f"{v:.9e}" for v in self.uniforms["u_profile"]),
+            "PROFILE_INV_STEP_VALUES": ", ".join(
+                f"{v:.9e}" for v in self.uniforms["u_profile_inv_step"]
+            ),
+            "PROFILE_LAST_VALUES": ", ".join(f"{v:.1f}" for v in self.uniforms["u_profile_last"]),
         }
 
     def render(

@@ -4,17 +4,34 @@
 
 uniform float u_bottom_radius;   // planet radius, km
 uniform float u_top_radius;      // top of the atmosphere, km
-// Density profiles of Rayleigh (0), Mie (1) and absorbing (2) constituents: two layers
-// each of (width, exp_term, exp_scale, linear_term, constant_term), units km and 1/km,
-// at u_profile[10 * constituent + 5 * layer + k]. Bruneton 2017, DensityProfileLayer.
-// With PROFILE_VALUES defined (30 comma-separated literals) the profiles are compile-time
-// constants, which lets the compiler drop unused terms (a measurable gain on CPU renderers).
+// Density profiles of Rayleigh (0), Mie (1) and absorbing (2) constituents, each layered or
+// tabulated (uniforms.py, profile_uniforms).
+// Layered: two layers each of (width, exp_term, exp_scale, linear_term, constant_term), units
+// km and 1/km, at u_profile[10 * constituent + 5 * layer + k]. Bruneton 2017,
+// DensityProfileLayer.
+// Tabulated (PROFILE_INV_STEP[c] > 0): ln(density) at the altitudes i / PROFILE_INV_STEP[c] km,
+// i = 0 .. PROFILE_LAST[c], sample i of constituent c at flat index c * PROFILE_TABLE_SIZE + i
+// of u_profile_table (four to a vec4); a density of 0 is stored as PROFILE_LOG_ZERO.
+// Log-linear between samples, linear next to a 0; constant outside the samples.
+// With PROFILE_VALUES defined (30 comma-separated literals, and the 3 + 3 of
+// PROFILE_INV_STEP_VALUES and PROFILE_LAST_VALUES) the profiles' forms and layers are
+// compile-time constants, which lets the compiler drop unused terms and the table code of
+// layered profiles (a measurable gain on CPU renderers).
+#define PROFILE_TABLE_SIZE 256
+#define PROFILE_LOG_ZERO -1.0e4
 #ifdef PROFILE_VALUES
 const float PROFILE[30] = float[30](PROFILE_VALUES);
+const vec3 PROFILE_INV_STEP = vec3(PROFILE_INV_STEP_VALUES);
+const vec3 PROFILE_LAST = vec3(PROFILE_LAST_VALUES);
 #else
 uniform float u_profile[30];
+uniform vec3 u_profile_inv_step;  // 1 / table step (1/km) per constituent; 0 = layered
+uniform vec3 u_profile_last;      // index of the last table sample per constituent
 #define PROFILE u_profile
+#define PROFILE_INV_STEP u_profile_inv_step
+#define PROFILE_LAST u_profile_last
 #endif
+uniform vec4 u_profile_table[3 * PROFILE_TABLE_SIZE / 4];
 
 float clamp_cosine(float mu) { return clamp(mu, -1.0, 1.0); }
 float safe_sqrt(float a) { return sqrt(max(a, 0.0)); }
@@ -26,7 +43,22 @@ float layer_density(int base, float altitude) {
     return clamp(d, 0.0, 1.0);
 }
 
+float table_log_density(int k) { return u_profile_table[k >> 2][k & 3]; }
+
+float tabulated_density(int constituent, float altitude) {
+    float last = PROFILE_LAST[constituent];
+    float x = clamp(altitude * PROFILE_INV_STEP[constituent], 0.0, last);
+    float i = min(floor(x), last - 1.0);
+    float f = x - i;
+    int k = constituent * PROFILE_TABLE_SIZE + int(i);
+    float a = table_log_density(k);
+    float b = table_log_density(k + 1);
+    if (min(a, b) <= PROFILE_LOG_ZERO) return mix(exp(a), exp(b), f);  // exp(-1e4) = 0
+    return exp(mix(a, b, f));
+}
+
 float profile_density(int constituent, float altitude) {
+    if (PROFILE_INV_STEP[constituent] > 0.0) return tabulated_density(constituent, altitude);
     int base = 10 * constituent;
     return altitude < PROFILE[base] ? layer_density(base, altitude) : layer_density(base + 5, altitude);
 }
