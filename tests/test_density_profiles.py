@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from skydome.atmosphere import DensityLayer, DensityProfile, earth, preset
+from skydome.atmosphere import PRESETS, DensityLayer, DensityProfile, preset
 from skydome.atmosphere import reference_single as ref
 from skydome.atmosphere.params import MAX_TABLE_SAMPLES
 from skydome.atmosphere.precompute_config import PrecomputeConfig
@@ -20,6 +20,19 @@ from skydome.gpu import FullscreenPass
 from skydome.render import DirectionsCamera, direction_from_angles
 from skydome.render.precomputed import PrecomputedRenderer
 from skydome.render.single import SingleScatteringRenderer
+
+
+def layered_earth():
+    """Bruneton's layered Earth profiles (seed 001 appendix B: air an 8 km exponential, aerosol
+    1.2 km, ozone a tent at 25 +- 15 km, top at 100 km) on the spectra of the ``earth_nishita``
+    preset: a fixed layered atmosphere, whatever the presets become."""
+    return preset("earth_nishita").with_(
+        top_radius_m=6_460_000.0,
+        rayleigh_density=DensityProfile.exponential(8000.0),
+        mie_density=DensityProfile.exponential(1200.0),
+        absorption_density=DensityProfile.tent(25_000.0, 15_000.0),
+    )
+
 
 # --------------------------------------------------------------------------------------------
 # The shipped table against the published standard
@@ -187,17 +200,17 @@ def test_a_profile_is_layered_or_tabulated_not_both():
 def test_tabulated_profiles_are_values_in_params_and_cache_keys():
     # Immutable and hashable; equal tables make equal parameters, digests and table cache
     # keys; any changed sample changes them; to_dict is plain JSON.
-    a = earth().with_(rayleigh_density=air_density_profile())
-    b = earth().with_(rayleigh_density=air_density_profile())
+    a = layered_earth().with_(rayleigh_density=air_density_profile())
+    b = layered_earth().with_(rayleigh_density=air_density_profile())
     assert a == b and hash(a) == hash(b) and a.digest() == b.digest()
     with pytest.raises(AttributeError):
         a.rayleigh_density.values = (1.0,)
     values = list(air_density_profile().values)
     values[100] *= 1.0 + 1e-9
-    c = earth().with_(
+    c = layered_earth().with_(
         rayleigh_density=DensityProfile.tabulated(air_density_profile().altitudes_m, values)
     )
-    assert c.digest() != a.digest() != earth().digest()
+    assert c.digest() != a.digest() != layered_earth().digest()
     cfg = PrecomputeConfig()
     assert tables_key(a, cfg) == tables_key(b, cfg) != tables_key(c, cfg)
     d = json.loads(json.dumps(a.to_dict()))
@@ -250,7 +263,9 @@ def test_glsl_tabulated_density_matches_python(ctx):
     # ln(density) rounded to 2^-24 relative (|ln| <= 16: 1e-6) and the altitude to 1e-7 km
     # (times the slope of ln rho, <= 0.2 /km: 2e-8). Bound 1e-4 relative, plus 1e-9 absolute
     # for densities that are ~0 (the top of the zero-ended profile, linear there).
-    p = earth().with_(rayleigh_density=air_density_profile(), absorption_density=_ozone_like())
+    p = layered_earth().with_(
+        rayleigh_density=air_density_profile(), absorption_density=_ozone_like()
+    )
     assert profile_table_grid(p.absorption_density, p.atmosphere_height_m) == (500.0, 201)
     got, h_km = glsl_densities(ctx, p, p.atmosphere_height_m / 1e3)
     want = ref.densities(p, h_km * 1e3)
@@ -270,7 +285,7 @@ def test_glsl_resampled_irregular_table(ctx):
     alt = np.concatenate([[0.0], 0.37 + 613.9 * np.arange(1, 163)])
     n = np.exp(np.interp(alt, std.altitude_m, np.log(std.number_density_m3)))
     prof = DensityProfile.tabulated(alt, n / n[0])
-    p = earth().with_(rayleigh_density=prof)
+    p = layered_earth().with_(rayleigh_density=prof)
     step, count = profile_table_grid(prof, p.atmosphere_height_m)
     assert count == 256 and step == pytest.approx(100e3 / 255)
     got, h_km = glsl_densities(ctx, p, p.atmosphere_height_m / 1e3)
@@ -286,15 +301,19 @@ def test_glsl_resampled_irregular_table(ctx):
     assert err.max() < 2e-3
 
 
-def test_glsl_layered_density_matches_python(ctx):
-    # The layered form is evaluated as before (exp + linear, clamped): float32 rounding only,
-    # bound 1e-5 relative + 1e-6 absolute (the ozone tent's linear terms, a h + c with |a h|
-    # and |c| up to 3, cancel to ~0 at its ends: a few float32 ulps of 3, measured 1.7e-7).
-    for name in ("earth", "mars", "earth_nishita"):
-        p = preset(name)
+def test_glsl_presets_density_matches_python(ctx):
+    # Every preset, whatever its profiles' forms. Layered ones are evaluated as before (exp +
+    # linear, clamped): float32 rounding only, bound 1e-5 relative + 1e-6 absolute (the ozone
+    # tent's linear terms, a h + c with |a h| and |c| up to 3, cancel to ~0 at its ends: a few
+    # float32 ulps of 3, measured 1.7e-7). Tabulated ones as in the test above, 1e-4.
+    for name in [*PRESETS, "layered"]:
+        p = layered_earth() if name == "layered" else preset(name)
         got, h_km = glsl_densities(ctx, p, p.atmosphere_height_m / 1e3)
         want = ref.densities(p, h_km * 1e3)
-        np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-6, err_msg=name)
+        profiles = (p.rayleigh_density, p.mie_density, p.absorption_density)
+        for c, prof in enumerate(profiles):
+            rtol = 1e-4 if prof.is_tabulated else 1e-5
+            np.testing.assert_allclose(got[:, c], want[:, c], rtol=rtol, atol=1e-6, err_msg=name)
 
 
 def test_transmittance_table_with_tabulated_profiles(ctx):
@@ -304,7 +323,9 @@ def test_transmittance_table_with_tabulated_profiles(ctx):
     # 2e-4 relative (float32, Simpson's rule over 300 intervals); the ozone-like table bends
     # at each of its ~40 samples, where Simpson's rule (333 m steps vertically) errs by
     # O(slope jump x step^2): measured 3.2e-4 at the zenith, bound 5e-4. Plus 1e-6 km.
-    p = earth().with_(rayleigh_density=air_density_profile(), absorption_density=_ozone_like())
+    p = layered_earth().with_(
+        rayleigh_density=air_density_profile(), absorption_density=_ozone_like()
+    )
     table = TransmittanceTable(ctx, p, size=(256, 64))
     t = table.read().astype(np.float64)
     table.release()
@@ -354,7 +375,7 @@ def test_tabulated_exponentials_reproduce_the_exponential_frame(model):
     # themselves, which are the same functions (test above), so the frames differ only by
     # float32 rounding (measured: 1e-7 single scattering, 6e-5 precomputed tables, whose
     # log-encoded entries amplify it): the issue's bound, 0.5 %.
-    base = earth()
+    base = layered_earth()
     top = base.atmosphere_height_m
     tab = base.with_(
         rayleigh_density=_sampled(base.rayleigh_density, top),

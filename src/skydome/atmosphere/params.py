@@ -3,7 +3,9 @@
 The model is Bruneton's (2017 reference implementation, also seed 001 appendix B and seed
 004 ch. 5): Rayleigh scattering, Mie (aerosol) scattering and absorption, and an
 absorbing layer (ozone), each with a density profile made of up to two layers of the form
-``clamp(exp_term·exp(exp_scale·h) + linear_term·h + constant_term, 0, 1)``.
+``clamp(exp_term·exp(exp_scale·h) + linear_term·h + constant_term, 0, 1)``, or tabulated:
+relative densities at altitudes, log-linear between them (``DensityProfile.tabulated``; the
+U.S. Standard Atmosphere 1976 air is ``standard_atmosphere.air_density_profile()``).
 Python uses metres; spectral coefficients are per metre.
 
 The atmosphere knobs of pvlib or Blender users (ground albedo, aerosol optical depth at

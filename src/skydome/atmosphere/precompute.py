@@ -58,7 +58,7 @@ import numpy as np
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.transmittance import TransmittanceTable
-from skydome.atmosphere.uniforms import geometry_uniforms, spectral_uniforms
+from skydome.atmosphere.uniforms import geometry_uniforms, profile_defines, spectral_uniforms
 from skydome.errors import CacheError, ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.textures import copy_array_to_3d, linear_clamped
@@ -321,7 +321,7 @@ class PrecomputedAtmosphere:
 
     def defines(self) -> dict[str, object]:
         """Preprocessor defines the lookup shader needs."""
-        return {"NUM_GROUPS": self.groups}
+        return {"NUM_GROUPS": self.groups, **profile_defines(self.params)}
 
     def uniforms(self) -> dict[str, object]:
         """Every uniform of ``precomputed_lookup.glsl`` (and of spectral/transmittance GLSL)."""
@@ -570,6 +570,7 @@ class _Precomputation:
         self.n_dir = (n_sky + n_ground) * n_phi
         gm = self.ms_groups
         self.ms_defines = {
+            **profile_defines(self.params),
             "NUM_GROUPS": gm,
             "RAY_SAMPLES": cfg.ms_samples,
             "N_MU_SKY": n_sky,
@@ -665,7 +666,11 @@ class _Precomputation:
         """The single-scattering tables at the render wavelengths (divided by F)."""
         cfg, ctx = self.cfg, self.ctx
         w, h, d = cfg.table_shape(cfg.scattering_size)
-        defines = {"NUM_GROUPS": self.groups, "RAY_SAMPLES": cfg.single_samples}
+        defines = {
+            **profile_defines(self.params),
+            "NUM_GROUPS": self.groups,
+            "RAY_SAMPLES": cfg.single_samples,
+        }
         prog = _program(ctx, "precompute_scattering.glsl", defines, layered=True)
         arrays = [self._keep(ctx.texture_array((w, h, d), 4, dtype="f4")) for _ in range(2)]
         fbo = self._keep(ctx.framebuffer(color_attachments=arrays))
@@ -704,6 +709,7 @@ class _Precomputation:
             groups = len(wl) // 4
             samples = cfg.single_samples if single else cfg.ms_samples
             defines = {
+                **profile_defines(self.params),
                 "NUM_GROUPS": groups,
                 "RAY_SAMPLES": samples,
                 "IRR_N_MU": n_mu,

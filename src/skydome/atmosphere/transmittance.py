@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from skydome.atmosphere.params import AtmosphereParams
-from skydome.atmosphere.uniforms import geometry_uniforms
+from skydome.atmosphere.uniforms import geometry_uniforms, profile_defines
 from skydome.gpu import FullscreenPass
 
 DEFAULT_SIZE = (1024, 256)
@@ -34,7 +34,8 @@ class TransmittanceTable:
         self.texture.filter = (ctx.LINEAR, ctx.LINEAR)
         self.texture.repeat_x = self.texture.repeat_y = False
         fbo = ctx.framebuffer(color_attachments=[self.texture])
-        fill = FullscreenPass(ctx, "transmittance_pass.glsl", {"TRANSMITTANCE_STEPS": int(steps)})
+        defines = {"TRANSMITTANCE_STEPS": int(steps), **profile_defines(params)}
+        fill = FullscreenPass(ctx, "transmittance_pass.glsl", defines)
         fbo.viewport = (0, 0, *self.size)
         fill.draw(fbo, {**geometry_uniforms(params), "u_transmittance_size": self.size})
         ctx.finish()

@@ -86,6 +86,23 @@ def profile_uniforms(profiles: tuple[DensityProfile, ...], top_m: float) -> dict
     }
 
 
+def profile_defines(params: AtmosphereParams) -> dict[str, object]:
+    """``PROFILE_FORMS`` for every shader that includes atmosphere_common.glsl: bit c set when
+    constituent c (Rayleigh, Mie, absorption) is tabulated, bit c + 3 when its GPU table holds
+    a zero (linear pieces). It makes the profile forms compile-time constants (see the
+    shader); shaders compiled without it decide at run time, at a cost on CPU renderers."""
+    profiles = (params.rayleigh_density, params.mie_density, params.absorption_density)
+    top = params.atmosphere_height_m
+    forms = 0
+    for c, profile in enumerate(profiles):
+        if profile.is_tabulated:
+            forms |= 1 << c
+            step_m, count = profile_table_grid(profile, top)
+            if np.any(profile.density(step_m * np.arange(count)) <= 0.0):
+                forms |= 1 << (c + 3)
+    return {"PROFILE_FORMS": forms}
+
+
 def geometry_uniforms(params: AtmosphereParams) -> dict[str, object]:
     """Radii (km) and density profiles: what the transmittance table depends on."""
     bottom, top = params.bottom_radius_m / M_PER_KM, params.top_radius_m / M_PER_KM

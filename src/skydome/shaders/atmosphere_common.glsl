@@ -13,10 +13,14 @@ uniform float u_top_radius;      // top of the atmosphere, km
 // i = 0 .. PROFILE_LAST[c], sample i of constituent c at flat index c * PROFILE_TABLE_SIZE + i
 // of u_profile_table (four to a vec4); a density of 0 is stored as PROFILE_LOG_ZERO.
 // Log-linear between samples, linear next to a 0; constant outside the samples.
+// PROFILE_FORMS (bit c set: constituent c is tabulated; bit c + 3: its table has zeros, so
+// linear pieces; uniforms.py, profile_defines) makes the forms compile-time constants: CPU
+// renderers (llvmpipe) run both sides of a branch on a uniform, so without it every density
+// would also pay for the table lookup (twice the cost of the transmittance table), and every
+// tabulated one for the linear pieces. Without the define both are decided at run time.
 // With PROFILE_VALUES defined (30 comma-separated literals, and the 3 + 3 of
-// PROFILE_INV_STEP_VALUES and PROFILE_LAST_VALUES) the profiles' forms and layers are
-// compile-time constants, which lets the compiler drop unused terms and the table code of
-// layered profiles (a measurable gain on CPU renderers).
+// PROFILE_INV_STEP_VALUES and PROFILE_LAST_VALUES) the layers and grids are compile-time
+// constants too, which lets the compiler drop unused terms (a measurable gain on CPU renderers).
 #define PROFILE_TABLE_SIZE 256
 #define PROFILE_LOG_ZERO -1.0e4
 #ifdef PROFILE_VALUES
@@ -45,6 +49,14 @@ float layer_density(int base, float altitude) {
 
 float table_log_density(int k) { return u_profile_table[k >> 2][k & 3]; }
 
+#ifdef PROFILE_FORMS
+#define PROFILE_IS_TABULATED(c) (((PROFILE_FORMS >> (c)) & 1) != 0)
+#define PROFILE_HAS_ZEROS(c) (((PROFILE_FORMS >> ((c) + 3)) & 1) != 0)
+#else
+#define PROFILE_IS_TABULATED(c) (PROFILE_INV_STEP[c] > 0.0)
+#define PROFILE_HAS_ZEROS(c) true
+#endif
+
 float tabulated_density(int constituent, float altitude) {
     float last = PROFILE_LAST[constituent];
     float x = clamp(altitude * PROFILE_INV_STEP[constituent], 0.0, last);
@@ -53,12 +65,14 @@ float tabulated_density(int constituent, float altitude) {
     int k = constituent * PROFILE_TABLE_SIZE + int(i);
     float a = table_log_density(k);
     float b = table_log_density(k + 1);
-    if (min(a, b) <= PROFILE_LOG_ZERO) return mix(exp(a), exp(b), f);  // exp(-1e4) = 0
+    if (PROFILE_HAS_ZEROS(constituent) && min(a, b) <= PROFILE_LOG_ZERO) {
+        return mix(exp(a), exp(b), f);  // exp(-1e4) = 0
+    }
     return exp(mix(a, b, f));
 }
 
 float profile_density(int constituent, float altitude) {
-    if (PROFILE_INV_STEP[constituent] > 0.0) return tabulated_density(constituent, altitude);
+    if (PROFILE_IS_TABULATED(constituent)) return tabulated_density(constituent, altitude);
     int base = 10 * constituent;
     return altitude < PROFILE[base] ? layer_density(base, altitude) : layer_density(base + 5, altitude);
 }
