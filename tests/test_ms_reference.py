@@ -29,7 +29,7 @@ from skydome.errors import ParameterError
 
 DATA = Path(__file__).parent / "data" / "ms_reference_earth.npz"
 WL = (440.0, 550.0, 680.0)
-EARTH = preset("earth")
+EARTH = preset("earth_bruneton")  # the atmosphere of the stored reference
 
 
 def _dir(elevation_deg: float, azimuth_deg: float) -> list[float]:
@@ -678,9 +678,9 @@ def ref():
 
 
 def test_reference_file_matches_the_preset(ref):
-    assert str(ref["preset"]) == "earth"
-    assert str(ref["digest"]) == preset("earth").digest(), (
-        "the earth preset changed since tests/data/ms_reference_earth.npz was made: "
+    assert str(ref["preset"]) == "earth_bruneton"
+    assert str(ref["digest"]) == preset("earth_bruneton").digest(), (
+        "the earth_bruneton preset changed since tests/data/ms_reference_earth.npz was made: "
         "rerun `python tools/make_ms_reference.py`"
     )
     assert DATA.stat().st_size < 2_000_000
@@ -703,7 +703,7 @@ def test_reference_file_shapes(ref):
     assert ref["n_paths"].shape == (A, S)
     np.testing.assert_array_equal(ref["order_bins"], list(range(1, B)) + [-1])
     settings = json.loads(str(ref["settings"]))
-    assert settings["preset"] == "earth" and "paths_per_view" in settings
+    assert settings["preset"] == "earth_bruneton" and "paths_per_view" in settings
     np.testing.assert_allclose(
         ref["solar_irradiance"], EARTH.solar_irradiance.at(np.array(WL)), rtol=1e-12
     )

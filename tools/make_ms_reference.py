@@ -1,8 +1,9 @@
 """Generate ``tests/data/ms_reference_earth.npz``: float64 Monte Carlo sky radiance, all orders.
 
 The reference against which the GLSL multiple-scattering tables (Bruneton 2017) are tested.
-Computed with :mod:`skydome.atmosphere.reference_ms` for the ``earth`` preset at 440, 550 and
-680 nm, a camera at 0 m and 10 000 m, the Sun at elevations -6°, 0°, 5°, 20° and 60° (due east,
+Computed with :mod:`skydome.atmosphere.reference_ms` for the ``earth_bruneton`` preset (the
+seeds' Earth; the files were made when it was named ``earth``) at 440, 550 and 680 nm, a
+camera at 0 m and 10 000 m, the Sun at elevations -6°, 0°, 5°, 20° and 60° (due east,
 azimuth 90°), on a fixed set of 61 view directions (:func:`view_directions`):
 
 * 48 directions of a Fibonacci set over the upper hemisphere: elevation asin((i + 1/2)/48),
@@ -27,7 +28,7 @@ W = wavelengths, B = order bins):
 * ``view_dirs`` (V, 3) ENU unit vectors, ``view_elevation_deg``, ``view_azimuth_deg``,
   ``view_valid`` (A, V); ``wavelengths_nm``, ``camera_altitude_m``, ``sun_elevation_deg``,
   ``sun_zenith_rad``, ``solar_irradiance`` (W m^-2 nm^-1), ``n_paths`` (A, S) per view;
-* ``digest`` (``preset("earth").digest()``), ``preset`` and ``settings`` (JSON: seeds,
+* ``digest`` (``preset("earth_bruneton").digest()``), ``preset`` and ``settings`` (JSON: seeds,
   path counts, the tracer's quadrature and sampling constants, versions, run time).
 
 Paths per view are set per configuration from pilot runs so that the relative standard error
@@ -82,7 +83,7 @@ from skydome.atmosphere import preset
 from skydome.atmosphere import reference_ms as rms
 from skydome.spectra import wavelengths
 
-PRESET = "earth"
+PRESET = "earth_bruneton"
 WAVELENGTHS_NM = (440.0, 550.0, 680.0)
 CAMERA_ALTITUDES_M = (0.0, 10_000.0)
 SUN_ELEVATIONS_DEG = (-6.0, 0.0, 5.0, 20.0, 60.0)

@@ -20,11 +20,16 @@ from skydome.atmosphere.params import (
 from skydome.atmosphere.presets import (
     HAZY_AEROSOL,
     PRESETS,
+    desert,
     earth,
+    earth_bruneton,
     earth_nishita,
     hazy,
+    maritime,
     mars,
     preset,
+    typical,
+    urban,
 )
 
 __all__ = [
@@ -40,9 +45,14 @@ __all__ = [
     "DensityLayer",
     "DensityProfile",
     "Spectrum",
+    "desert",
     "earth",
+    "earth_bruneton",
     "earth_nishita",
     "hazy",
+    "maritime",
     "mars",
     "preset",
+    "typical",
+    "urban",
 ]

@@ -1,4 +1,11 @@
-"""Atmosphere presets: ``earth``, ``earth_nishita``, ``hazy`` and ``mars``."""
+"""Atmosphere presets.
+
+The measured Earth (U.S. Standard Atmosphere 1976 air, Bodhaine Rayleigh, AFGL ozone at
+300 DU, an OPAC aerosol type): ``earth`` (clean continental, AOD 0.1: a typical clear day),
+``typical`` (average continental: the mean daylight of measured curves), ``hazy``, ``urban``,
+``maritime``, ``desert``. The seeds' atmospheres, for comparison: ``earth_bruneton`` (seed 001
+appendix B) and ``earth_nishita`` (seed 002). And ``mars``.
+"""
 
 from __future__ import annotations
 
@@ -38,10 +45,13 @@ def _sun(scale: float = 1.0) -> Spectrum:
     return Spectrum.sampled(_GRID_NM, scale * solar_irradiance(_GRID_NM))
 
 
-def earth() -> AtmosphereParams:
-    """Earth, clear sky, with ozone: seed 001 appendix B (Hillaire 2020 / Bruneton 2017)."""
+def earth_bruneton() -> AtmosphereParams:
+    """The seeds' Earth (seed 001 appendix B, Hillaire 2020 / Bruneton 2017), kept for
+    comparison: air as one 8 km exponential with Bruneton's Rayleigh coefficients, aerosol of
+    optical depth 0.005 at 550 nm (1.2 km exponential, g = 0.8), 300 DU of ozone on a tent
+    profile (25 km, 15 km half width)."""
     return AtmosphereParams(
-        name="earth",
+        name="earth_bruneton",
         bottom_radius_m=6_360_000.0,
         top_radius_m=6_460_000.0,
         rayleigh_scattering=_lambda_power(EARTH_RAYLEIGH_K, 4.0),
@@ -55,8 +65,80 @@ def earth() -> AtmosphereParams:
         ground_albedo=Spectrum.constant(0.3),
         sun_angular_radius_rad=SUN_ANGULAR_RADIUS_1AU,
         solar_irradiance=_sun(),
-        description="Earth, clear sky with ozone (seed 001 appendix B)",
+        description="Earth of the seeds (seed 001 appendix B): 8 km exponential air",
     ).with_ozone(300.0)
+
+
+def _standard_earth(name: str, description: str, aerosol: str, aod_550: float | None = None):
+    """The measured Earth: U.S. Standard Atmosphere 1976 air (number density, tabulated every
+    500 m to 100 km) with Rayleigh scattering from first principles (Bodhaine et al. 1999
+    cross-section times the standard's sea-level number density: 1.149e-5 m^-1 at 550 nm, an
+    optical depth of 0.0971), the AFGL 1986 U.S. Standard ozone profile scaled to 300 DU, an
+    OPAC aerosol type (Hess et al. 1998) and a ground albedo of 0.3."""
+    from skydome.atmosphere.aerosols import with_aerosol_type
+    from skydome.atmosphere.ozone import ozone_density_profile
+    from skydome.atmosphere.rayleigh import rayleigh_scattering_per_m
+    from skydome.atmosphere.standard_atmosphere import air_density_profile, us_standard_1976
+
+    sea_level_m3 = float(us_standard_1976().number_density_m3[0])
+    base = AtmosphereParams(
+        name=name,
+        bottom_radius_m=6_360_000.0,
+        top_radius_m=6_460_000.0,
+        rayleigh_scattering=Spectrum.sampled(
+            _GRID_NM, rayleigh_scattering_per_m(_GRID_NM, sea_level_m3)
+        ),
+        rayleigh_density=air_density_profile(),
+        mie_scattering=Spectrum.constant(0.0),  # the aerosol type's, set below
+        mie_extinction=Spectrum.constant(0.0),
+        mie_g=0.7,
+        mie_density=DensityProfile.exponential(1200.0),
+        absorption_extinction=Spectrum.constant(0.0),  # 300 DU of ozone, set below
+        absorption_density=ozone_density_profile(),
+        ground_albedo=Spectrum.constant(0.3),
+        sun_angular_radius_rad=SUN_ANGULAR_RADIUS_1AU,
+        solar_irradiance=_sun(),
+        description=description,
+    ).with_ozone(300.0)
+    return with_aerosol_type(base, aerosol, aod_550)
+
+
+def earth() -> AtmosphereParams:
+    """A typical clear day: the measured Earth (:func:`_standard_earth`) with clean
+    continental aerosol of optical depth 0.1 at 550 nm."""
+    return _standard_earth(
+        "earth",
+        "Earth, clear day: standard atmosphere, clean continental aerosol (AOD 0.1), 300 DU",
+        "continental_clean",
+        0.1,
+    )
+
+
+def typical() -> AtmosphereParams:
+    """The mean turbidity that measured mean daylight curves describe: the measured Earth
+    with OPAC's average continental aerosol (its standard column, AOD 0.151 at 550 nm)."""
+    return _standard_earth(
+        "typical",
+        "Earth, average continental aerosol (AOD 0.151): the measured mean daylight",
+        "continental_average",
+    )
+
+
+def urban() -> AtmosphereParams:
+    """The measured Earth with OPAC's urban aerosol (AOD 0.643 at 550 nm, SSA 0.82)."""
+    return _standard_earth("urban", "Earth, urban aerosol (AOD 0.643)", "urban")
+
+
+def maritime() -> AtmosphereParams:
+    """The measured Earth with OPAC's clean maritime aerosol (AOD 0.096, Ångström 0.1)."""
+    return _standard_earth(
+        "maritime", "Earth, clean maritime aerosol (AOD 0.096)", "maritime_clean"
+    )
+
+
+def desert() -> AtmosphereParams:
+    """The measured Earth with OPAC's desert aerosol (AOD 0.286, coarse mineral dust)."""
+    return _standard_earth("desert", "Earth, desert aerosol (AOD 0.286)", "desert")
 
 
 def earth_nishita() -> AtmosphereParams:
@@ -141,7 +223,17 @@ def mars() -> AtmosphereParams:
     )
 
 
-PRESETS = {"earth": earth, "earth_nishita": earth_nishita, "hazy": hazy, "mars": mars}
+PRESETS = {
+    "earth": earth,
+    "typical": typical,
+    "hazy": hazy,
+    "urban": urban,
+    "maritime": maritime,
+    "desert": desert,
+    "earth_bruneton": earth_bruneton,
+    "earth_nishita": earth_nishita,
+    "mars": mars,
+}
 
 
 def preset(
