@@ -3,12 +3,26 @@
 import numpy as np
 import pytest
 
-from skydome.atmosphere import PRESETS, DensityProfile, Spectrum, earth, preset
+from skydome.atmosphere import (
+    PRESETS,
+    DensityProfile,
+    Spectrum,
+    earth,
+    earth_bruneton,
+    preset,
+)
 from skydome.errors import ParameterError
 
+#: The presets' spectral grid: 360-830 nm every 5 nm (the range the renderer samples).
+GRID_NM = np.arange(360.0, 831.0, 5.0)
 
-def test_earth_matches_seed_001_appendix_b():
-    p = earth()
+
+def test_earth_bruneton_matches_seed_001_appendix_b():
+    # The seeds' Earth, kept as earth_bruneton (until the measured Earth it was `earth`): all
+    # of its physics is seed 001 appendix B, exactly. The stored Monte Carlo reference
+    # (tests/data/ms_reference_earth*.npz) was made with it; test_ms_reference.py ties the
+    # file to this preset's digest.
+    p = earth_bruneton()
     c = p.coefficients([680.0, 550.0, 440.0])
     # Appendix B: Rayleigh (5.802, 13.558, 33.100)e-3 /km; Mie 3.996e-3 scattering,
     # 0.444e-3 absorption; g 0.8; radii 6360 km, height 100 km; albedo 0.3.
@@ -30,15 +44,82 @@ def test_earth_matches_seed_001_appendix_b():
     np.testing.assert_allclose(
         p.absorption_density.density(h), np.maximum(0, 1 - np.abs(h - 25e3) / 15e3), atol=1e-12
     )
+    # The rest of its physics: top at 6460 km, Mie scattering and extinction grey over the
+    # whole grid, Rayleigh λ^-4 through 13.558e-6 /m at 550 nm, albedo 0.3 everywhere, the Sun
+    # (959.63" radius at 1 AU, the tabulated solar spectrum, as for every Earth preset).
+    from skydome.spectra.tables import solar_irradiance
+
+    assert p.top_radius_m == 6.46e6 and p.sun_angular_radius_rad == pytest.approx(
+        np.radians(959.63 / 3600.0), rel=1e-12
+    )
+    g = p.coefficients(GRID_NM)
+    np.testing.assert_array_equal(g["mie_scattering"], 3.996e-6)
+    np.testing.assert_array_equal(g["mie_extinction"], 4.440e-6)
+    np.testing.assert_allclose(
+        g["rayleigh_scattering"], 13.558e-6 * (GRID_NM / 550.0) ** -4.0, rtol=1e-4
+    )
+    np.testing.assert_array_equal(g["ground_albedo"], 0.3)
+    np.testing.assert_allclose(g["solar_irradiance"], solar_irradiance(GRID_NM), rtol=1e-12)
+    assert p.aod_550 == pytest.approx(4.44e-6 * 1200.0, rel=1e-6) and p.ozone_du == pytest.approx(
+        300.0, rel=1e-9
+    )
+
+
+def test_earth_is_the_measured_earth():
+    # earth (the default since the measured Earth): Rayleigh from Bodhaine et al. 1999 times
+    # the U.S. Standard Atmosphere 1976 sea-level number density, 1.149e-5 /m at 550 nm
+    # (measured 1.14882e-5; the seeds' Bruneton value 13.558e-6 is 18 % more), its vertical
+    # optical depth through the standard's tabulated air 0.0971 (measured 0.09712), 300 DU
+    # of AFGL ozone, OPAC clean-continental aerosol at AOD 0.1 (the preset's definitions).
+    p = earth()
+    assert p.coefficients([550.0])["rayleigh_scattering"][0] == pytest.approx(1.149e-5, rel=1e-3)
+    h = np.linspace(0.0, p.atmosphere_height_m, 200_001)
+    tau = p.coefficients([550.0])["rayleigh_scattering"][0] * np.trapezoid(
+        p.rayleigh_density.density(h), h
+    )
+    assert tau == pytest.approx(0.0971, rel=1e-3)
+    assert p.ozone_du == pytest.approx(300.0, rel=1e-9)
+    assert p.aod_550 == pytest.approx(0.1, rel=1e-6)
+    assert p.bottom_radius_m == 6.36e6 and p.atmosphere_height_m == 1e5
+
+
+@pytest.mark.parametrize("name", list(PRESETS))
+def test_every_preset_builds_with_finite_coefficients(name):
+    # Every preset builds, and over the whole grid its coefficients are finite and
+    # non-negative, Mie scattering <= extinction (an albedo <= 1), the ground albedo in
+    # [0, 1], Rayleigh positive, the Sun's irradiance positive; its AOD, ozone column and
+    # Mie g are finite (g within the validated range).
+    p = PRESETS[name]()
+    c = p.coefficients(GRID_NM)
+    for key, values in c.items():
+        assert values.shape == GRID_NM.shape, (name, key)
+        assert np.all(np.isfinite(values)) and np.all(values >= 0.0), (name, key)
+    assert np.all(c["mie_scattering"] <= c["mie_extinction"] * (1 + 1e-12)), name
+    assert np.all(c["ground_albedo"] <= 1.0), name
+    assert np.all(c["rayleigh_scattering"] > 0.0) and np.all(c["solar_irradiance"] > 0.0), name
+    assert np.isfinite(p.aod_550) and np.isfinite(p.ozone_du), name
+    assert -0.999 <= p.mie_g <= 0.999, name
+    assert p.top_radius_m > p.bottom_radius_m > 0.0, name
 
 
 def test_ozone_column_is_300_dobson():
-    # The tent integrates to 15 km; peak number density x 15 km = 300 DU = 8.06e22 m^-2.
+    # The seeds' tent (earth_bruneton) integrates to 15 km; peak number density x 15 km =
+    # 300 DU = 8.06e22 m^-2 (OZONE_PEAK_NUMBER_DENSITY is the tent's peak, so it applies to
+    # earth_bruneton only; earth's AFGL profile is checked through its absorption below).
     from skydome.atmosphere.presets import OZONE_PEAK_NUMBER_DENSITY
+    from skydome.spectra.tables import ozone_cross_section
 
     h = np.linspace(0, 60e3, 60001)
-    column = np.trapezoid(earth().absorption_density.density(h), h) * OZONE_PEAK_NUMBER_DENSITY
+    tent = earth_bruneton().absorption_density.density(h)
+    column = np.trapezoid(tent, h) * OZONE_PEAK_NUMBER_DENSITY
     assert column == pytest.approx(300 * 2.687e20, rel=1e-6)
+    # earth: peak number density k(600 nm) / σ(600 nm), times its profile's column (to
+    # 100 km, 0.5 m steps; the AFGL nodes every 500 m lie on the grid): 300 DU to 1e-4.
+    p = earth()
+    h = np.linspace(0, p.atmosphere_height_m, 200_001)
+    n_peak = p.absorption_extinction.at(600.0) / ozone_cross_section(600.0)
+    column = np.trapezoid(p.absorption_density.density(h), h) * n_peak
+    assert column == pytest.approx(300 * 2.687e20, rel=1e-4)
 
 
 def test_nishita_preset_matches_seed_002():

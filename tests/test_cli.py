@@ -117,8 +117,13 @@ def only_error_line(res) -> str:
 @pytest.mark.parametrize(
     "args, flag, shown",
     [
-        # Unknown names: the flag, the value and the choices as plain words.
-        (["--atmosphere", "nope"], "--atmosphere", "earth, earth_nishita, hazy, mars"),
+        # Unknown names: the flag, the value and the choices as plain words (the presets in
+        # their PRESETS order: the measured Earths, then the seeds' two Earths and Mars).
+        (
+            ["--atmosphere", "nope"],
+            "--atmosphere",
+            "earth, typical, hazy, urban, maritime, desert, earth_bruneton, earth_nishita, mars",
+        ),
         (["--camera", "nope"], "--camera", "perspective, fisheye, equirect, cubemap"),
         (["--tonemap", "nope"], "--tonemap", "filmic"),
         (["--spectral", "nope"], "--spectral", "fast, accurate"),

@@ -1,7 +1,6 @@
 """Atmosphere knob options of the command line: --albedo, --aod, --angstrom, --ozone on
 ``render``, ``illuminance`` and ``precompute`` (errors, help, effect, table cache)."""
 
-import math
 import re
 
 import numpy as np
@@ -111,10 +110,17 @@ def test_render_knobs_act_on_the_frame(tmp_path):
     # 1.7 m of air: its radiance is proportional to the albedo (0.3 -> 0.6: x2, to 0.5 %).
     bright = render_npy(tmp_path, "albedo", "--albedo", "0.6")
     assert (bright[-1, :, :3] @ Y).mean() / nadir == pytest.approx(2.0, rel=5e-3)
-    # AOD 0.005328 (earth) -> 0.5, wavelength-independent: the Sun's beam on the ground at
-    # 30° loses exp(-Δτ / sin 30°) = 0.372 (Beer-Lambert, air mass 2); 1 % bound.
+    # AOD 0.1 (earth: OPAC clean continental, the preset's definition) -> 0.5, keeping the
+    # type's spectrum (Ångström 1.39): Δτ = 0.53 at 440 nm to 0.32 at 650 nm. The Sun's beam
+    # on the ground at 30° loses the luminance-weighted Beer-Lambert transmittance at air
+    # mass 2 (beam_transmittance_ratio, which for the seeds' grey aerosol was exp(-Δτ / sin
+    # 30°) = 0.372 from 0.005328): 0.4586 (measured 0.4592); 1 % bound.
+    from skydome.atmosphere import preset
+    from tests.test_atmosphere_knobs import beam_transmittance_ratio
+
     hazy = render_npy(tmp_path, "aod", "--aod", "0.5")
-    expected = math.exp(-(0.5 - 4.44e-6 * 1200.0) / 0.5)
+    assert preset("earth").aod_550 == pytest.approx(0.1, rel=1e-6)
+    expected = beam_transmittance_ratio(preset("earth"), preset("earth", aod_550=0.5), 2.0)
     assert (hazy[-1, :, :3] @ Y).mean() / nadir == pytest.approx(expected, rel=0.01)
     # At the same AOD at 550 nm, a steep Ångström exponent (2, fine smoke) dims blue more
     # than red on the way to the ground: the sunlit ground is redder than with grey haze.
@@ -125,7 +131,8 @@ def test_render_knobs_act_on_the_frame(tmp_path):
         < grey[-1, :, 2].mean() / grey[-1, :, 0].mean()
     )
     # Ozone absorbs in the Chappuis band (500-700 nm): more ozone, a bluer zenith
-    # (linear sRGB blue/red measured 2.78 at 0 DU, 3.23 at 600 DU).
+    # (linear sRGB blue/red measured on the measured earth 1.85 at 0 DU, 1.98 at its 300 DU,
+    # 2.13 at 600 DU; on the seeds' Earth it was 2.78 at 0 DU, 3.23 at 600 DU).
     no_ozone = render_npy(tmp_path, "o0", "--ozone", "0")
     much_ozone = render_npy(tmp_path, "o600", "--ozone", "600")
 
