@@ -78,7 +78,7 @@ def test_default_tables_match_monte_carlo_luminance(orders):
     # error, so as not to remove too much) is taken out in quadrature; its standard error of Y
     # there is 1.0% to 2.6% between its bounds.
     data = load_mc_luminance()
-    pa = precomputed_renderer(orders=orders).tables
+    pa = precomputed_renderer(str(data["preset"]), orders=orders).tables
     assert pa.config == PrecomputeConfig(orders=orders)
     day_bound, twilight_bound = SKY_RMS_BOUNDS[orders]
     dirs = np.asarray(data["view_dirs"], dtype=np.float64)

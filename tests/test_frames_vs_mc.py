@@ -85,7 +85,7 @@ def test_frames_match_monte_carlo(sky_view, orders):
     # 0, 5, 20, 60 deg; rays hitting the ground: from 10 km at -4, -10, -30 deg (ground 17-150
     # km away), from 0 m at -1 to -30 deg (the ground at the camera).
     data = load_mc_luminance()
-    r = precomputed_renderer(orders=orders, sky_view=sky_view)
+    r = precomputed_renderer(str(data["preset"]), orders=orders, sky_view=sky_view)
     dirs = np.asarray(data["view_dirs"], dtype=np.float64)
     worst_ground = 0.0
     for ia, alt, js, el, sun, ok, ground in frame_cases(data):
@@ -105,7 +105,7 @@ def test_ground_shading_matches_monte_carlo():
     # Y(E_sun + E_sky) is the reference's ground radiance there (no air in front from 0 m).
     # Bounds: check_ground with 10 orders (irradiance measured -1.5..-0.1%).
     data = load_mc_luminance()
-    pa = precomputed_renderer(orders=10).tables
+    pa = precomputed_renderer(str(data["preset"]), orders=10).tables
     albedo = pa.params.coefficients(np.array([550.0]))["ground_albedo"][0]
     assert np.allclose(pa.params.coefficients(data["wavelengths_nm"])["ground_albedo"], albedo)
     dirs = np.asarray(data["view_dirs"], dtype=np.float64)

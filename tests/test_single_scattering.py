@@ -41,8 +41,9 @@ def to_xyzs(rgbs):
     return np.concatenate([rgbs[:, :3] @ LINEAR_SRGB_TO_XYZ.T, rgbs[:, 3:]], axis=1)
 
 
+@pytest.mark.parametrize(("atmosphere", "rel_bound"), [("earth_bruneton", 1e-3), ("earth", 4e-3)])
 @pytest.mark.parametrize("altitude_m", [0.0, 10_000.0, 100_000.0])
-def test_gl_matches_float64_reference(renderer_factory, altitude_m):
+def test_gl_matches_float64_reference(renderer_factory, altitude_m, atmosphere, rel_bound):
     # Compared as tristimulus X, Y, Z and scotopic Y' (positive quantities: linear sRGB
     # channels can be near 0 by cancellation, which would inflate relative errors).
     # Same quadrature nodes in both; the GL side reads transmittance from a float32
@@ -50,7 +51,11 @@ def test_gl_matches_float64_reference(renderer_factory, altitude_m):
     # floor of 1e-6 of the frame's maximum for directions whose radiance is ~0 (float32
     # rounding of a camera at the very top of the atmosphere). Directions within 0.5 deg of
     # the Sun's disk edge are left out (a float32 cosine decides in or out of the disk).
-    r = renderer_factory("earth", "fast", 16, False)
+    # `earth`'s aerosol (OPAC clean continental) stops at its 2 km mixing-layer top with a kink
+    # in ln density: the table's transmittance between two points, T(x)/T(p), then differs
+    # from the exact one by up to 0.36% on rays 2-6 deg above the horizon from the ground
+    # (measured 3.6e-3; the same with its air and ozone made layered again), so 4e-3 there.
+    r = renderer_factory(atmosphere, "fast", 16, False)
     rng = np.random.default_rng(int(altitude_m) + 7)
     for trial in range(4):
         dirs = rng.normal(size=(300, 3))
@@ -67,7 +72,7 @@ def test_gl_matches_float64_reference(renderer_factory, altitude_m):
         keep = edge > 0.5
         got = to_xyzs(render_dirs(r, dirs[keep], sun, altitude_m).astype(np.float64))
         want = to_xyzs(reference_rgbs(r, dirs[keep], sun, altitude_m))
-        bound = 1e-3 * np.abs(want) + 1e-6 * np.abs(want).max()
+        bound = rel_bound * np.abs(want) + 1e-6 * np.abs(want).max()
         bad = np.any(np.abs(got - want) > bound, axis=1)
         assert not bad.any(), (dirs[keep][bad], sun, got[bad], want[bad])
 
@@ -100,7 +105,9 @@ def test_vertical_transmittance_matches_analytic_optical_depth(renderer_factory)
     # T = exp(-tau), tau from the coefficients and scale heights in closed form:
     # beta_R H_R (1 - e^(-Z/H_R)) + beta_M,ext H_M (1 - e^(-Z/H_M)) + beta_O3 * 15 km.
     # The sky's own single scattering adds < 1e-5 of the disk's radiance. Bound 0.5%.
-    r = renderer_factory("earth", "accurate", 16, False)
+    r = renderer_factory(
+        "earth_bruneton", "accurate", 16, False
+    )  # the closed form needs exponentials
     p = r.params
     Z = p.atmosphere_height_m
     c = p.coefficients(r.wavelengths_nm)
@@ -147,12 +154,14 @@ def test_sixteen_quadratic_samples_against_1024(renderer_factory, sun_el, bound)
     # frame above the horizon, more than 1 deg from the Sun's centre). Measured 0.63 % at
     # Sun 60 deg and 0.30 % at 5 deg (the 16-sample sums run high: mean +0.59 %, +0.28 %);
     # at 1024 the quadrature is converged far below that (512 samples differ from 1024 by
-    # 7e-6 RMS). Bounds 0.8 % and 0.4 %.
+    # 7e-6 RMS). Bounds 0.8 % and 0.4 %. On the seeds' Earth (earth_bruneton), whose smooth
+    # exponentials the README figure was measured on; `earth`'s aerosol mixing-layer top
+    # gives 0.86 % and 0.98 % (not asserted here).
     cam = EquirectCamera()
     w, h = 128, 64
     sun = direction_from_angles(sun_el, 180.0)
     y = {
-        n: renderer_factory("earth", "accurate", n, False)
+        n: renderer_factory("earth_bruneton", "accurate", n, False)
         .render(cam, w, h, sun_direction=sun)
         .luminance.astype(np.float64)
         for n in (16, 1024)
@@ -179,7 +188,10 @@ def _at(frame, el, az):
 
 
 def test_noon_sky_colours(renderer_factory):
-    r = renderer_factory("earth", "accurate", 16, False)
+    # On the seeds' Earth: with `earth`'s realistic aerosol (AOD 0.1) single scattering alone
+    # leaves the horizon darker than the zenith (2785 vs 4022 cd/m^2 at 1 deg, away from the
+    # Sun); the multiply scattered light brings it to 2.1x the zenith (test_real_earth.py).
+    r = renderer_factory("earth_bruneton", "accurate", 16, False)
     f = _sky(r, 60.0, 180.0)
     zenith = _at(f, 89.5, 0.0)
     assert zenith[2] > zenith[1] > zenith[0] > 0  # blue zenith
