@@ -76,6 +76,7 @@ def main() -> None:
         if args.model == "precomputed":
             aerial_perspective(w, h)
             light_shafts(w, h)
+            real_earth(w, h)
 
 
 def side_by_side(w: int, h: int) -> None:
@@ -149,6 +150,59 @@ def light_shafts(w: int, h: int) -> None:
         path, lambda tmp: write_png(tmp, ldr, {"views": "shadow lengths of 8 km in wedges"})
     )
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+
+
+def _strip(frames: list, ev100: float | None, path: Path, note: str) -> None:
+    """Frames side by side (left to right), one exposure for all: ``ev100``, or automatic on
+    the first frame."""
+    import numpy as np
+
+    scale = auto_exposure(frames[0], clip_percentile=99.5) if ev100 is None else None
+    scale = scale if scale is not None else ev100_to_scale(ev100)
+    both = np.concatenate([tonemap(f, "filmic", scale) for f in frames], axis=1)
+    atomic_write(path, lambda tmp: write_png(tmp, both, {"views": note}))
+    print(f"{path.relative_to(OUT.parents[1])}")
+
+
+def real_earth(w: int, h: int) -> None:
+    """The measured Earth against the seeds' Earth at Sun 30, 0, -6 and -12 deg (each pair at
+    one exposure: earth_bruneton left, earth right), the aerosol types at Sun 10 deg (one
+    exposure), Mars at noon and at sunset."""
+    cam = PerspectiveCamera(fov_deg=90, yaw_deg=270, pitch_deg=10)
+    for el, ev in ((30.0, 14.5), (0.0, 10.5), (-6.0, 4.0), (-12.0, -3.0)):
+        frames = [
+            render_sky(sun_elevation_deg=el, sun_azimuth_deg=270.0, camera=cam, width=w // 2,
+                       height=h, atmosphere=name)
+            for name in ("earth_bruneton", "earth")
+        ]  # fmt: skip
+        tag = f"{el:+.0f}".replace("+", "")
+        _strip(
+            frames,
+            ev,
+            OUT / f"compare-earth-bruneton-sun{tag}.png",
+            f"earth_bruneton | earth, Sun {el} deg",
+        )
+    types = ("earth", "typical", "maritime", "desert", "urban")
+    cam = PerspectiveCamera(fov_deg=70, yaw_deg=250, pitch_deg=12)
+    frames = [
+        render_sky(sun_elevation_deg=10.0, sun_azimuth_deg=250.0, camera=cam, width=w // 2,
+                   height=h, atmosphere=name)
+        for name in types
+    ]  # fmt: skip
+    _strip(frames, 13.0, OUT / "aerosol-types-sun10.png", " | ".join(types) + ", Sun 10 deg")
+    mars = []
+    for el, cam in (
+        (70.0, PerspectiveCamera(fov_deg=90, yaw_deg=180, pitch_deg=20)),
+        (2.0, PerspectiveCamera(fov_deg=70, yaw_deg=270, pitch_deg=8)),
+    ):
+        frame = render_sky(sun_elevation_deg=el, sun_azimuth_deg=270.0 if el < 10 else 200.0,
+                           camera=cam, width=w // 2, height=h, atmosphere="mars")  # fmt: skip
+        mars.append(tonemap(frame, "filmic", auto_exposure(frame, clip_percentile=99.5)))
+    import numpy as np
+
+    path = OUT / "mars-noon-sunset.png"
+    atomic_write(path, lambda tmp: write_png(tmp, np.concatenate(mars, axis=1), {"views": "mars"}))
+    print(f"{path.relative_to(OUT.parents[1])}")
 
 
 if __name__ == "__main__":
