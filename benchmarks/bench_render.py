@@ -32,7 +32,7 @@ CASES = [
 
 
 def make_renderer(args):
-    params = preset("earth")
+    params = preset(args.atmosphere)
     if args.model == "single":
         from skydome.render.single import SingleScatteringRenderer
 
@@ -51,6 +51,7 @@ def main() -> None:
     ap.add_argument("--spectral", default="accurate", help="fast (4 wavelengths) or accurate (16)")
     ap.add_argument("--direct", action="store_true", help="precomputed: no sky-view tables")
     ap.add_argument("--samples", type=int, default=16)
+    ap.add_argument("--atmosphere", default="earth", help="preset name, e.g. earth_bruneton")
     ap.add_argument("--repeats", type=int, default=15)
     ap.add_argument("--sizes", default="", help="extra sizes, e.g. 3840x2160")
     args = ap.parse_args()
@@ -71,7 +72,7 @@ def main() -> None:
         config = PrecomputeConfig(wavelengths=args.spectral)
 
         def reload():
-            tables, loaded = load_tables(renderer.ctx, preset("earth"), config)
+            tables, loaded = load_tables(renderer.ctx, preset(args.atmosphere), config)
             tables.release()
             assert loaded
 
