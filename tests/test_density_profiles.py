@@ -20,6 +20,7 @@ from skydome.gpu import FullscreenPass
 from skydome.render import DirectionsCamera, direction_from_angles
 from skydome.render.precomputed import PrecomputedRenderer
 from skydome.render.single import SingleScatteringRenderer
+from tests.conftest import TINY_TABLES
 
 
 def layered_earth():
@@ -347,14 +348,7 @@ def test_transmittance_table_with_tabulated_profiles(ctx):
 # Frames: a tabulated exponential renders like the exponential
 # --------------------------------------------------------------------------------------------
 
-SMALL = PrecomputeConfig(
-    wavelengths="fast",
-    orders=2,
-    scattering_size=(8, 32, 8, 4),
-    ms_size=(8, 16, 8, 4),
-    irradiance_size=(16, 8),
-    transmittance_size=(64, 16),
-)
+SMALL = TINY_TABLES  # (tests/conftest.py)
 
 
 def _sampled(profile: DensityProfile, top_m: float) -> DensityProfile:

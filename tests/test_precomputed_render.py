@@ -13,7 +13,6 @@ import pytest
 from skydome.atmosphere import preset
 from skydome.atmosphere.cache import CacheWarning
 from skydome.atmosphere.illuminance import horizontal_illuminance
-from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.tables import load_tables, tables_key
 from skydome.gpu import shared_context
 from skydome.render import (
@@ -23,16 +22,9 @@ from skydome.render import (
     direction_from_angles,
 )
 from skydome.spectra import LINEAR_SRGB_TO_XYZ, SRGB_LUMINANCE
-from tests.conftest import precomputed_renderer
+from tests.conftest import TINY_TABLES, precomputed_renderer
 
-SMALL = PrecomputeConfig(
-    wavelengths="fast",
-    orders=2,
-    scattering_size=(8, 32, 8, 4),
-    ms_size=(8, 16, 8, 4),
-    irradiance_size=(16, 8),
-    transmittance_size=(64, 16),
-)
+SMALL = TINY_TABLES  # (tests/conftest.py)
 
 
 def lum(v):
