@@ -24,7 +24,9 @@ def wavelengths(mode: str | tuple | list = "accurate") -> np.ndarray:
     """
     if isinstance(mode, str):
         if mode not in MODES:
-            raise ParameterError(f"unknown spectral mode {mode!r}; choose one of {sorted(MODES)}")
+            raise ParameterError(
+                f"unknown spectral mode {mode!r}; choose one of {', '.join(sorted(MODES))}"
+            )
         return np.array(MODES[mode])
     wl = np.asarray(mode, dtype=np.float64)
     if wl.ndim != 1 or len(wl) == 0 or len(wl) % 4 or np.any(np.diff(wl) <= 0):
