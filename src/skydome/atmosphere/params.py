@@ -465,7 +465,8 @@ class AtmosphereParams:
         Peak number density n = dobson · 2.687e20 m^-2 / ∫ absorption_density dh, and
         absorption_extinction(λ) = n · σ_O3(λ) with the ozone cross-section of
         ``skydome.spectra`` (Serdyuchenko et al. 2014, 233 K), sampled every 5 nm over
-        360-830 nm. The profile's shape is kept (the ``earth`` tent: 300 DU over 15 km).
+        360-830 nm. The profile's shape is kept (``earth``: the AFGL 1986 profile, whose
+        column is 18.9 km at peak density; ``earth_bruneton``: the seeds' tent, 15 km).
         """
         from skydome.spectra.tables import ozone_cross_section
 

@@ -1,6 +1,8 @@
 """Float64 NumPy reference of the transmittance and single-scattering integrals.
 
-Slow and obvious, for tests only (DESIGN rule 2). Column densities are integrated with
+Slow and obvious, for tests (DESIGN rule 2); one exception for now: ``skydome ephemeris``
+takes its direct-beam ground illuminance from ``column_to_top`` (a few rays, no GL), until
+the references move into a package of their own. Column densities are integrated with
 Gauss-Legendre quadrature on many sub-intervals (converged to ~1e-9 relative), so they
 check the GPU's transmittance table; the single-scattering sum uses the same sample
 positions as ``single_scattering.glsl`` (quadratic spacing, offset 0.5), so the two agree
