@@ -433,14 +433,18 @@ class PrecomputedAtmosphere:
             meta[0], meta[1], (meta[2], meta[3]), int(meta[4]), {},
         )  # fmt: skip
 
-    def release(self) -> None:
-        for tex in (
+    def gl_textures(self) -> list:
+        """Every GL texture these tables own (what :meth:`release` frees)."""
+        return [
             self.transmittance_texture,
             self.scattering,
             self.single_mie,
             self.multiple_scattering,
             self.irradiance_spectral,
-        ):
+        ]
+
+    def release(self) -> None:
+        for tex in self.gl_textures():
             tex.release()
 
 

@@ -84,12 +84,6 @@ def shared_tables(
         return tables, True
     tables, loaded = load_tables(ctx, params, config, progress=progress)
     _IN_MEMORY[key] = tables
-    textures = [
-        tables.transmittance_texture,
-        tables.scattering,
-        tables.single_mie,
-        tables.multiple_scattering,
-        tables.irradiance_spectral,
-    ]
-    weakref.finalize(tables, _release_textures, textures).atexit = False
+    # The finalizer holds the textures, not the tables (which would then never be collected).
+    weakref.finalize(tables, _release_textures, tables.gl_textures()).atexit = False
     return tables, loaded
