@@ -152,10 +152,6 @@ class DirectionsCamera(Camera):
     def frame_size(self, width: int | None = None, height: int | None = None) -> tuple[int, int]:
         return self.directions.shape[1], self.directions.shape[0]
 
-    def texture_data(self) -> bytes:
-        """RGB32F texel data, rows bottom-up as GL stores them."""
-        return np.ascontiguousarray(self.directions[::-1], dtype="f4").tobytes()
-
 
 CAMERAS = {
     "perspective": PerspectiveCamera,
