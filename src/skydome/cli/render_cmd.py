@@ -60,7 +60,7 @@ def parse_exposure(text: str) -> float | None:
 KNOB_HELP = {
     "--albedo": "Ground albedo, 0..1, on top of --atmosphere (default: the preset's, earth 0.3).",
     "--aod": "Aerosol optical depth at 550 nm, 0..5, on top of --atmosphere (default: the "
-    "preset's, earth 0.0053, hazy 0.27).",
+    "preset's, earth 0.1, typical 0.151, hazy 0.27, earth_bruneton 0.0053).",
     "--angstrom": "Angstrom exponent of the aerosol optical depth, -0.5..3 (0 grey, 1.3 "
     "continental haze, 2+ smoke), on top of --atmosphere (default: the preset's spectrum).",
     "--ozone": "Total ozone column, Dobson units, 0..700, on top of --atmosphere (default: "
@@ -167,7 +167,10 @@ def register(app: typer.Typer) -> None:
             0.0, "--roll", help="Camera roll about the view direction, degrees."
         ),
         atmosphere: str = typer.Option(
-            "earth", "--atmosphere", help="Preset: earth | earth_nishita | hazy | mars."
+            "earth",
+            "--atmosphere",
+            help="Preset: earth | typical | hazy | urban | maritime | desert | earth_bruneton | "
+            "earth_nishita | mars.",
         ),
         albedo: float = knob_option("--albedo"),
         aod: float = knob_option("--aod"),
