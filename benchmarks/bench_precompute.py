@@ -25,10 +25,10 @@ import numpy as np
 
 from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere import preset
-from skydome.atmosphere import reference_ms as mc
 from skydome.atmosphere.precompute import precompute
 from skydome.atmosphere.precompute_config import REFERENCE, PrecomputeConfig
 from skydome.gpu import gl_info, shared_context
+from skydome.reference import ms as mc
 from skydome.render.cameras import direction_from_angles
 from skydome.spectra import LINEAR_SRGB_TO_XYZ
 
@@ -109,7 +109,7 @@ def accuracy(ctx, params, base: PrecomputeConfig) -> None:
 
 def monte_carlo(ctx, params, base: PrecomputeConfig) -> None:
     """The default tables (10 orders, spectral at 440/550/680 nm) against the Monte Carlo
-    reference of tests/data (reference_ms.py), if present."""
+    reference of tests/data (reference/ms.py), if present."""
     path = Path(__file__).resolve().parents[1] / "tests" / "data" / "ms_reference_earth.npz"
     if not path.exists():
         print(f"\n(no {path.name}: Monte Carlo comparison skipped)")

@@ -25,8 +25,8 @@ from skydome.atmosphere.aerosols import (
     cornette_shanks_g_for,
     with_aerosol_type,
 )
-from skydome.atmosphere.reference_ms import cornette_shanks_phase
 from skydome.errors import ParameterError
+from skydome.reference.ms import cornette_shanks_phase
 
 #: OPAC component optics per particle cm^-3 at (350, 500, 550, 800) nm:
 #: (extinction km^-1, scattering km^-1, asymmetry parameter).

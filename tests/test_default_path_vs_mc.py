@@ -12,9 +12,9 @@ import pytest
 
 from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere import preset
-from skydome.atmosphere import reference_ms as mc
 from skydome.atmosphere.precompute import table_matrix
 from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.reference import ms as mc
 from skydome.render.cameras import direction_from_angles
 from skydome.spectra import LINEAR_SRGB_TO_XYZ
 from tests.conftest import precomputed_renderer
@@ -71,7 +71,7 @@ SKY_RMS_BOUNDS = {10: (0.02, 0.02), 4: (0.02, 0.025)}
 def test_default_tables_match_monte_carlo_luminance(orders):
     # The default configuration (PrecomputeConfig(): 16 wavelengths, luminance tables, orders
     # >= 2 at 430/505/580/655 nm interpolated to the 16), with 10 orders like the spectral
-    # test and with its own 4, against the Monte Carlo (reference_ms.py, every order) at the
+    # test and with its own 4, against the Monte Carlo (reference/ms.py, every order) at the
     # same 16 wavelengths, both converted to Y by the same matrix, on its sky directions more
     # than 3 deg from the Sun, cameras at 0 and 10 km, Sun at -6, 0, 5, 20, 60 deg. In
     # twilight the reference's noise (the low, independent-wavelength bound of its standard

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import PRESETS, DensityLayer, DensityProfile, preset
-from skydome.atmosphere import reference_single as ref
 from skydome.atmosphere.params import MAX_TABLE_SAMPLES
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.standard_atmosphere import air_density_profile, us_standard_1976
@@ -17,6 +16,7 @@ from skydome.atmosphere.transmittance import TransmittanceTable
 from skydome.atmosphere.uniforms import geometry_uniforms, profile_table_grid
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
+from skydome.reference import single as ref
 from skydome.render import DirectionsCamera, direction_from_angles
 from skydome.render.precomputed import PrecomputedRenderer
 from skydome.render.single import SingleScatteringRenderer
@@ -224,7 +224,7 @@ def test_tabulated_profiles_are_values_in_params_and_cache_keys():
 # --------------------------------------------------------------------------------------------
 
 _DENSITY_PASS = """
-#include "atmosphere_common.glsl"
+#include "common/atmosphere_common.glsl"
 uniform float u_altitude_scale;  // km per texel
 out vec4 frag;
 void main() {
@@ -235,7 +235,7 @@ void main() {
 
 
 def glsl_densities(ctx, params, top_km: float, n: int = 4096) -> tuple[np.ndarray, np.ndarray]:
-    """Densities (n, 3) that atmosphere_common.glsl computes at n altitudes from -0.25 km to
+    """Densities (n, 3) that common/atmosphere_common.glsl computes at n altitudes from -0.25 km to
     ``top_km``, and those altitudes (km, as the shader held them in float32)."""
     tex = ctx.texture((n, 1), 4, dtype="f4")
     fbo = ctx.framebuffer(color_attachments=[tex])
@@ -319,7 +319,7 @@ def test_glsl_presets_density_matches_python(ctx):
 
 def test_transmittance_table_with_tabulated_profiles(ctx):
     # The transmittance (column density) table of the standard-atmosphere air and a tabulated
-    # ozone against the float64 Gauss-Legendre columns of reference_single (exact to 1e-12
+    # ozone against the float64 Gauss-Legendre columns of reference.single (exact to 1e-12
     # vertically: column_m). Air and Mie as for the layered presets (test_single_scattering),
     # 2e-4 relative (float32, Simpson's rule over 300 intervals); the ozone-like table bends
     # at each of its ~40 samples, where Simpson's rule (333 m steps vertically) errs by

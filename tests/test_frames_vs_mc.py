@@ -1,5 +1,5 @@
 """Frames of the precomputed renderer (the sky-view path and the per-pixel path), the ground
-included, and the one Lambertian ground shading (ground_shading.glsl) against the Monte
+included, and the one Lambertian ground shading (common/ground_shading.glsl) against the Monte
 Carlo reference at the 16 render wavelengths (tools/make_ms_reference.py --luminance)."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import precompute_probe as probe
-from skydome.atmosphere import reference_ms as mc
+from skydome.reference import ms as mc
 from skydome.render.cameras import DirectionsCamera
 from tests.conftest import precomputed_renderer
 from tests.test_default_path_vs_mc import (
@@ -79,9 +79,9 @@ def check_ground(rel, rel_err_hi, el, what, orders):
 def test_frames_match_monte_carlo(sky_view, orders):
     # PrecomputedRenderer frames (default tables; sky_view=True draws them from the per-altitude
     # sky-view tables, False looks every pixel up in the 4D tables), through
-    # precomputed_lookup.glsl, ground_shading.glsl and surface_radiance.glsl as rendered, on a
+    # atmosphere/precomputed_lookup.glsl, common/ground_shading.glsl and atmosphere/surface_radiance.glsl as rendered, on a
     # DirectionsCamera, against the Monte Carlo's air light + its lit ground seen through the
-    # air (reference_ms.ground_radiance_mc), luminance Y, cameras at 0 and 10 km, Sun at -6,
+    # air (reference.ms.ground_radiance_mc), luminance Y, cameras at 0 and 10 km, Sun at -6,
     # 0, 5, 20, 60 deg; rays hitting the ground: from 10 km at -4, -10, -30 deg (ground 17-150
     # km away), from 0 m at -1 to -30 deg (the ground at the camera).
     data = load_mc_luminance()
@@ -99,7 +99,7 @@ def test_frames_match_monte_carlo(sky_view, orders):
 
 
 def test_ground_shading_matches_monte_carlo():
-    # The one ground shading (ground_shading.glsl) through its two other callers: the probe's
+    # The one ground shading (common/ground_shading.glsl) through its two other callers: the probe's
     # ground (lambertian_ground, ground="sun_and_sky") along the reference's ground rays, and
     # sun_and_sky_irradiance at the camera's ground point, whose albedo (0.3, grey) / pi times
     # Y(E_sun + E_sky) is the reference's ground radiance there (no air in front from 0 m).

@@ -20,17 +20,17 @@ def test_include_and_defines_expand():
     src = expand(
         "probe.glsl",
         {"ANSWER": 42, "SCALE": 0.5, "FLAG": True},
-        source='#include "constants.glsl"\n#include "constants.glsl"\nvoid main() {}\n',
+        source='#include "common/constants.glsl"\n#include "common/constants.glsl"\nvoid main() {}\n',
     )
     assert src.text.startswith("#version 330 core\n")
     assert "#define ANSWER 42" in src.text and "#define SCALE 0.5" in src.text
     assert "#define FLAG 1" in src.text
     assert src.text.count("const float PI") == 1  # each file included once
-    assert src.files == ["<defines>", "probe.glsl", "constants.glsl"]
+    assert src.files == ["<defines>", "probe.glsl", "common/constants.glsl"]
 
 
 def test_compile_error_names_file_and_line(ctx):
-    source = '#include "constants.glsl"\nout vec4 c;\n\nvoid main() { c = vec4(PI, undefined_name, 0, 1); }\n'
+    source = '#include "common/constants.glsl"\nout vec4 c;\n\nvoid main() { c = vec4(PI, undefined_name, 0, 1); }\n'
     with pytest.raises(GLError, match=r"probe\.glsl:4"):
         FullscreenPass(ctx, "probe.glsl", source=source)
 
@@ -43,7 +43,7 @@ def test_error_in_included_file_names_that_file(ctx):
             ctx,
             "probe.glsl",
             {"u_transmittance_size": "1.0"},
-            source='#include "transmittance_lut.glsl"\nout vec4 c;\nvoid main() { c = vec4(0); }\n',
+            source='#include "atmosphere/transmittance_lut.glsl"\nout vec4 c;\nvoid main() { c = vec4(0); }\n',
         )
 
 

@@ -1,6 +1,6 @@
 """Tests of the float64 Monte Carlo reference for multiple scattering (DESIGN rule 2).
 
-``skydome.atmosphere.reference_ms`` is the oracle for the GLSL scattering tables, so it is
+``skydome.reference.ms`` is the oracle for the GLSL scattering tables, so it is
 checked here against independent computations: brute-force optical depths, a deterministic
 single-scattering quadrature, a deterministic double-scattering quadrature written here
 (Rayleigh only, black ground), single-wavelength runs (spectral MIS), and a forward analog
@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import Spectrum, preset
-from skydome.atmosphere import reference_ms as rms
 from skydome.errors import ParameterError
+from skydome.reference import ms as rms
 
 DATA = Path(__file__).parent / "data" / "ms_reference_earth.npz"
 WL = (440.0, 550.0, 680.0)
@@ -182,7 +182,7 @@ def test_mc_single_scattering_matches_quadrature(alt_m, sun_zenith_deg):
 # (a2) Monte Carlo order 2 against a deterministic double-scattering quadrature
 # ------------------------------------------------------------------------------------------
 # An independent float64 implementation (it uses only DensityProfile.density and numpy, none
-# of reference_ms's helpers) for a Rayleigh-only atmosphere with a black ground and the Sun
+# of reference.ms helpers) for a Rayleigh-only atmosphere with a black ground and the Sun
 # above the horizon of every point involved (no shadow):
 #
 #   L2(x, v) = ∫_0^{t_v} T(x, y) β ρ(y) ∫_{4π} p(v·w) L1(y, w) dω(w) dt,  y = x + t v,

@@ -13,10 +13,10 @@ import pytest
 
 from skydome.atmosphere import Spectrum, preset
 from skydome.atmosphere import precompute_probe as probe
-from skydome.atmosphere import reference_ms as mc
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, gauss_legendre, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.errors import CacheError, ParameterError
+from skydome.reference import ms as mc
 from skydome.render.cameras import DirectionsCamera, direction_from_angles
 from skydome.spectra import LINEAR_SRGB_TO_XYZ
 
@@ -101,7 +101,7 @@ def test_single_order_matches_single_scattering_renderer(ctx, altitude_m):
 def test_single_order_twilight_matches_single_scattering_renderer(ctx):
     # Sun at 0 and -6 degrees: single scattering falls by 1-3 e-folds per degree of Sun
     # depression as the Earth's shadow rises; the tables carry that by the lit-density
-    # normalization F (precomputed_params.glsl). Measured RMS 0.3% (0 deg) and 1.3% (-6 deg);
+    # normalization F (atmosphere/precomputed_params.glsl). Measured RMS 0.3% (0 deg) and 1.3% (-6 deg);
     # bound 1% and 3% (of the value plus 1% of the sky's mean: shadowed directions are 0).
     # On the seeds' Earth, as the test above (`earth`: 5.1% RMS at -6 deg, its aerosol's
     # mixing-layer top being under-resolved by the 16 nodes per ray).
@@ -135,7 +135,7 @@ def _load_mc() -> dict:
 
 
 def test_matches_monte_carlo_reference():
-    # The Monte Carlo reference (tools/make_ms_reference.py, reference_ms.py: every order,
+    # The Monte Carlo reference (tools/make_ms_reference.py, reference/ms.py: every order,
     # spectral radiance per unit solar irradiance at 440/550/680 nm, the direct Sun and the
     # ground's own radiance excluded, as sky_radiance; 36k-180k paths per direction). Tables in
     # the spectral debug mode at those wavelengths (+ 700 nm to fill the group), 10 orders.
@@ -177,7 +177,7 @@ def test_energy_conservation():
     # the lookups, integrated over the planet), scattered out through the top (the radiance
     # leaving each point of the top, from the lookups at r = Rt looking down, integrated over
     # the hemisphere and the sphere), or transmitted through the limb without scattering (exact
-    # chord transmittance, reference_ms.optical_depth). Measured: -0.56%, -0.10%, +0.03%,
+    # chord transmittance, reference.ms.optical_depth). Measured: -0.56%, -0.10%, +0.03%,
     # +0.03% at 440, 550, 680, 700 nm; bound 1.5% (the issue allows 2%).
     base = preset("earth")
     params = base.with_(
@@ -319,7 +319,7 @@ def test_tolerance_stops_early_and_progress_reaches_one(ctx):
 
 def test_sky_irradiance_against_monte_carlo():
     # Sky (diffuse) irradiance on the ground at a 60 deg Sun, every order, against the Monte
-    # Carlo estimate (reference_ms.ground_irradiance_mc, standard error ~0.6%). Bound 2%.
+    # Carlo estimate (reference.ms.ground_irradiance_mc, standard error ~0.6%). Bound 2%.
     pa = tables(wavelengths=(440.0, 550.0, 680.0, 700.0), output="spectral", orders=10)
     zenith = math.radians(30.0)
     want, err = mc.ground_irradiance_mc(

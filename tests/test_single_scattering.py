@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from skydome.atmosphere import reference_single as ref
+from skydome.reference import single as ref
 from skydome.render.cameras import (
     DirectionsCamera,
     EquirectCamera,

@@ -1,7 +1,7 @@
 """Generate ``tests/data/ms_reference_earth.npz``: float64 Monte Carlo sky radiance, all orders.
 
 The reference against which the GLSL multiple-scattering tables (Bruneton 2017) are tested.
-Computed with :mod:`skydome.atmosphere.reference_ms` for the ``earth_bruneton`` preset (the
+Computed with :mod:`skydome.reference.ms` for the ``earth_bruneton`` preset (the
 seeds' Earth; the files were made when it was named ``earth``) at 440, 550 and 680 nm, a
 camera at 0 m and 10 000 m, the Sun at elevations -6°, 0°, 5°, 20° and 60° (due east,
 azimuth 90°), on a fixed set of 61 view directions (:func:`view_directions`):
@@ -17,7 +17,7 @@ azimuth 90°), on a fixed set of 61 view directions (:func:`view_directions`):
 
 Quantities are per unit solar irradiance (sr^-1; multiply by ``solar_irradiance`` for
 W m^-2 sr^-1 nm^-1), the direct Sun and the ground surface excluded (module docstring of
-``reference_ms``). Arrays in the file (A = altitudes, S = Sun elevations, V = views,
+``reference.ms``). Arrays in the file (A = altitudes, S = Sun elevations, V = views,
 W = wavelengths, B = order bins):
 
 * ``radiance``, ``stderr`` (A, S, V, W): every order, and its standard error;
@@ -50,7 +50,7 @@ and the 8 below the horizon; from 0 m the latter all see the ground at the camer
 * ``radiance``, ``stderr`` (A, S, V, W): the air's light, as above (0 where ``view_traced`` is
   False: from 0 m below the horizon there is no air in front of the ground);
 * ``ground_radiance``, ``ground_stderr`` (A, S, V, W): the lit Lambertian ground itself seen
-  through the air (``reference_ms.ground_radiance_mc``, 0 for rays that miss it), so that
+  through the air (``reference.ms.ground_radiance_mc``, 0 for rays that miss it), so that
   radiance + ground_radiance is what a frame shows along any direction but the Sun's disk;
 * ``view_dirs``, ``view_elevation_deg``, ``view_azimuth_deg``, ``view_traced`` and
   ``view_hits_ground`` (A, V), ``wavelengths_nm``, ``camera_altitude_m``,
@@ -80,7 +80,7 @@ from pathlib import Path
 import numpy as np
 
 from skydome.atmosphere import preset
-from skydome.atmosphere import reference_ms as rms
+from skydome.reference import ms as rms
 from skydome.spectra import wavelengths
 
 PRESET = "earth_bruneton"

@@ -1,7 +1,7 @@
 """Bruneton's precomputed atmospheric scattering with all orders, on the GPU (GLSL 3.30).
 
 ``precompute(ctx, params, config)`` fills the lookup tables that the renderer samples through
-``shaders/precomputed_lookup.glsl`` (luminance in cd/m^2 for the params' solar spectrum, i.e.
+``shaders/atmosphere/precomputed_lookup.glsl`` (luminance in cd/m^2 for the params' solar spectrum, i.e.
 Bruneton's precomputed-luminance mode, or raw transfer values of 4 wavelengths with
 ``output="spectral"``, a debugging mode):
 
@@ -14,7 +14,7 @@ Bruneton's precomputed-luminance mode, or raw transfer values of 4 wavelengths w
   logarithms (interpolated geometrically: they fall exponentially in twilight);
 * ``irradiance_spectral``: the sky irradiance on a horizontal surface (r, mu_s) per wavelength
   (per unit solar irradiance), so that the ground shading can apply a spectral albedo and
-  illuminance is converted after summing the groups (``ground_shading.glsl``).
+  illuminance is converted after summing the groups (``common/ground_shading.glsl``).
 
 The algorithm (seed 004 ch. 5.2.2.3, Bruneton 2017) computes order n from order n - 1:
 J_n = beta P (x) L_{n-1} (scattering density), L_n = integral T J_n (+ ground reflection),
@@ -32,7 +32,7 @@ implementation reorganizes it (measured in ``benchmarks/bench_precompute.py``):
    is linear in J: S_ms = integral T sum_n J_n), into a table of their own (32 x 64 x 64 x 8).
    Their mappings differ from the single-scattering ones: mu is sqrt of Bruneton's distance
    mapping (texels 40 degrees apart near the zenith otherwise) and mu_s follows the Sun's
-   elevation above the point's own horizon, densest at its sunset (precomputed_params.glsl).
+   elevation above the point's own horizon, densest at its sunset (atmosphere/precomputed_params.glsl).
 3. Orders >= 2 are computed at 4 wavelengths (smooth in wavelength) and interpolated; single
    scattering and the sky irradiance at all render wavelengths.
 4. Quadratures: Gauss-Legendre along rays in a variable that makes the density smooth
@@ -284,10 +284,10 @@ class _Stages:
 
 @dataclass(eq=False)
 class PrecomputedAtmosphere:
-    """Lookup tables of one atmosphere on the GPU, ready for ``precomputed_lookup.glsl``.
+    """Lookup tables of one atmosphere on the GPU, ready for ``atmosphere/precomputed_lookup.glsl``.
 
     Bind ``textures()`` and set ``uniforms()`` on a pass compiled with ``defines()`` that
-    includes ``precomputed_lookup.glsl``. Lookups return (R, G, B, scotopic) in cd/m^2 (radiance)
+    includes ``atmosphere/precomputed_lookup.glsl``. Lookups return (R, G, B, scotopic) in cd/m^2 (radiance)
     or lx (irradiance) for the params' solar spectrum at unit scale.
 
     Tables (see the shaders for their exact encodings): ``scattering`` and ``single_mie``
@@ -324,7 +324,7 @@ class PrecomputedAtmosphere:
         return {"NUM_GROUPS": self.groups, **profile_defines(self.params)}
 
     def uniforms(self) -> dict[str, object]:
-        """Every uniform of ``precomputed_lookup.glsl`` (and of spectral/transmittance GLSL)."""
+        """Every uniform of ``atmosphere/precomputed_lookup.glsl`` (and of spectral/transmittance GLSL)."""
         cfg = self.config
         wl = self.wavelengths_nm
         return {
@@ -605,7 +605,7 @@ class _Precomputation:
     def _field(self, order: int, log_j: np.ndarray | None = None) -> None:
         """The radiance field of ``order`` (from ln J of that order)."""
         defines = {**self.ms_defines, "FIELD_SINGLE": int(order == 1)}
-        prog = _program(self.ctx, "precompute_field.glsl", defines)
+        prog = _program(self.ctx, "atmosphere/precompute_field.glsl", defines)
         if log_j is not None:
             self.j3d.write(np.ascontiguousarray(log_j, dtype="f4").tobytes())
         self.field_fbo.viewport = (0, 0, *self.field.size)
@@ -613,13 +613,15 @@ class _Precomputation:
         prog.draw(self.field_fbo, self.ms_uniforms, textures)
 
     def _ground_irradiance(self) -> None:
-        prog = _program(self.ctx, "precompute_ground_irradiance.glsl", self.ms_defines)
+        prog = _program(self.ctx, "atmosphere/precompute_ground_irradiance.glsl", self.ms_defines)
         self.ground_fbo.viewport = (0, 0, *self.ground.size)
         prog.draw(self.ground_fbo, self.ms_uniforms, {"u_field": self.field})
 
     def _density(self) -> np.ndarray:
         """ln J_n from the field of order n-1, as (groups * r, mu, nu * mu_s, 4) float32."""
-        prog = _program(self.ctx, "precompute_density.glsl", self.ms_defines, layered=True)
+        prog = _program(
+            self.ctx, "atmosphere/precompute_density.glsl", self.ms_defines, layered=True
+        )
         w, h, d = self.j_shape
         self.j_fbo.viewport = (0, 0, w, h)
         prog.draw(self.j_fbo, self.ms_uniforms, {"u_field": self.field}, layers=(0, d))
@@ -657,7 +659,7 @@ class _Precomputation:
             blocks = [_mat4(interp[4 * k : 4 * k + 4]) for k in range(self.groups)]
             uniforms["u_ms_log_interp"] = [x for b in blocks for x in b]
             uniforms["u_render_to_table"] = _group_mats(table_matrix(self.wl, cfg.output))
-        prog = _program(ctx, "precompute_ms_scattering.glsl", defines, layered=True)
+        prog = _program(ctx, "atmosphere/precompute_ms_scattering.glsl", defines, layered=True)
         prog.draw(fbo, uniforms, {**self.t_tex, "u_density": self.j3d}, layers=(0, d))
         if cfg.ms_dtype == "f4":
             return self._to_3d(arr), (0.0, 1.0)
@@ -675,7 +677,7 @@ class _Precomputation:
             "NUM_GROUPS": self.groups,
             "RAY_SAMPLES": cfg.single_samples,
         }
-        prog = _program(ctx, "precompute_scattering.glsl", defines, layered=True)
+        prog = _program(ctx, "atmosphere/precompute_scattering.glsl", defines, layered=True)
         arrays = [self._keep(ctx.texture_array((w, h, d), 4, dtype="f4")) for _ in range(2)]
         fbo = self._keep(ctx.framebuffer(color_attachments=arrays))
         fbo.viewport = (0, 0, w, h)
@@ -720,7 +722,7 @@ class _Precomputation:
                 "IRR_N_PHI": n_phi,
                 "IRRADIANCE_SINGLE": int(single),
             }
-            prog = _program(ctx, "precompute_irradiance.glsl", defines)
+            prog = _program(ctx, "atmosphere/precompute_irradiance.glsl", defines)
             texs = [self._keep(ctx.texture((ew, eh), 4, dtype="f4")) for _ in range(groups)]
             fbo = self._keep(ctx.framebuffer(color_attachments=texs))
             fbo.viewport = (0, 0, ew, eh)

@@ -99,7 +99,7 @@ class PrecomputeConfig:
             and the cosine for the Sun at MIN_SUN_ELEVATION_DEG or twice the horizon dip
             from the top of the atmosphere, whichever is lower; see ``resolved_mu_s_min``).
         mu_s_knee_deg: e0 of the Sun-elevation mapping of the orders >= 2 (J and their
-            table; precomputed_params.glsl): texels spaced as (1 + |e| / e0).
+            table; atmosphere/precomputed_params.glsl): texels spaced as (1 + |e| / e0).
         dtype: ``"f2"`` (float16, scaled: 0.05% steps) or ``"f4"`` storage of the
             single-scattering tables.
         ms_dtype: storage of the table of orders >= 2, which holds logarithms: ``"u2"`` (16-bit

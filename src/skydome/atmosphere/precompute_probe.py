@@ -1,8 +1,8 @@
 """Evaluate the precomputed-atmosphere lookups at given points and directions (GPU).
 
-A thin driver of ``shaders/precompute_probe.glsl``: one texel per query, read back as NumPy.
+A thin driver of ``shaders/atmosphere/precompute_probe.glsl``: one texel per query, read back as NumPy.
 For tests, benchmarks and for numbers such as the illuminance at a place (not for images: the
-frame pass calls ``precomputed_lookup.glsl`` itself).
+frame pass calls ``atmosphere/precomputed_lookup.glsl`` itself).
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ def _run(
     try:
         prog = _program(
             ctx,
-            "precompute_probe.glsl",
+            "atmosphere/precompute_probe.glsl",
             {**pa.defines(), "PROBE_MODE": mode, "PROBE_GROUND": ground},
         )
         fbo.viewport = (0, 0, w, h)

@@ -16,7 +16,7 @@ DEFAULT_STEPS = 300
 class TransmittanceTable:
     """An RGBA32F texture of column densities (Rayleigh, Mie, absorption), in km.
 
-    Sampled in GLSL through ``transmittance_lut.glsl`` (``column_to_top``). Depends only on
+    Sampled in GLSL through ``atmosphere/transmittance_lut.glsl`` (``column_to_top``). Depends only on
     the radii and density profiles, not on wavelengths.
     """
 
@@ -35,7 +35,7 @@ class TransmittanceTable:
         self.texture.repeat_x = self.texture.repeat_y = False
         fbo = ctx.framebuffer(color_attachments=[self.texture])
         defines = {"TRANSMITTANCE_STEPS": int(steps), **profile_defines(params)}
-        fill = FullscreenPass(ctx, "transmittance_pass.glsl", defines)
+        fill = FullscreenPass(ctx, "atmosphere/transmittance_pass.glsl", defines)
         fbo.viewport = (0, 0, *self.size)
         fill.draw(fbo, {**geometry_uniforms(params), "u_transmittance_size": self.size})
         ctx.finish()

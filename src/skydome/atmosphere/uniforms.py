@@ -10,9 +10,9 @@ from skydome.atmosphere.params import AtmosphereParams, DensityProfile
 
 M_PER_KM = 1000.0
 
-#: Samples per constituent of ``u_profile_table`` (PROFILE_TABLE_SIZE in atmosphere_common.glsl).
+#: Samples per constituent of ``u_profile_table`` (PROFILE_TABLE_SIZE in common/atmosphere_common.glsl).
 PROFILE_TABLE_SIZE = 256
-#: What the table stores for ln(0) (PROFILE_LOG_ZERO in atmosphere_common.glsl): exp of it is 0
+#: What the table stores for ln(0) (PROFILE_LOG_ZERO in common/atmosphere_common.glsl): exp of it is 0
 #: in float32, and any sample at or below it makes its neighbours' interpolation linear.
 PROFILE_LOG_ZERO = -1.0e4
 
@@ -87,7 +87,7 @@ def profile_uniforms(profiles: tuple[DensityProfile, ...], top_m: float) -> dict
 
 
 def profile_defines(params: AtmosphereParams) -> dict[str, object]:
-    """``PROFILE_FORMS`` for every shader that includes atmosphere_common.glsl: bit c set when
+    """``PROFILE_FORMS`` for every shader that includes common/atmosphere_common.glsl: bit c set when
     constituent c (Rayleigh, Mie, absorption) is tabulated, bit c + 3 when its GPU table holds
     a zero (linear pieces). It makes the profile forms compile-time constants (see the
     shader); shaders compiled without it decide at run time, at a cost on CPU renderers."""

@@ -39,15 +39,15 @@ def ground_direct_horizontal_lux(
     observer (``elevation_m`` above the preset's ground, clamped at 0) to the top along the
     apparent direction (the refracted ray's last direction stands for its path), weighted
     by the ASTM G-173 solar spectrum and V(lambda) on a 1 nm grid; column densities from the
-    float64 quadrature of ``skydome.atmosphere.reference_single`` (no GL). Zero at and below
+    float64 quadrature of ``skydome.atmosphere.columns`` (no GL). Zero at and below
     the horizon, and where the ray meets the ground. Diffuse skylight is not included.
     """
     if apparent_alt_deg <= 0.0:
         return 0.0
     import numpy as np
 
+    from skydome.atmosphere import columns as ref
     from skydome.atmosphere import preset
-    from skydome.atmosphere import reference_single as ref
     from skydome.spectra import photopic_efficiency, solar_irradiance
 
     params = preset(atmosphere)

@@ -1,4 +1,4 @@
-"""GPU tone mapping: an RGBA32F frame texture -> an 8-bit sRGB image, with ``tonemap.glsl``.
+"""GPU tone mapping: an RGBA32F frame texture -> an 8-bit sRGB image, with ``post/tonemap.glsl``.
 
 Row order: NumPy frames have row 0 at the top of the image; GL textures and framebuffers have
 row 0 at the bottom. The flip happens only at the CPU/GPU boundary, in :func:`upload_frame`
@@ -47,7 +47,7 @@ def read_rgb8(fbo, width: int, height: int) -> np.ndarray:
 
 
 class GpuToneMapper:
-    """Runs ``tonemap.glsl``: one compiled program for all operators, RGBA8 targets cached
+    """Runs ``post/tonemap.glsl``: one compiled program for all operators, RGBA8 targets cached
     per size. Also usable by the viewer: :meth:`draw` renders into any framebuffer.
 
     Args:
@@ -64,11 +64,11 @@ class GpuToneMapper:
             "FILMIC_INPUT_CAP": float(FILMIC_INPUT_CAP),
             "FILMIC_DESATURATION_STOPS": float(FILMIC_DESATURATION_STOPS),
         }
-        self.pass_ = FullscreenPass(self.ctx, "tonemap.glsl", defines)
+        self.pass_ = FullscreenPass(self.ctx, "post/tonemap.glsl", defines)
         self._targets: dict[tuple[int, int], tuple] = {}
 
     def uniforms(self, name: str, exposure_scale: float, **params: float) -> dict[str, object]:
-        """The uniforms of ``tonemap.glsl`` for an operator, exposure and parameters
+        """The uniforms of ``post/tonemap.glsl`` for an operator, exposure and parameters
         (validated as in :func:`skydome.display.tonemap.tonemap`)."""
         op = get_operator(name)
         checked = op.check_params(params)

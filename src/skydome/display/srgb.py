@@ -6,7 +6,7 @@ The encoding maps linear display values in [0, 1] to non-linear code values in [
     V = 1.055 L^(1/2.4) - 0.055     otherwise
 
 and the decoding is its inverse (breakpoint 0.04045 = 12.92 * 0.0031308 in code values).
-The GLSL twin is ``shaders/srgb.glsl``.
+The GLSL twin is ``shaders/common/srgb.glsl``.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ spectral colours) are clipped to 0 first; results above 1 are clipped to 1. Then
 the 8-bit image.
 
 These NumPy float64 functions are the reference; the production GPU path is
-``shaders/tonemap.glsl`` (driven by ``skydome.display.gpu_tonemap``), which implements the same
+``shaders/post/tonemap.glsl`` (driven by ``skydome.display.gpu_tonemap``), which implements the same
 formulas and agrees to within one 8-bit code value.
 
 Operators (``TONEMAPS``):
@@ -239,7 +239,7 @@ def filmic(rgb: np.ndarray, pre_scale: float = 1.0) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ToneMapOperator:
-    """A tone-mapping operator: its NumPy reference, its id in ``tonemap.glsl``, and its
+    """A tone-mapping operator: its NumPy reference, its id in ``post/tonemap.glsl``, and its
     parameters with defaults and valid ranges."""
 
     name: str
@@ -263,7 +263,7 @@ class ToneMapOperator:
         return out
 
     def gl_uniforms(self, params: Mapping[str, float]) -> dict[str, float]:
-        """Uniforms of ``tonemap.glsl`` for checked parameters (see :meth:`check_params`)."""
+        """Uniforms of ``post/tonemap.glsl`` for checked parameters (see :meth:`check_params`)."""
         u: dict[str, float] = {}
         if self.name == "exponential":
             u["u_exp_k"] = params["k"]
@@ -280,7 +280,7 @@ class ToneMapOperator:
 
 _POSITIVE = (1e-9, 1e9)
 
-#: Registry of tone-mapping operators by name; ``gl_id`` selects the branch in tonemap.glsl.
+#: Registry of tone-mapping operators by name; ``gl_id`` selects the branch in post/tonemap.glsl.
 TONEMAPS: dict[str, ToneMapOperator] = {
     op.name: op
     for op in (

@@ -1,6 +1,6 @@
 """Cameras: how pixels map to view directions in the observer's ENU frame.
 
-The per-pixel mapping itself lives in ``shaders/camera.glsl``; these classes hold and
+The per-pixel mapping itself lives in ``shaders/common/camera.glsl``; these classes hold and
 validate the parameters and give the shader its uniforms.
 """
 
@@ -38,7 +38,7 @@ def check_size(width: int, height: int) -> tuple[int, int]:
 
 @dataclass(frozen=True)
 class Camera:
-    """Base class; ``model`` selects the mapping in camera.glsl."""
+    """Base class; ``model`` selects the mapping in common/camera.glsl."""
 
     model = -1
     name = ""

@@ -44,7 +44,7 @@ class PrecomputedRenderer(PassRenderer):
         sky_view_size: (azimuth, elevation) texels of those tables.
     """
 
-    shader = "sky_precomputed.glsl"
+    shader = "atmosphere/sky_precomputed.glsl"
     model = "precomputed"
 
     def __init__(
@@ -171,7 +171,7 @@ class PrecomputedRenderer(PassRenderer):
             inputs,
             attachments=2 if depth_m is not None else 1,
             surface_pass=True,
-            shader="sky_view.glsl" if use_sky_view else None,
+            shader="atmosphere/sky_view.glsl" if use_sky_view else None,
         )
         info = self._info(
             camera,

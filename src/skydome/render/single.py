@@ -65,7 +65,7 @@ class SingleScatteringRenderer(PassRenderer):
         }
         self.groups = groups
 
-    shader = "sky_single.glsl"
+    shader = "atmosphere/sky_single.glsl"
     model = "single"
 
     def defines(self, camera: Camera) -> dict[str, object]:

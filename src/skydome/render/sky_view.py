@@ -2,7 +2,7 @@
 
 A frame then costs two bilinear fetches per pixel and light instead of six fetches from the
 4D tables (and the ground's spectral lighting). The tables hold phase-free values, so the
-phase functions are still evaluated exactly per pixel (shaders/sky_view_mapping.glsl).
+phase functions are still evaluated exactly per pixel (shaders/atmosphere/sky_view_mapping.glsl).
 Aerial-perspective tables add the distance along each ray as a third coordinate, for frames
 with a depth image (two trilinear fetches per pixel instead of two 4D lookups and more).
 All are kept between frames and redrawn only when the camera altitude or a light's
@@ -39,8 +39,8 @@ class SkyViewTables:
         self.ctx = ctx
         self.size = (w, h)
         self._passes = (
-            FullscreenPass(ctx, "sky_view_lut.glsl", defines),  # the upper half: sky
-            FullscreenPass(ctx, "sky_view_lut.glsl", {**defines, "GROUND_HALF": 1}),
+            FullscreenPass(ctx, "atmosphere/sky_view_lut.glsl", defines),  # the upper half: sky
+            FullscreenPass(ctx, "atmosphere/sky_view_lut.glsl", {**defines, "GROUND_HALF": 1}),
         )
         self._defines = defines
         self._aerial_pass = None  # compiled on first use
@@ -110,7 +110,7 @@ class SkyViewTables:
         if drawn != key:
             if self._aerial_pass is None:
                 self._aerial_pass = FullscreenPass(
-                    self.ctx, "aerial_view_lut.glsl", self._defines, layered=True
+                    self.ctx, "atmosphere/aerial_view_lut.glsl", self._defines, layered=True
                 )
             layers = [self.ctx.texture_array((w, h, d), 4, dtype="f4") for _ in range(2)]
             fbo = self.ctx.framebuffer(color_attachments=layers)

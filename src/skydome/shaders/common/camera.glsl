@@ -6,7 +6,7 @@
 // by a texture (u_direction_map).
 // frag_xy is gl_FragCoord.xy (origin bottom-left; images are flipped to top-first on read)
 // of a frame drawn whole or tile by tile: u_tile_offset places the tile in the frame.
-#include "constants.glsl"
+#include "common/constants.glsl"
 
 uniform vec2 u_resolution;       // pixels of the whole frame
 uniform vec2 u_tile_offset;      // pixels: the drawn tile's lower-left corner in the frame

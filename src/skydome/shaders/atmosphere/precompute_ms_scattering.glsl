@@ -9,7 +9,7 @@
 // them to single Rayleigh scattering, they are stored as they are: P_R(nu) would double their
 // variation with nu, which the texels at the edges of the (mu, mu_s, nu) domain (zenith Sun or
 // view, where all nu collapse to one) cannot represent.
-#include "precompute_ray.glsl"
+#include "atmosphere/precompute_ray.glsl"
 
 uniform vec4 u_ms_size;       // this table (NU, MU_S, MU, R)
 uniform vec4 u_density_size;  // the grid of J

@@ -1,12 +1,12 @@
 // The light on a surface from the precomputed tables, and the one Lambertian ground shading
-// used wherever the ground is drawn or probed (surface_radiance.glsl, precompute_probe.glsl):
+// used wherever the ground is drawn or probed (atmosphere/surface_radiance.glsl, atmosphere/precompute_probe.glsl):
 // albedo(λ) (E_sun + E_sky)(λ) / pi per wavelength group, seen through the air, then
 // converted to (R, G, B, scotopic). sun_and_sky_irradiance (Bruneton 2017
 // GetSunAndSkyIrradiance) sums the same per-group irradiances.
 //
 // Units: positions in km, planet centred; irradiance per unit solar irradiance per group
-// (dimensionless), luminance results in lx and cd/m^2 as in precomputed_lookup.glsl.
-#include "precomputed_lookup.glsl"
+// (dimensionless), luminance results in lx and cd/m^2 as in atmosphere/precomputed_lookup.glsl.
+#include "atmosphere/precomputed_lookup.glsl"
 
 // What the irradiance of every group needs of a surface at `point` with unit `normal` lit from
 // `light` (unit), computed once: the direct part's factor (visible fraction of the disk x

@@ -1,10 +1,10 @@
 // Single scattering along a view ray (Nishita 1993, seed 002): the in-scattered radiance
 // per unit solar irradiance (sr^-1), NUM_GROUPS x 4 wavelengths, with Earth's shadow, ozone,
 // the Lambertian ground seen through the atmosphere, and the Sun's disk.
-// Transmittances come from the column-density table (transmittance_lut.glsl).
-#include "transmittance_lut.glsl"
-#include "phase_functions.glsl"
-#include "spectral.glsl"
+// Transmittances come from the column-density table (atmosphere/transmittance_lut.glsl).
+#include "atmosphere/transmittance_lut.glsl"
+#include "common/phase_functions.glsl"
+#include "common/spectral.glsl"
 
 uniform float u_sun_angular_radius;  // rad
 

@@ -1,6 +1,6 @@
 // Atmosphere description on the GPU and the geometry of rays in a spherical atmosphere.
 // Lengths are in km here (float32 precision); Python passes km and per-km values.
-#include "constants.glsl"
+#include "common/constants.glsl"
 
 uniform float u_bottom_radius;   // planet radius, km
 uniform float u_top_radius;      // top of the atmosphere, km

@@ -9,11 +9,11 @@
 // ComputeMultipleScattering) plus, for rays that hit the ground, T alpha/pi E_{n-1}(ground)
 // (the light of order n whose last bounce is on the ground; Bruneton puts it in J, seed 004
 // 5.2.2.3: J[T alpha/pi dE + dS]).
-// Both J_{n+1} = beta P (x) L_n (precompute_density.glsl) and the ground irradiance
-// E_n = integral L_n cos (precompute_ground_irradiance.glsl) are sums over this field: the
+// Both J_{n+1} = beta P (x) L_n (atmosphere/precompute_density.glsl) and the ground irradiance
+// E_n = integral L_n cos (atmosphere/precompute_ground_irradiance.glsl) are sums over this field: the
 // radiance of a point does not depend on the view direction, so it is computed once per
 // (r, mu_s, direction) instead of once per texel of the 4D table and direction.
-#include "precompute_ray.glsl"
+#include "atmosphere/precompute_ray.glsl"
 
 uniform vec4 u_density_size;             // the grid of J (NU, MU_S, MU, R)
 uniform sampler3D u_density;             // log J_n, NUM_GROUPS tables stacked in depth (n >= 2)

@@ -2,13 +2,13 @@
 // group at once (location g = group g):
 //   J(y, v, s) = integral_{4 pi} [beta_R rho_R(y) P_R(v.w) + beta_M rho_M(y) P_M(v.w)] L_n(y, w) dw
 // (seed 004 5.2.2.1; Bruneton 2017 ComputeScatteringDensity), summed over the directions of the
-// field pass (precompute_field.glsl), which holds L_n(w) dw for this texel's (r, mu_s).
+// field pass (atmosphere/precompute_field.glsl), which holds L_n(w) dw for this texel's (r, mu_s).
 // The Mie sum is self-normalized, sum P_M(v.w) L dw / sum P_M(v.w) dw: P_M integrates to 1,
 // and with g ~ 0.8 its lobe is narrower than the spacing of the directions, so the plain sum
 // would depend on where v falls between them; normalized, it is a P_M-weighted mean of L around
 // v, exact for smooth L. The Rayleigh phase function is smooth and needs no such care.
-// Stored as a logarithm (precomputed_params.glsl).
-#include "precompute_common.glsl"
+// Stored as a logarithm (atmosphere/precomputed_params.glsl).
+#include "atmosphere/precompute_common.glsl"
 
 uniform vec4 u_density_size;  // the grid of J (NU, MU_S, MU, R)
 uniform sampler2D u_field;  // L dw, x = group * N_DIR + direction, y = r_index * MU_S + mu_s_index

@@ -1,12 +1,12 @@
 // Scattered light along a view ray, shared by the precomputation passes that march rays:
 // the ray from radius r (km) with view cosine mu to the ground (hits_ground) or the top, length
 // L = ray_length(r, mu, hits_ground), with the Sun at cosines (mu_s, nu). Both integrals use the
-// Gauss-Legendre rules of precompute_common.glsl (RAY_SAMPLES nodes) and fill the wavelength
+// Gauss-Legendre rules of atmosphere/precompute_common.glsl (RAY_SAMPLES nodes) and fill the wavelength
 // groups g0 <= g < g1 of their outputs (the others are zero): passes that compute one group per
 // fragment ask for that one only. The group loops run over all NUM_GROUPS and skip the others:
 // constant bounds let the compiler unroll them (a loop from g0 to g1 made the field pass 40%
 // slower on llvmpipe).
-#include "precompute_common.glsl"
+#include "atmosphere/precompute_common.glsl"
 
 // Single scattering without its phase functions, per unit solar irradiance (dimensionless):
 //   S_i(x, v, s) = integral_0^L beta_i rho_i(y) T(x, y) T(y, sun) dt,  i in {R, M},

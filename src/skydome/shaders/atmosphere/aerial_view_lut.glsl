@@ -1,12 +1,12 @@
-// Aerial-perspective table pass (sky_view_mapping.glsl; layered: one layer per distance slice):
+// Aerial-perspective table pass (atmosphere/sky_view_mapping.glsl; layered: one layer per distance slice):
 // per texel, the phase-free light scattered towards the camera by the air between it and the
 // point at the slice's distance along the texel's direction, for one light at unit scale
 // (scattering_to_point), (R, G, B, scotopic) in cd/m^2:
 //   location 0: Rayleigh + orders >= 2 (/ P_R);   location 1: single Mie (/ P_M).
 // Hillaire 2020 keeps such a volume in camera-frustum coordinates; here the directions of the
 // sky-view tables make it independent of the camera model and of where the camera looks.
-#include "precomputed_lookup.glsl"
-#include "sky_view_mapping.glsl"
+#include "atmosphere/precomputed_lookup.glsl"
+#include "atmosphere/sky_view_mapping.glsl"
 
 uniform vec3 u_light_direction;  // unit, ENU
 

@@ -3,7 +3,7 @@
 // Wavelength independent: T(λ) = exp(-(βR(λ) cR + βM_ext(λ) cM + βA(λ) cA)).
 // Parametrization: Bruneton 2017 (GetTransmittanceTextureUvFromRMu): x_r = rho / H and
 // x_mu = (d - d_min) / (d_max - d_min), accurate near the horizon (seed 004 8.2.2.1).
-#include "atmosphere_common.glsl"
+#include "common/atmosphere_common.glsl"
 
 uniform sampler2D u_transmittance_lut;
 uniform vec2 u_transmittance_size;  // (width, height) in texels

@@ -1,12 +1,12 @@
-// Sky-view table pass (sky_view_mapping.glsl): per texel, the phase-free sky values of the
+// Sky-view table pass (atmosphere/sky_view_mapping.glsl): per texel, the phase-free sky values of the
 // precomputed tables for one light at unit scale, (R, G, B, scotopic) in cd/m^2:
 //   location 0: Rayleigh + orders >= 2 (/ P_R), plus, below the horizon, the lit ground seen
 //               through the air divided by P_R(nu) (the frame multiplies by P_R again);
 //   location 1: single Mie (/ P_M).
 // Drawn in two halves (viewports): GROUND_HALF is compiled for the lower one only, since CPU
 // rasterizers run a branch's body for every pixel.
-#include "surface_radiance.glsl"
-#include "sky_view_mapping.glsl"
+#include "atmosphere/surface_radiance.glsl"
+#include "atmosphere/sky_view_mapping.glsl"
 
 uniform vec3 u_light_direction;  // unit, ENU
 

@@ -1,20 +1,20 @@
-// Frame pass from sky-view tables (sky_view_lut.glsl): two bilinear fetches per pixel and light,
+// Frame pass from sky-view tables (atmosphere/sky_view_lut.glsl): two bilinear fetches per pixel and light,
 // the phase functions evaluated exactly, and the Sun's disk. Output (R, G, B, scotopic) in
 // cd/m^2. The camera is inside the atmosphere, on the z axis at u_view_radius.
-// Two passes, as in sky_precomputed.glsl (CPU rasterizers run a branch's body for every
+// Two passes, as in atmosphere/sky_precomputed.glsl (CPU rasterizers run a branch's body for every
 // pixel): the sky, writing a depth of 0.5 on the Sun's disk and 1.0 elsewhere; then, with
 // SURFACE_PASS, the disk added where an early depth test finds 0.5.
 // With HAS_DEPTH_MAP, pixels with a scene (distance > 0) get the aerial perspective from the
-// aerial-perspective tables (aerial_view_lut.glsl) instead, and location 1 the RGB
-// transmittance to the scene point, as in sky_precomputed.glsl. With HAS_SHADOW_MAP (light
+// aerial-perspective tables (atmosphere/aerial_view_lut.glsl) instead, and location 1 the RGB
+// transmittance to the scene point, as in atmosphere/sky_precomputed.glsl. With HAS_SHADOW_MAP (light
 // shafts: the first `shadow length` of each ray lies in an occluder's shadow), the Sun's light
 // scattered along that part, read from the same tables, is taken off the sky: Bruneton's
 // T(x, x_p) S(x_p) is exactly S(x) - [S(x) - T(x, x_p) S(x_p)], the sky minus the aerial
 // perspective of the shadowed part; where a scene is given too, the aerial perspective of its
 // distance less the shadowed length.
-#include "camera.glsl"
-#include "surface_radiance.glsl"
-#include "sky_view_mapping.glsl"
+#include "common/camera.glsl"
+#include "atmosphere/surface_radiance.glsl"
+#include "atmosphere/sky_view_mapping.glsl"
 
 uniform vec3 u_sun_direction;  // unit, ENU
 uniform float u_sun_scale;     // the Sun's irradiance / the params' solar spectrum

@@ -1,6 +1,6 @@
 // Frame pass: single-scattering sky seen by a camera, output (R, G, B, scotopic) in cd/m^2.
-#include "camera.glsl"
-#include "single_scattering.glsl"
+#include "common/camera.glsl"
+#include "atmosphere/single_scattering.glsl"
 
 uniform vec3 u_camera_position;  // km, planet centred, axes of the observer's ENU frame
 uniform vec3 u_sun_direction;    // unit, ENU

@@ -1,5 +1,5 @@
 // Phase functions (sr^-1), nu = cosine of the scattering angle.
-#include "constants.glsl"
+#include "common/constants.glsl"
 
 // Rayleigh: 3/(16 pi) (1 + nu^2).
 float rayleigh_phase(float nu) { return 3.0 / (16.0 * PI) * (1.0 + nu * nu); }

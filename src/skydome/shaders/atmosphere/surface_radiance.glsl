@@ -1,7 +1,7 @@
 // The surfaces a view ray can end on, seen through the air, for one light at unit scale
 // (R, G, B, scotopic in cd/m^2): the Lambertian ground lit by the light and the sky, and the
 // light's disk. Spectral: each wavelength group is attenuated on its own, then converted.
-#include "ground_shading.glsl"
+#include "common/ground_shading.glsl"
 
 // Where the ray from `camera` along `dir` ends: on the ground (true), else at the top. The
 // test must agree with the one of sky_radiance (same r, mu), or pixels at the horizon would
@@ -14,7 +14,7 @@ bool ray_ends_on_ground(vec3 camera, vec3 dir, out vec3 entry, out float r, out 
 bool sees_disk(vec3 dir, vec3 light) { return dot(dir, light) > cos(u_sun_angular_radius); }
 
 // The ground where the ray from `entry` (radius r, view cosine mu; it must hit the ground)
-// along `dir` meets it, lit by `light` and the sky, seen through the air (ground_shading.glsl).
+// along `dir` meets it, lit by `light` and the sky, seen through the air (common/ground_shading.glsl).
 vec4 ground_radiance(vec3 entry, vec3 dir, float r, float mu, vec3 light) {
     float d_ground = distance_to_bottom(r, mu);
     vec3 column = column_along_ray(r, mu, d_ground, true);

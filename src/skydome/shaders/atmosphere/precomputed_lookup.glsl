@@ -13,12 +13,12 @@
 // Needs the defines of PrecomputedAtmosphere.defines() (NUM_GROUPS) and its uniforms() and
 // textures(). The direct Sun (its disk) and the ground itself are not included: the renderer
 // adds them (transmittance from the returned column densities, the ground and the irradiance
-// on surfaces from ground_shading.glsl).
-#include "precomputed_params.glsl"
-#include "single_scattering.glsl"
+// on surfaces from common/ground_shading.glsl).
+#include "atmosphere/precomputed_params.glsl"
+#include "atmosphere/single_scattering.glsl"
 
 // Single scattering: (R, G, B, scotopic) without phase functions, divided by the normalization
-// F of lit_density (precomputed_params.glsl) and multiplied by 1 / u_scattering_scale.
+// F of lit_density (atmosphere/precomputed_params.glsl) and multiplied by 1 / u_scattering_scale.
 uniform sampler3D u_scattering_texture;  // single Rayleigh / F_R
 uniform sampler3D u_single_mie_texture;  // single Mie / F_M
 uniform vec4 u_scattering_size;          // (NU, MU_S, MU, R)

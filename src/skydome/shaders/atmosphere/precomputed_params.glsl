@@ -1,5 +1,5 @@
 // Parametrizations of the precomputed 4D scattering tables and the 2D irradiance table, shared
-// by the precomputation passes and the lookups (precomputed_lookup.glsl).
+// by the precomputation passes and the lookups (atmosphere/precomputed_lookup.glsl).
 //
 // A 4D table of size (NU, MU_S, MU, R) = `size` is stored in a 3D texture of
 // (NU * MU_S) x MU x R texels: x = nu_index * MU_S + mu_s_texel. Hardware filtering covers
@@ -25,7 +25,7 @@
 //        ground (d - d_min grows as the square of the zenith angle), while sqrt(x) is uniform
 //        in angle there and still dense at the horizon.
 //  nu:   linear, x = (nu + 1) / 2.
-#include "transmittance_lut.glsl"
+#include "atmosphere/transmittance_lut.glsl"
 
 // The multiple-scattering tables store natural logarithms: interpolating ln S is exact for the
 // exponential fall-off of radiance with the Sun's depression in twilight (1-3 e-folds per

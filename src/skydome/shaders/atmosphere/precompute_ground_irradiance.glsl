@@ -4,7 +4,7 @@
 // the horizon is at mu = 0, so the sky nodes are exactly the upper hemisphere).
 // Texel (j, g): Sun cosine index j, wavelength group g. Used by the next order's field for the
 // light reflected by the ground. Stored as a logarithm.
-#include "precompute_common.glsl"
+#include "atmosphere/precompute_common.glsl"
 
 uniform sampler2D u_field;  // L dw, x = group * N_DIR + direction, y = r_index * MU_S + mu_s_index
 

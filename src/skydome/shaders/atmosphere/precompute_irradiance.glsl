@@ -7,7 +7,7 @@
 // Directions: IRR_N_MU Gauss-Legendre cosines on [0, 1] times IRR_N_PHI azimuths over [0, pi]
 // (the sky is symmetric about the Sun's vertical plane, so the other half is the same).
 // Rays going up never reach the ground, so no ground term is needed.
-#include "precompute_ray.glsl"
+#include "atmosphere/precompute_ray.glsl"
 
 uniform vec2 u_irradiance_size;    // (MU_S, R) texels
 uniform vec2 u_irr_mu_rule[IRR_N_MU];  // Gauss-Legendre on [-1, 1]

@@ -2,8 +2,8 @@
 // the Sun and the sky, the Sun's disk, an optional second light source, optional light
 // shafts (a shadow length per pixel) and optional aerial perspective in front of a user's
 // scene (a distance per pixel). Output (R, G, B, scotopic) in cd/m^2.
-#include "camera.glsl"
-#include "surface_radiance.glsl"
+#include "common/camera.glsl"
+#include "atmosphere/surface_radiance.glsl"
 
 uniform vec3 u_camera_position;    // km, planet centred, ENU axes of the observer
 uniform vec3 u_sun_direction;      // unit, ENU
@@ -23,7 +23,7 @@ layout(location = 1) out vec4 frag_transmittance;
 layout(location = 0) out vec4 frag;
 
 // Radiance of the surfaces at the end of the ray, seen through the air, for one light at unit
-// scale: the Lambertian ground or the light's disk (surface_radiance.glsl).
+// scale: the Lambertian ground or the light's disk (atmosphere/surface_radiance.glsl).
 vec4 surface_radiance(vec3 camera, vec3 dir, vec3 light, bool with_disk) {
     vec3 entry;
     float r, rmu;

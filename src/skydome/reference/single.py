@@ -1,11 +1,9 @@
 """Float64 NumPy reference of the transmittance and single-scattering integrals.
 
-Slow and obvious, for tests (DESIGN rule 2); one exception for now: ``skydome ephemeris``
-takes its direct-beam ground illuminance from ``column_to_top`` (a few rays, no GL), until
-the references move into a package of their own. Column densities are integrated with
-Gauss-Legendre quadrature on many sub-intervals (converged to ~1e-9 relative), so they
-check the GPU's transmittance table; the single-scattering sum uses the same sample
-positions as ``single_scattering.glsl`` (quadratic spacing, offset 0.5), so the two agree
+Slow and obvious, for tests only (never the production path). Column densities come from
+``skydome.atmosphere.columns`` (Gauss-Legendre quadrature on many sub-intervals, converged
+to ~1e-9 relative), so they check the GPU's transmittance table; the single-scattering sum uses the same sample
+positions as ``atmosphere/single_scattering.glsl`` (quadratic spacing, offset 0.5), so the two agree
 up to the table's interpolation and float32 rounding.
 
 Units: metres, per-metre coefficients; radiance per unit solar irradiance (sr^-1).
@@ -15,58 +13,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from skydome.atmosphere.columns import (  # noqa: F401  (re-exported for the tests)
+    column,
+    column_to_top,
+    densities,
+    distance_to_bottom,
+    distance_to_top,
+    ray_hits_ground,
+)
 from skydome.atmosphere.params import AtmosphereParams
-
-_GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(8)
-
-
-def densities(params: AtmosphereParams, altitude_m) -> np.ndarray:
-    """Relative densities (..., 3) of Rayleigh, Mie and absorbing constituents."""
-    h = np.asarray(altitude_m, float)
-    return np.stack(
-        [
-            params.rayleigh_density.density(h),
-            params.mie_density.density(h),
-            params.absorption_density.density(h),
-        ],
-        axis=-1,
-    )
-
-
-def distance_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
-    r, mu = np.asarray(r, float), np.asarray(mu, float)
-    disc = r * r * (mu * mu - 1.0) + params.top_radius_m**2
-    return np.maximum(-r * mu + np.sqrt(np.maximum(disc, 0.0)), 0.0)
-
-
-def distance_to_bottom(params: AtmosphereParams, r, mu) -> np.ndarray:
-    r, mu = np.asarray(r, float), np.asarray(mu, float)
-    disc = r * r * (mu * mu - 1.0) + params.bottom_radius_m**2
-    return np.maximum(-r * mu - np.sqrt(np.maximum(disc, 0.0)), 0.0)
-
-
-def ray_hits_ground(params: AtmosphereParams, r, mu) -> np.ndarray:
-    r, mu = np.asarray(r, float), np.asarray(mu, float)
-    return (mu < 0.0) & (r * r * (mu * mu - 1.0) + params.bottom_radius_m**2 >= 0.0)
-
-
-def column(params: AtmosphereParams, r, mu, length_m, intervals: int = 400) -> np.ndarray:
-    """Column densities (..., 3) in metres from radius r along cosine mu over length_m."""
-    r, mu, length = np.broadcast_arrays(*(np.asarray(x, float) for x in (r, mu, length_m)))
-    edges = np.linspace(0.0, 1.0, intervals + 1)
-    a, b = edges[:-1], edges[1:]
-    # Gauss-Legendre nodes on each sub-interval of [0, 1], scaled by the length.
-    s = (0.5 * (b - a))[:, None] * _GL_NODES[None, :] + (0.5 * (a + b))[:, None]
-    w = ((0.5 * (b - a))[:, None] * _GL_WEIGHTS[None, :]).ravel()
-    t = length[..., None] * s.ravel()
-    rt = np.sqrt(t * t + 2.0 * r[..., None] * mu[..., None] * t + r[..., None] ** 2)
-    d = densities(params, rt - params.bottom_radius_m)
-    return np.einsum("...kc,k->...c", d, w) * length[..., None]
-
-
-def column_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
-    """Column densities (..., 3), metres, from (r, mu) to the top of the atmosphere."""
-    return column(params, r, mu, distance_to_top(params, r, mu))
 
 
 def _optical_depth(coef: dict, col: np.ndarray) -> np.ndarray:
@@ -100,7 +55,7 @@ def single_scattering(
     """Radiance per unit solar irradiance (n_rays, n_wavelengths), sr^-1.
 
     position_m: (3,) planet-centred camera position; directions: (n, 3) unit view rays;
-    sun: (3,) unit direction to the Sun. Same model as single_scattering.glsl: in-scattering
+    sun: (3,) unit direction to the Sun. Same model as atmosphere/single_scattering.glsl: in-scattering
     by Rayleigh and Mie, Earth's shadow, absorption, the Lambertian ground lit by the
     attenuated Sun, and the Sun's uniform disk.
     """

@@ -3,8 +3,8 @@
 //
 // Defines expected: NUM_GROUPS (wavelength groups of this pass), RAY_SAMPLES (even).
 // Optional: N_MU_SKY, N_MU_GROUND, N_PHI (direction quadrature).
-#include "precomputed_params.glsl"
-#include "single_scattering.glsl"
+#include "atmosphere/precomputed_params.glsl"
+#include "atmosphere/single_scattering.glsl"
 
 // Spectral samples of group g -> the values the tables store: (X, Y, Z, scotopic) luminance
 // (non-negative, so that tables can hold logarithms; the lookups convert to R, G, B), or the
@@ -97,7 +97,7 @@ void lit_ray_node(int i, float r, float mu, vec4 lit, out float t, out float dt)
 }
 
 // Column densities (km) from the start of a ray to the point at (r_t, mu_t) on it, given c0 =
-// column_to_top(r, hits_ground ? -mu : mu) at the start (single_scattering.glsl).
+// column_to_top(r, hits_ground ? -mu : mu) at the start (atmosphere/single_scattering.glsl).
 vec3 view_column(vec3 c0, float r_t, float mu_t, bool hits_ground) {
     return column_between(c0, r_t, mu_t, hits_ground);
 }

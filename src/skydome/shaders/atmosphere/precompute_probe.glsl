@@ -1,13 +1,13 @@
-// Evaluates the lookups of precomputed_lookup.glsl at given points and directions, one texel
+// Evaluates the lookups of atmosphere/precomputed_lookup.glsl at given points and directions, one texel
 // per query (atmosphere/precompute_probe.py): for tests, benchmarks and illuminance values.
 // PROBE_MODE 0: sky_radiance (+ the Lambertian ground for rays that hit it, PROBE_GROUND 1:
 //               lit by the Sun only, like the single-scattering renderer; 2: Sun and sky;
-//               ground_shading.glsl's lambertian_ground, as the frames draw it)
+//               common/ground_shading.glsl's lambertian_ground, as the frames draw it)
 //               -> location 0; location 1 = column densities to the end of the ray (km).
 // PROBE_MODE 1: sky_radiance_to_point, point = position + direction * distance (km).
 // PROBE_MODE 2: sun_and_sky_irradiance with normal = direction -> location 0 the Sun's,
 //               location 1 the sky's.
-#include "ground_shading.glsl"
+#include "common/ground_shading.glsl"
 
 uniform sampler2D u_probe_points;  // xyz: planet-centred position (km)
 uniform sampler2D u_probe_dirs;    // xyz: unit direction or normal; w: distance (km, mode 1)

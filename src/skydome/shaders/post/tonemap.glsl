@@ -4,7 +4,7 @@
 //
 // Define TONEMAP_QUANTIZE 1 to snap the output to 8-bit code values in the shader, so that an
 // RGBA8 target stores round(255 v) whichever float -> unorm rounding the driver uses.
-#include "srgb.glsl"
+#include "common/srgb.glsl"
 
 #ifndef TONEMAP_QUANTIZE
 #define TONEMAP_QUANTIZE 0

@@ -1,6 +1,6 @@
 // Fills the transmittance (column density) table: one texel per (r, mu), integrated with
 // Simpson's rule on TRANSMITTANCE_STEPS (even) intervals.
-#include "transmittance_lut.glsl"
+#include "atmosphere/transmittance_lut.glsl"
 
 in vec2 v_uv;
 out vec4 frag;
