@@ -1,0 +1,1 @@
+"""Celestial bodies as the renderer draws them: the Sun's limb-darkened disk."""
