@@ -65,6 +65,8 @@ class GpuToneMapper:
             "FILMIC_DESATURATION_STOPS": float(FILMIC_DESATURATION_STOPS),
         }
         self.pass_ = FullscreenPass(self.ctx, "post/tonemap.glsl", defines)
+        self._defines = defines
+        self._auto_pass = None  # compiled with AUTO_EXPOSURE on first use
         self._targets: dict[tuple[int, int], tuple] = {}
 
     def uniforms(self, name: str, exposure_scale: float, **params: float) -> dict[str, object]:
@@ -86,14 +88,31 @@ class GpuToneMapper:
         viewport: tuple[int, int],
         name: str,
         exposure_scale: float,
+        *,
+        auto_exposure=None,
         **params: float,
     ) -> None:
         """Tone-map ``texture`` (RGBA32F, GL row order) into ``fbo`` over ``viewport`` =
-        (width, height) pixels (nearest-neighbour resampling if sizes differ)."""
+        (width, height) pixels (nearest-neighbour resampling if sizes differ).
+
+        With ``auto_exposure`` (a :class:`skydome.display.gpu_exposure.GpuExposure` that has
+        measured ``texture``), ``exposure_scale`` is the key times 2^compensation and the
+        shader divides it by the measured log-average luminance: no read-back.
+        """
         w, h = viewport
         fbo.viewport = (0, 0, w, h)
         uniforms = {**self.uniforms(name, exposure_scale, **params), "u_viewport": (w, h)}
-        self.pass_.draw(fbo, uniforms, {"u_hdr": texture})
+        textures = {"u_hdr": texture}
+        fpass = self.pass_
+        if auto_exposure is not None:
+            if self._auto_pass is None:
+                self._auto_pass = FullscreenPass(
+                    self.ctx, "post/tonemap.glsl", {**self._defines, "AUTO_EXPOSURE": 1}
+                )
+            fpass = self._auto_pass
+            uniforms.update(auto_exposure.uniforms())
+            textures["u_log_luminance"] = auto_exposure.texture
+        fpass.draw(fbo, uniforms, textures)
 
     def _target(self, width: int, height: int):
         if (width, height) not in self._targets:
@@ -145,6 +164,8 @@ class GpuToneMapper:
             tex.release()
         self._targets.clear()
         self.pass_.release()
+        if self._auto_pass is not None:
+            self._auto_pass.release()
 
 
 _mappers: dict[int, GpuToneMapper] = {}

@@ -167,3 +167,71 @@ def make_camera(name: str, **kwargs) -> Camera:
     if name != "perspective":
         return CAMERAS[name]()
     return PerspectiveCamera(**kwargs)
+
+
+def _rim(direction: np.ndarray, radius_rad: float, points: int = 16) -> np.ndarray:
+    """The centre and ``points`` directions on a circle of angular radius ``radius_rad``
+    around the unit vector ``direction`` (N + 1, 3)."""
+    u = direction / np.linalg.norm(direction)
+    e1 = np.cross(u, [0.0, 0.0, 1.0] if abs(u[2]) < 0.9 else [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(u, e1)
+    a = np.linspace(0.0, 2.0 * np.pi, points, endpoint=False)
+    ring = math.cos(radius_rad) * u + math.sin(radius_rad) * (
+        np.cos(a)[:, None] * e1 + np.sin(a)[:, None] * e2
+    )
+    return np.vstack([u, ring])
+
+
+def _rects(camera: Camera, d: np.ndarray, w: int, h: int) -> list | None:
+    """Pixel rectangles (x0, y0, x1, y1; GL: y up) that hold the directions ``d`` (N, 3)
+    for camera models with a closed-form inverse of camera.glsl; None where there is none."""
+    if isinstance(camera, PerspectiveCamera):
+        local = d @ camera.basis()  # (right, up, forward) components
+        if np.all(local[:, 2] <= 0.0):
+            return []  # wholly behind the camera
+        if np.any(local[:, 2] <= 1e-6):
+            return None
+        t = math.tan(math.radians(camera.fov_deg) / 2.0)
+        x = (local[:, 0] / (local[:, 2] * t) + 1.0) * 0.5 * w
+        y = (local[:, 1] / (local[:, 2] * t / (w / h)) + 1.0) * 0.5 * h
+        return [(x.min(), y.min(), x.max(), y.max())]
+    if isinstance(camera, FisheyeCamera):
+        zenith = np.arccos(np.clip(d[:, 2], -1.0, 1.0))
+        az = np.arctan2(d[:, 0], d[:, 1])
+        rho = zenith / (0.5 * math.pi) * 0.5 * min(w, h)
+        x, y = 0.5 * w - rho * np.sin(az), 0.5 * h + rho * np.cos(az)
+        return [(x.min(), y.min(), x.max(), y.max())]
+    if isinstance(camera, EquirectCamera):
+        el = np.arcsin(np.clip(d[:, 2], -1.0, 1.0))
+        y = (el / math.pi + 0.5) * h
+        if np.max(np.abs(el)) > math.radians(89.0):  # around a pole: whole rows
+            return [(0.0, y.min(), float(w), float(h) if el.max() > 0 else y.max())]
+        az = np.mod(np.arctan2(d[:, 0], d[:, 1]), 2.0 * math.pi)
+        if np.ptp(az) > math.pi:  # across the seam at azimuth 0: one rectangle each side
+            a = np.where(az > math.pi, az - 2.0 * math.pi, az) / (2.0 * math.pi) * w
+            return [(a.min() + w, y.min(), float(w), y.max()), (0.0, y.min(), a.max(), y.max())]
+        x = az / (2.0 * math.pi) * w
+        return [(x.min(), y.min(), x.max(), y.max())]
+    return None
+
+
+def disk_scissor(
+    camera: Camera, width: int, height: int, direction, radius_rad: float, margin_px: int = 2
+) -> list[tuple[int, int, int, int]] | None:
+    """Pixel rectangles (x, y, w, h; GL: y up from the bottom) holding every pixel that can
+    see a disk of angular radius ``radius_rad`` around ``direction`` (unit ENU), for drawing
+    small sources (the Sun, the Moon, later planets) with a scissor test instead of over the
+    whole frame. An empty list when the disk is out of the frame; None when the camera has
+    no simple inverse there (cube maps, direction maps): draw everything."""
+    d = np.asarray(direction, dtype=np.float64)
+    rects = _rects(camera, _rim(d, radius_rad), width, height)
+    if rects is None:
+        return None
+    out = []
+    for x0, y0, x1, y1 in rects:
+        ax, ay = max(math.floor(x0) - margin_px, 0), max(math.floor(y0) - margin_px, 0)
+        bx, by = min(math.ceil(x1) + margin_px, width), min(math.ceil(y1) + margin_px, height)
+        if bx > ax and by > ay:
+            out.append((ax, ay, bx - ax, by - ay))
+    return out

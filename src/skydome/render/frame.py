@@ -16,6 +16,8 @@ class Frame:
 
     data: np.ndarray
     info: dict = field(default_factory=dict)
+    #: The tone-mapped uint8 sRGB image (H, W, 3), when one was asked for.
+    image: np.ndarray | None = None
 
     @property
     def rgb(self) -> np.ndarray:

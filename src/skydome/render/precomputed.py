@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -108,8 +109,9 @@ class PrecomputedRenderer(PassRenderer):
             sun_scale: the Sun's irradiance in units of the params' solar spectrum (e.g. its
                 distance factor (1 AU / d)^2).
             light2_direction, light2_scale: a second light source (e.g. the Moon): its direction
-                and irradiance in units of the params' solar spectrum; its sky and ground light
-                are added (its disk is not drawn).
+                and irradiance in units of the params' solar spectrum (a number, or 4 numbers:
+                one per output channel, for a light of another colour); its sky and ground
+                light are added (its disk is not drawn).
             shadow_length_m: optional (H, W) image, the length (m) of each view ray, from the
                 camera, that lies in an occluder's shadow (light shafts, Bruneton 2017); +inf
                 for a ray in shadow all along.
@@ -120,15 +122,72 @@ class PrecomputedRenderer(PassRenderer):
                 composite = scene * transmittance + frame.
         """
         w, h = camera.frame_size(width, height)
+        plan = self.frame_plan(
+            camera,
+            (w, h),
+            sun_direction=sun_direction,
+            altitude_m=altitude_m,
+            sun_scale=sun_scale,
+            light2_direction=light2_direction,
+            light2_scale=light2_scale,
+            shadow_length_m=shadow_length_m,
+            depth_m=depth_m,
+        )
+        outs, ms = self._draw(
+            camera,
+            w,
+            h,
+            plan.uniforms,
+            plan.textures,
+            plan.extra,
+            plan.inputs,
+            attachments=2 if depth_m is not None else 1,
+            surface_pass=True,
+            shader=plan.shader,
+        )
+        info = self._info(
+            camera,
+            altitude_m,
+            plan.sun,
+            ms,
+            orders=self.tables.orders_computed,
+            wavelengths_nm=self.wavelengths_nm.tolist(),
+            path="sky-view" if plan.sky_view else "direct",
+        )
+        if depth_m is not None:
+            info["transmittance"] = outs[1][..., :3]
+        return Frame(outs[0], info)
+
+    def frame_plan(
+        self,
+        camera: Camera,
+        size: tuple[int, int],
+        *,
+        sun_direction,
+        altitude_m: float = 0.0,
+        sun_scale: float = 1.0,
+        light2_direction=None,
+        light2_scale=0.0,
+        shadow_length_m=None,
+        depth_m=None,
+    ) -> FramePlan:
+        """What a frame of this camera needs (arguments as in :meth:`render`): the shader,
+        its variant, uniforms and textures, with the sky-view tables re-aimed at the lights
+        if they moved. ``render`` draws it; the scene's atmosphere layer draws it into the
+        frame graph (skydome.atmosphere.layer)."""
+        w, h = size
         sun = check_sun_direction(sun_direction)
         check_range("sun_scale", sun_scale, 0.0, 1e6)
-        check_range("light2_scale", light2_scale, 0.0, 1e6)
+        scales = np.broadcast_to(np.asarray(light2_scale, dtype=np.float64), (4,))
+        for s in scales:
+            check_range("light2_scale", float(s), 0.0, 1e6)
+        has_light2 = bool(np.any(scales > 0))
         light2 = (
             np.array([0.0, 0.0, 1.0])
             if light2_direction is None
             else check_direction("light2 direction", light2_direction)
         )
-        if light2_direction is None and light2_scale > 0:
+        if light2_direction is None and has_light2:
             raise ParameterError("light2_scale > 0 needs a light2_direction")
         uniforms = {
             **self.uniforms,
@@ -137,9 +196,9 @@ class PrecomputedRenderer(PassRenderer):
             # The tables are for the tabulated solar spectrum: scale to this atmosphere's Sun.
             "u_sun_scale": float(sun_scale) * self.params.solar_scale,
             "u_light2_direction": tuple(light2),
-            "u_light2_scale": float(light2_scale) * self.params.solar_scale,
+            "u_light2_scale": tuple(float(s) * self.params.solar_scale for s in scales),
         }
-        extra, inputs = (["HAS_LIGHT2"] if light2_scale > 0 else []), {}
+        extra, inputs = (["HAS_LIGHT2"] if has_light2 else []), {}
         if shadow_length_m is not None:
             extra.append("HAS_SHADOW_MAP")
             # +inf: the whole ray is in shadow (1e30 km is past the end of any ray).
@@ -155,33 +214,26 @@ class PrecomputedRenderer(PassRenderer):
         if use_sky_view:
             # Tables of the sky seen from this altitude, redrawn when it or a light moves.
             uniforms.update(self.sky_view.uniforms(radius_km))
-            lights = [("sun", sun)] + ([("light2", light2)] if light2_scale > 0 else [])
+            lights = [("sun", sun)] + ([("light2", light2)] if has_light2 else [])
             for slot, direction in lights:
                 args = (slot, radius_km, tuple(direction), uniforms, self.textures)
                 textures.update(self.sky_view.textures(*args))
                 if depth_m is not None or (slot == "sun" and shadow_length_m is not None):
                     textures.update(self.sky_view.aerial_textures(*args))
-        outs, ms = self._draw(
-            camera,
-            w,
-            h,
-            uniforms,
-            textures,
-            tuple(extra),
-            inputs,
-            attachments=2 if depth_m is not None else 1,
-            surface_pass=True,
-            shader="atmosphere/sky_view.glsl" if use_sky_view else None,
-        )
-        info = self._info(
-            camera,
-            altitude_m,
-            sun,
-            ms,
-            orders=self.tables.orders_computed,
-            wavelengths_nm=self.wavelengths_nm.tolist(),
-            path="sky-view" if use_sky_view else "direct",
-        )
-        if depth_m is not None:
-            info["transmittance"] = outs[1][..., :3]
-        return Frame(outs[0], info)
+        shader = "atmosphere/sky_view.glsl" if use_sky_view else self.shader
+        return FramePlan(shader, tuple(extra), uniforms, textures, inputs, sun, use_sky_view)
+
+
+@dataclass
+class FramePlan:
+    """One frame's pass of the precomputed renderer: ``shader`` compiled with ``extra``
+    defines, drawn with ``uniforms``, ``textures`` and per-pixel ``inputs`` (sampler name ->
+    (H, W) float32 image)."""
+
+    shader: str
+    extra: tuple[str, ...]
+    uniforms: dict
+    textures: dict
+    inputs: dict
+    sun: np.ndarray
+    sky_view: bool

@@ -2,6 +2,9 @@
 // the Sun and the sky, the Sun's disk, an optional second light source, optional light
 // shafts (a shadow length per pixel) and optional aerial perspective in front of a user's
 // scene (a distance per pixel). Output (R, G, B, scotopic) in cd/m^2.
+// With COMPOSITE_BEHIND (the scene's frame graph), the light from beyond the atmosphere in
+// u_behind is seen through the air along each ray that does not end on the ground, and the
+// Sun's disk is left to the Sun layer (the surface pass draws the ground only).
 #include "common/camera.glsl"
 #include "atmosphere/surface_radiance.glsl"
 
@@ -11,7 +14,8 @@ uniform float u_sun_scale;         // the Sun's irradiance / the params' solar s
 #ifdef HAS_LIGHT2
 // A second light (compiled in only when used: CPU rasterizers pay for untaken branches).
 uniform vec3 u_light2_direction;   // e.g. the Moon, unit, ENU
-uniform float u_light2_scale;      // its irradiance in units of the params' solar spectrum
+uniform vec4 u_light2_scale;       // per output channel: its irradiance in units of the
+                                   // params' solar spectrum times its colour
 #endif
 #ifdef HAS_SHADOW_MAP
 uniform sampler2D u_shadow_map;    // shadowed length along each view ray, km
@@ -21,6 +25,12 @@ uniform sampler2D u_depth_map;     // distance to the user's scene along each ra
 layout(location = 1) out vec4 frag_transmittance;
 #endif
 layout(location = 0) out vec4 frag;
+#ifdef COMPOSITE_BEHIND
+uniform sampler2D u_behind;        // radiance from beyond the atmosphere along each ray, cd/m^2
+const bool DRAW_DISK = false;
+#else
+const bool DRAW_DISK = true;
+#endif
 
 // Radiance of the surfaces at the end of the ray, seen through the air, for one light at unit
 // scale: the Lambertian ground or the light's disk (atmosphere/surface_radiance.glsl).
@@ -38,7 +48,7 @@ bool needs_surface(vec3 camera, vec3 dir) {
     vec3 entry;
     float r, rmu;
     bool ground = ray_ends_on_ground(camera, dir, entry, r, rmu);
-    return ground || (r > 0.0 && sees_disk(dir, u_sun_direction));
+    return ground || (DRAW_DISK && r > 0.0 && sees_disk(dir, u_sun_direction));
 }
 
 void main() {
@@ -89,7 +99,7 @@ void main() {
     // need it): SKY_PASS writes the sky and a depth of 0.5 where a surface is seen (1.0
     // elsewhere); SURFACE_PASS adds the surfaces where the depth is 0.5.
 #ifdef SURFACE_PASS
-    frag = u_sun_scale * surface_radiance(u_camera_position, dir, u_sun_direction, true);
+    frag = u_sun_scale * surface_radiance(u_camera_position, dir, u_sun_direction, DRAW_DISK);
 #ifdef HAS_LIGHT2
     frag += u_light2_scale * surface_radiance(u_camera_position, dir, u_light2_direction, false);
 #endif
@@ -99,6 +109,11 @@ void main() {
 #ifdef HAS_LIGHT2
     frag += u_light2_scale * sky_radiance(u_camera_position, dir, 0.0, u_light2_direction, column);
 #endif
-    gl_FragDepth = needs_surface(u_camera_position, dir) ? 0.5 : 1.0;
+    bool surface = needs_surface(u_camera_position, dir);
+#ifdef COMPOSITE_BEHIND
+    // The ground hides what lies beyond; column is 0 where the ray misses the atmosphere.
+    if (!surface) frag += texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0) * output_transmittance(column);
+#endif
+    gl_FragDepth = surface ? 0.5 : 1.0;
 #endif
 }

@@ -12,6 +12,10 @@
 // T(x, x_p) S(x_p) is exactly S(x) - [S(x) - T(x, x_p) S(x_p)], the sky minus the aerial
 // perspective of the shadowed part; where a scene is given too, the aerial perspective of its
 // distance less the shadowed length.
+// With COMPOSITE_BEHIND (the scene's frame graph), the light from beyond the atmosphere that
+// the space layers drew (u_behind: the Sun's and the Moon's disks, later the stars) is seen
+// through the air along each ray that leaves it, and the disk is not drawn here (it belongs
+// to the Sun layer): one sky pass, no surface pass.
 #include "common/camera.glsl"
 #include "atmosphere/surface_radiance.glsl"
 #include "atmosphere/sky_view_mapping.glsl"
@@ -22,11 +26,14 @@ uniform sampler2D u_sun_scattering;
 uniform sampler2D u_sun_single_mie;
 #ifdef HAS_LIGHT2
 uniform vec3 u_light2_direction;
-uniform float u_light2_scale;
+uniform vec4 u_light2_scale;   // per output channel: its irradiance and colour (e.g. the Moon)
 uniform sampler2D u_light2_scattering;
 uniform sampler2D u_light2_single_mie;
 #endif
 layout(location = 0) out vec4 frag;
+#ifdef COMPOSITE_BEHIND
+uniform sampler2D u_behind;  // radiance from beyond the atmosphere along each ray, cd/m^2
+#endif
 #ifdef HAS_SHADOW_MAP
 uniform sampler2D u_shadow_map;  // shadowed length along each view ray, km
 #endif
@@ -123,6 +130,14 @@ void main() {
         frag_transmittance = vec4(transmittance_rgb(column_along_ray(r, dir.z, d, hits_ground)), 1.0);
     }
 #endif
+#ifdef COMPOSITE_BEHIND
+    vec4 behind = texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0);
+    // Only where something lies behind (a CPU rasterizer skips the block of pixels that has
+    // nothing): the ground and a user's scene hide it.
+    if (!scene && !hits_ground && any(greaterThan(behind, vec4(0.0))))
+        frag += behind * output_transmittance(column_to_top(r, dir.z));
+#else
     gl_FragDepth = !scene && !hits_ground && sees_disk(dir, u_sun_direction) ? 0.5 : 1.0;
+#endif
 #endif
 }

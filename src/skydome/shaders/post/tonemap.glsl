@@ -24,6 +24,21 @@ uniform float u_hvs_a;              // hvs: a, b of seed 003 eq. 7
 uniform float u_hvs_b;
 uniform float u_hvs_x_scale;        // hvs: I_max / white (exposed luminance -> x)
 uniform float u_filmic_pre_scale;   // filmic: input scale before the fit
+#ifdef AUTO_EXPOSURE
+// Automatic exposure on the GPU (skydome.display.gpu_exposure): u_exposure is then
+// key * 2^compensation, divided here by the frame's log-average luminance, read from the
+// 1 x 1 level of the mipmapped log-luminance grid (sum of w ln(delta + L), sum of w).
+uniform sampler2D u_log_luminance;
+uniform float u_log_luminance_level;
+uniform float u_delta;
+float exposure_scale() {
+    vec2 s = textureLod(u_log_luminance, vec2(0.5), u_log_luminance_level).rg;
+    float average = s.g > 0.0 ? max(exp(s.r / s.g) - u_delta, u_delta) : u_delta;
+    return u_exposure / average;
+}
+#else
+float exposure_scale() { return u_exposure; }
+#endif
 
 out vec4 frag;
 
@@ -86,7 +101,7 @@ void main() {
     ivec2 size = textureSize(u_hdr, 0);
     ivec2 src = min(ivec2(gl_FragCoord.xy * vec2(size) / u_viewport), size - 1);
     vec3 hdr = texelFetch(u_hdr, src, 0).rgb;
-    vec3 v = srgb_encode(tonemap_display_linear(hdr * u_exposure));
+    vec3 v = srgb_encode(tonemap_display_linear(hdr * exposure_scale()));
 #if TONEMAP_QUANTIZE
     // round(255 v), stored as (k + 0.25) / 255: both round-to-nearest and truncating
     // float -> unorm8 conversions then give k.

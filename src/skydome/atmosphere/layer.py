@@ -1,0 +1,145 @@
+"""The atmosphere layer: the scene's volume of air, from the precomputed tables.
+
+It draws ``shaders/atmosphere/sky_view.glsl`` (camera inside the atmosphere) or
+``sky_precomputed.glsl`` (above it) compiled with COMPOSITE_BEHIND: the light the space
+layers drew (the Sun's and the Moon's disks, later the stars) is multiplied by the
+transmittance of each pixel's ray, per output channel, and the sky's in-scattered light of
+the Sun and of the Moon (its second light) is added; the ground hides what lies beyond.
+
+Per-channel transmittance is exact for light with the solar spectrum's shape (each output
+channel is a linear functional of the spectrum) and close for the Moon's and the stars'
+smooth spectra. The moonlit sky is the sunlit sky's tables lit from the Moon's direction,
+scaled by the Moon's illuminance and coloured per channel by the Moon's spectrum relative to
+the Sun's (the same approximation).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from skydome.atmosphere.params import AtmosphereParams
+from skydome.scene.layer import DrawContext, Layer, SpectralBasis
+from skydome.scene.state import AU_KM, SkyState
+
+
+class AtmosphereLayer(Layer):
+    """The air of a preset or of ``AtmosphereParams``, with every scattering order.
+
+    Args:
+        atmosphere: a preset name or AtmosphereParams.
+        config: the tables (``PrecomputeConfig``; default: 16 wavelengths, 4 orders).
+        moonlight: light the sky by the Moon too (when the scene has one).
+        progress: ``progress(stage, fraction)`` during a table precomputation.
+    """
+
+    name = "atmosphere"
+    stage = "volume"
+
+    def __init__(
+        self,
+        atmosphere: str | AtmosphereParams = "earth",
+        *,
+        config=None,
+        moonlight: bool = True,
+        progress=None,
+        enabled: bool = True,
+    ):
+        from skydome.atmosphere import preset
+
+        super().__init__(enabled=enabled)
+        self.params = preset(atmosphere) if isinstance(atmosphere, str) else atmosphere
+        self.config = config
+        self.moonlight = bool(moonlight)
+        self._progress = progress
+        self.renderer = None
+        self.spectral_basis: SpectralBasis | None = None
+        self._lights: dict = {}
+        self._solar: float | None = None
+        self._tint: np.ndarray | None = None
+
+    def prepare(self, graph) -> None:
+        from skydome.render.precomputed import PrecomputedRenderer
+
+        super().prepare(graph)
+        if self.renderer is None:
+            self.renderer = PrecomputedRenderer(
+                self.params, self.config, ctx=graph.ctx, progress=self._progress
+            )
+        tables = self.renderer.tables
+        self.spectral_basis = SpectralBasis.for_wavelengths(
+            tables.wavelengths_nm, self.renderer.config.output
+        )
+
+    def update(self, state: SkyState) -> None:
+        sun = state.sun
+        lights = {
+            "sun_direction": sun.direction,
+            # The tables hold the Sun at 1 au: scale by the true distance.
+            "sun_scale": (AU_KM / sun.distance_km) ** 2,
+            "light2_direction": None,
+            "light2_scale": 0.0,
+        }
+        if self.moonlight and state.moon is not None:
+            ratio = state.moon.illuminance_lux / self._solar_lux() / self.params.solar_scale
+            lights["light2_direction"] = state.moon.direction
+            lights["light2_scale"] = tuple(ratio * self._moon_tint())
+        self._lights = lights
+        self._state = state
+
+    def _solar_lux(self) -> float:
+        """Illuminance (lx) of the tabulated solar spectrum at 1 au, as the tables see it."""
+        if self._solar is None:
+            from skydome.atmosphere.precompute import conversion_matrix
+            from skydome.spectra import SRGB_LUMINANCE
+
+            wl = self.spectral_basis.wavelengths_nm
+            self._solar = float(SRGB_LUMINANCE @ (conversion_matrix(wl) @ np.ones(len(wl)))[:3])
+        return self._solar
+
+    def _moon_tint(self) -> np.ndarray:
+        """Per output channel: the Moon's light relative to the Sun's at equal luminance."""
+        if self._tint is None:
+            from skydome.celestial.moon_albedo import moon_spectral_albedo
+
+            basis = self.spectral_basis
+            wl = basis.wavelengths_nm
+            self._tint = basis.colour(moon_spectral_albedo(wl)) / basis.colour(np.ones(len(wl)))
+        return self._tint
+
+    def draw(self, frame: DrawContext) -> None:
+        r = self.renderer
+        plan = r.frame_plan(
+            frame.camera, frame.frame_size, altitude_m=frame.altitude_m, **self._lights
+        )
+        extra = (*plan.extra, "COMPOSITE_BEHIND")
+        fpass = r._pass(frame.camera, extra, plan.shader)
+        # Above the atmosphere the ground is shaded in a second pass (see render/base.py);
+        # from inside it, the sky-view tables hold the ground and the disk is the Sun layer's.
+        second = (
+            None if plan.sky_view else r._pass(frame.camera, (*extra, "SURFACE_PASS"), plan.shader)
+        )
+        _, _, tw, th = frame.tile
+        r._draw_tile(
+            fpass,
+            second,
+            frame.fbo,
+            (tw, th),
+            {**plan.uniforms, **frame.uniforms},
+            {**plan.textures, **frame.textures, "u_behind": frame.behind},
+        )
+
+    def info(self) -> dict:
+        r = self.renderer
+        if r is None:
+            return {}
+        return {
+            "atmosphere": self.params.name,
+            "orders": r.tables.orders_computed,
+            "wavelengths_nm": r.wavelengths_nm.tolist(),
+        }
+
+    def release(self) -> None:
+        super().release()
+        if self.renderer is not None:
+            self.renderer.release()
+            self.renderer = None

@@ -1,0 +1,82 @@
+"""The Sun layer: the solar disk beyond the atmosphere, limb darkened and refracted.
+
+Its GLSL is ``shaders/celestial/sun.glsl``. Drawn in the frame graph's space stage; the
+atmosphere layer applies each pixel's transmittance. The disk's angular size comes from the
+true Earth-Sun distance, and so does its irradiance (the atmosphere's sunlight scales the
+same way, in the atmosphere layer).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from skydome.celestial.limb_darkening import disk_normalisation, limb_coefficients
+from skydome.scene.layer import DrawContext, Layer
+from skydome.scene.state import AU_KM, SkyState, refraction_scale
+
+
+class SunLayer(Layer):
+    """The Sun's disk. ``limb_darkening=False`` draws a uniform disk of the same irradiance."""
+
+    name = "sun"
+    stage = "space"
+    shader = "celestial/sun.glsl"
+
+    def __init__(self, *, limb_darkening: bool = True, enabled: bool = True):
+        super().__init__(enabled=enabled)
+        self.limb_darkening = bool(limb_darkening)
+        self._uniforms: dict = {}
+        self._key = None
+
+    def update(self, state: SkyState) -> None:
+        sun = state.sun
+        basis = self.graph.basis
+        key = (id(state), id(basis))
+        if key == self._key:
+            return
+        wl = basis.wavelengths_nm
+        alpha = float(sun.angular_radius_rad)
+        if self.limb_darkening:
+            coeffs = limb_coefficients(wl)  # (N, 6)
+            norm = 1.0 / disk_normalisation(alpha, wl)
+        else:
+            coeffs = np.zeros((len(wl), 6))
+            coeffs[:, 0] = 1.0
+            norm = np.full(len(wl), 1.0 / (2.0 * np.pi * (1.0 - np.cos(alpha))))
+        groups = basis.groups
+        limb = [coeffs[4 * g : 4 * g + 4, k] for g in range(groups) for k in range(6)]
+        self._uniforms = {
+            "u_sun_direction_true": tuple(float(v) for v in sun.direction_true),
+            "u_sin_angular_radius": float(np.sin(alpha)),
+            # The tables' spectrum is the Sun's at 1 au: scale by the true distance.
+            "u_sun_scale": (AU_KM / sun.distance_km) ** 2 * self.graph.solar_scale,
+            "u_spectral_to_rgbs": basis.group_matrices(),
+            "u_limb": np.concatenate(limb).tolist(),
+            "u_limb_norm": norm.tolist(),
+            "u_refraction_scale": refraction_scale(state),
+        }
+        self._key = key
+        self._sun = sun
+
+    def draw(self, frame: DrawContext) -> None:
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, frame.camera, {"NUM_GROUPS": frame.basis.groups}
+        )
+        # The apparent disk lies within its true radius of the apparent centre (refraction
+        # only flattens it); 10 % spare.
+        self.draw_small(
+            frame,
+            fpass,
+            {**self._uniforms, **frame.uniforms},
+            frame.textures,
+            self._sun.direction,
+            1.1 * self._sun.angular_radius_rad,
+        )
+
+    def info(self) -> dict:
+        if not self._uniforms:
+            return {}
+        return {
+            "sun_angular_diameter_deg": float(np.degrees(2 * self._sun.angular_radius_rad)),
+            "sun_distance_au": self._sun.distance_km / AU_KM,
+        }

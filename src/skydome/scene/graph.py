@@ -1,0 +1,282 @@
+"""The frame graph: the layers of a sky drawn into float textures in physical order.
+
+For each tile of a frame (one tile up to TILE_SIZE on a side):
+
+1. **space**: the layers of light from beyond the atmosphere (Sun, Moon, later stars) add
+   their radiance, unattenuated, into target A;
+2. **volume**: each volume layer (the atmosphere, later clouds) reads the light behind it
+   and writes ``behind * transmittance + in-scattered`` into the other target (ping-pong);
+3. **post** (whole frames): the GPU exposure pass and the tone-mapping pass.
+
+``render`` reads the float frame back once (and, if asked, the tone-mapped image);
+``draw`` tone-maps into a caller's framebuffer and reads nothing back. Every front end
+(command line, notebook, viewer) runs this one graph.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
+from skydome.errors import ParameterError
+from skydome.render.base import TILE_SIZE, frame_tiles
+from skydome.render.cameras import Camera, DirectionsCamera
+from skydome.render.frame import Frame
+from skydome.scene.layer import STAGES, DrawContext, Layer, SpectralBasis
+
+
+class FrameGraph:
+    """Layers in drawing order within their stage, and the targets they draw into.
+
+    Args:
+        layers: the layers (space layers first, then volume layers from far to near; the
+            order within a stage is the order given).
+        ctx: a moderngl context (default: the shared headless one).
+        basis: the output channels (default: the atmosphere layer's, else RGBS at the 16
+            accurate wavelengths).
+        solar_scale: the Sun's irradiance relative to the tabulated spectrum (1 for the
+            Earth; the atmosphere's ``params.solar_scale``).
+    """
+
+    def __init__(
+        self,
+        layers: list[Layer],
+        *,
+        ctx=None,
+        basis: SpectralBasis | None = None,
+        solar_scale: float = 1.0,
+    ):
+        from skydome.gpu import shared_context
+
+        self.ctx = ctx or shared_context()
+        names = [layer.name for layer in layers]
+        if len(set(names)) != len(names):
+            raise ParameterError(f"layer names must be unique, got {names}")
+        for layer in layers:
+            if layer.stage not in STAGES:
+                raise ParameterError(f"layer {layer.name!r} has unknown stage {layer.stage!r}")
+        self.layers = list(layers)
+        self.solar_scale = float(solar_scale)
+        self._targets: dict[tuple[int, int], tuple] = {}
+        self._post = None
+        self._exposure = None
+        self.basis = basis
+        for layer in self.layers:  # a volume layer may bring the spectral basis (its tables)
+            layer.prepare(self)
+        self.basis = basis or self._default_basis()
+
+    def _default_basis(self) -> SpectralBasis:
+        for layer in self.layers:
+            basis = getattr(layer, "spectral_basis", None)
+            if basis is not None:
+                return basis
+        from skydome.spectra.grids import wavelengths
+
+        return SpectralBasis.for_wavelengths(wavelengths("accurate"))
+
+    def __getitem__(self, name: str) -> Layer:
+        for layer in self.layers:
+            if layer.name == name:
+                return layer
+        raise KeyError(name)
+
+    def active(self, stage: str) -> list[Layer]:
+        return [layer for layer in self.layers if layer.enabled and layer.stage == stage]
+
+    # ------------------------------------------------------------------ targets
+
+    def _target(self, w: int, h: int):
+        """Two RGBA32F textures with framebuffers (sharing a depth buffer) for one tile size."""
+        key = (w, h)
+        if key not in self._targets:
+            depth = self.ctx.depth_renderbuffer((w, h))
+            texs = [self.ctx.texture((w, h), 4, dtype="f4") for _ in range(2)]
+            fbos = [
+                self.ctx.framebuffer(color_attachments=[t], depth_attachment=depth) for t in texs
+            ]
+            self._targets[key] = (texs, fbos, depth)
+        return self._targets[key]
+
+    # ------------------------------------------------------------------ drawing
+
+    def update(self, state) -> None:
+        for layer in self.layers:
+            if layer.enabled:
+                layer.update(state)
+
+    def draw_tile(
+        self,
+        camera: Camera,
+        frame_size: tuple[int, int],
+        tile: tuple[int, int, int, int],
+        altitude_m: float,
+        textures: dict | None = None,
+    ):
+        """Draw every enabled layer into one tile; returns the texture holding it (GL rows)."""
+        x0, y0, tw, th = tile
+        texs, fbos, _ = self._target(tw, th)
+        uniforms = {**camera.uniforms(*frame_size), "u_tile_offset": (float(x0), float(y0))}
+        ctx = self.ctx
+
+        def context(fbo, behind=None) -> DrawContext:
+            fbo.viewport = (0, 0, tw, th)
+            return DrawContext(
+                ctx, camera, frame_size, tile, fbo, uniforms, dict(textures or {}),
+                altitude_m, self.basis, behind,
+            )  # fmt: skip
+
+        current = 0
+        fbos[current].clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=(0, 0, tw, th))
+        ctx.enable(ctx.BLEND)
+        ctx.blend_func = ctx.ONE, ctx.ONE
+        try:
+            for layer in self.active("space"):
+                layer.draw(context(fbos[current]))
+        finally:
+            ctx.disable(ctx.BLEND)
+            ctx.blend_func = ctx.ONE, ctx.ZERO
+        for layer in self.active("volume"):
+            nxt = 1 - current
+            fbos[nxt].clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=(0, 0, tw, th))
+            layer.draw(context(fbos[nxt], behind=texs[current]))
+            current = nxt
+        return texs[current]
+
+    def render(
+        self,
+        state,
+        camera: Camera,
+        width: int,
+        height: int,
+        *,
+        altitude_m: float,
+        exposure: str | float | None = None,
+        compensation_ev: float = 0.0,
+        tonemap: str | None = None,
+    ) -> Frame:
+        """Draw a whole frame and read it back: a Frame in cd/m^2.
+
+        ``exposure``: None (no exposure chosen), ``"auto"`` (the GPU log-average, key 0.18)
+        or an exposure scale (m^2/cd); with ``tonemap`` (an operator name) the frame also
+        carries ``frame.image``, the uint8 sRGB image tone-mapped on the GPU.
+        """
+        w, h = camera.frame_size(width, height)
+        t0 = time.perf_counter()
+        self.update(state)
+        inputs = {}
+        if isinstance(camera, DirectionsCamera):
+            inputs["u_direction_map"] = camera.directions.astype(np.float32)
+        tile_side = min(TILE_SIZE, max(w, h))
+        data = np.empty((h, w, 4), np.float32)
+        last = None
+        tiles = list(frame_tiles(w, h, tile_side))
+        for x0, y0, tw, th in tiles:
+            rows = slice(h - y0 - th, h - y0)  # the tile's rows in the top-first frame
+            owned = {
+                name: _input_texture(self.ctx, image[rows, x0 : x0 + tw])
+                for name, image in inputs.items()
+            }
+            try:
+                last = self.draw_tile(camera, (w, h), (x0, y0, tw, th), altitude_m, owned)
+                staging = np.empty((th, tw, 4), np.float32)
+                last.read_into(staging, alignment=1)
+                data[rows, x0 : x0 + tw] = staging[::-1]
+            finally:
+                for tex in owned.values():
+                    tex.release()
+        render_ms = (time.perf_counter() - t0) * 1e3
+        info = {"render_ms": render_ms, "layers": [la.name for la in self.layers if la.enabled]}
+        for layer in self.layers:
+            if layer.enabled:
+                info.update(layer.info())
+        frame = Frame(data, info)
+        scale = self._exposure_scale(
+            exposure, compensation_ev, last if len(tiles) == 1 else None, data
+        )
+        if scale is not None:
+            info["exposure_ev100"] = scale_to_ev100(scale)
+        if tonemap is not None:
+            if scale is None:
+                raise ParameterError("a tone-mapped image needs an exposure ('auto' or a scale)")
+            from skydome.display.gpu_tonemap import gpu_tonemap
+
+            source = last if len(tiles) == 1 else data
+            frame.image = gpu_tonemap(source, tonemap, scale, ctx=self.ctx)
+            info["tonemap"] = tonemap
+        return frame
+
+    def _exposure_scale(self, exposure, compensation_ev, texture, data) -> float | None:
+        if exposure is None:
+            return None
+        if isinstance(exposure, str):
+            if exposure != "auto":
+                raise ParameterError(f"exposure {exposure!r} must be 'auto' or a scale in m^2/cd")
+            from skydome.display.exposure import auto_exposure
+
+            if texture is None:  # several tiles: the same average over the read-back frame
+                return auto_exposure(data, compensation_ev=compensation_ev)
+            exposure_pass = self.exposure_pass()
+            exposure_pass.measure(texture)
+            return 2.0**compensation_ev * DEFAULT_KEY / exposure_pass.read()
+        return float(exposure) * 2.0**compensation_ev
+
+    def exposure_pass(self):
+        if self._exposure is None:
+            from skydome.display.gpu_exposure import GpuExposure
+
+            self._exposure = GpuExposure(self.ctx)
+        return self._exposure
+
+    def draw(
+        self,
+        state,
+        framebuffer,
+        camera: Camera,
+        *,
+        altitude_m: float,
+        size: tuple[int, int] | None = None,
+        exposure: str | float = "auto",
+        compensation_ev: float = 0.0,
+        tonemap: str = "filmic",
+    ) -> None:
+        """Draw the frame into ``framebuffer`` (a moderngl framebuffer, e.g. a window's
+        ``ctx.screen``), tone-mapped, with no read-back. ``size`` defaults to the
+        framebuffer's viewport size. One tile: the frame must fit GL's limits."""
+        from skydome.display.gpu_tonemap import GpuToneMapper
+
+        w, h = size or tuple(framebuffer.viewport[2:]) or framebuffer.size
+        self.update(state)
+        texture = self.draw_tile(camera, (w, h), (0, 0, w, h), altitude_m)
+        if self._post is None:
+            self._post = GpuToneMapper(self.ctx, quantize=False)
+        if exposure == "auto":
+            exposure_pass = self.exposure_pass()
+            exposure_pass.measure(texture)
+            key = 2.0**compensation_ev * DEFAULT_KEY
+            self._post.draw(texture, framebuffer, (w, h), tonemap, key, auto_exposure=exposure_pass)
+        else:
+            scale = float(exposure) * 2.0**compensation_ev
+            self._post.draw(texture, framebuffer, (w, h), tonemap, scale)
+
+    def release(self) -> None:
+        """Free the targets, the post passes and every layer's GPU resources."""
+        for texs, fbos, depth in self._targets.values():
+            for obj in (*fbos, *texs, depth):
+                obj.release()
+        self._targets.clear()
+        for obj in (self._post, self._exposure):
+            if obj is not None:
+                obj.release()
+        self._post = self._exposure = None
+        for layer in self.layers:
+            layer.release()
+
+
+def _input_texture(ctx, image: np.ndarray):
+    """A float32 texture (texelFetch) of one tile of a per-pixel input, GL row order."""
+    th, tw = image.shape[:2]
+    channels = 1 if image.ndim == 2 else image.shape[2]
+    data = np.ascontiguousarray(image[::-1], dtype="f4")
+    return ctx.texture((tw, th), channels, data.tobytes(), dtype="f4")

@@ -1,0 +1,259 @@
+"""Sky: a place, a time and a list of layers, rendered by one frame graph.
+
+>>> from skydome import Sky
+>>> sky = Sky("Valletta", "2018-03-01T19:00Z")          # or Sky((35.9, 14.5), ...)
+>>> frame = sky.render(width=1280, height=720, look="moon")   # Frame in cd/m^2
+>>> later = sky.at("2018-03-01T23:00Z")                 # same tables, new lights
+
+The abstract mode has no place or time, only a Sun: ``Sky(sun_elevation_deg=5,
+sun_azimuth_deg=250)``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from skydome.errors import ParameterError, check_range
+from skydome.render.cameras import Camera, PerspectiveCamera
+from skydome.render.frame import Frame
+from skydome.scene.graph import FrameGraph
+from skydome.scene.layer import Layer
+from skydome.scene.state import SkyState
+
+#: Height of the eye above the ground at the place (m): a standing observer.
+EYE_HEIGHT_M = 1.7
+#: Where ``look=`` can aim the default camera.
+LOOKS = ("sun", "moon", "zenith", "north", "east", "south", "west")
+_COMPASS = {"north": 0.0, "east": 90.0, "south": 180.0, "west": 270.0}
+
+
+def observer_for(place: Any, **weather):
+    """An ``Observer`` for a place: an Observer, a ``Place`` of the gazetteer, a place name,
+    or ``(lat, lon[, elevation_m])``."""
+    from skydome.astro import Observer
+
+    if isinstance(place, Observer):
+        return place
+    from skydome.astro.places import parse_place
+
+    return parse_place(place).observer(**weather)
+
+
+class Sky:
+    """The sky over a place at a time, or of a Sun at an elevation (the abstract mode).
+
+    Args:
+        place: an ``Observer``, a gazetteer name (``skydome places``), a ``Place`` or a
+            ``(lat_deg, lon_deg[, elevation_m])`` tuple. None for the abstract mode.
+        time: anything ``skydome.astro.to_time`` accepts (ISO 8601; naive is UTC).
+        atmosphere: a preset name or ``AtmosphereParams``.
+        sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (apparent, degrees).
+        layers: the layers to draw (default: Sun, Moon and the atmosphere); a list of
+            ``Layer`` objects replaces them, ``extra_layers`` adds to them.
+        config: the atmosphere tables' ``PrecomputeConfig``.
+        progress: ``progress(stage, fraction)`` while tables are precomputed.
+        ctx: a moderngl context (default: the shared headless one; a window's for a viewer).
+        pressure_hPa, temperature_C: the weather that bends the light (refraction).
+    """
+
+    def __init__(
+        self,
+        place: Any = None,
+        time: Any = None,
+        atmosphere: Any = "earth",
+        *,
+        sun_elevation_deg: float | None = None,
+        sun_azimuth_deg: float = 180.0,
+        layers: list[Layer] | None = None,
+        extra_layers: list[Layer] = (),
+        config=None,
+        progress=None,
+        ctx=None,
+        pressure_hPa: float | None = None,
+        temperature_C: float | None = None,
+        _graph: FrameGraph | None = None,
+        _state: SkyState | None = None,
+    ):
+        if _graph is not None:  # from at(): the same layers, a new state
+            self.graph, self.state, self.observer = _graph, _state, _state.observer
+            return
+        abstract = place is None
+        if abstract and time is not None:
+            raise ParameterError("a time needs a place: give place=(lat, lon) or a place name")
+        if abstract and sun_elevation_deg is None:
+            raise ParameterError("give a place and a time, or sun_elevation_deg for a Sun alone")
+        if not abstract and sun_elevation_deg is not None:
+            raise ParameterError(
+                "a place and a time set the Sun: drop sun_elevation_deg, or drop the place"
+            )
+        weather = {}
+        if pressure_hPa is not None:
+            weather["pressure_hPa"] = pressure_hPa
+        if temperature_C is not None:
+            weather["temperature_C"] = temperature_C
+        if abstract:
+            self.observer = None
+            self.state = SkyState.abstract(sun_elevation_deg, sun_azimuth_deg)
+        else:
+            if time is None:
+                raise ParameterError("a place needs a time (ISO 8601, e.g. 2018-03-01T19:00Z)")
+            self.observer = observer_for(place, **weather)
+            self.state = SkyState.at_place(self.observer, time)
+        if layers is None:
+            from skydome.atmosphere.layer import AtmosphereLayer
+            from skydome.celestial.moon import MoonLayer
+            from skydome.celestial.sun import SunLayer
+
+            layers = [
+                SunLayer(),
+                MoonLayer(),
+                AtmosphereLayer(atmosphere, config=config, progress=progress),
+            ]
+        layers = [*layers, *extra_layers]
+        atmosphere_layer = next((la for la in layers if la.name == "atmosphere"), None)
+        solar_scale = atmosphere_layer.params.solar_scale if atmosphere_layer is not None else 1.0
+        self.graph = FrameGraph(layers, ctx=ctx, solar_scale=solar_scale)
+
+    # ------------------------------------------------------------------ the sky at other times
+
+    def at(self, time: Any) -> Sky:
+        """The same sky (place, layers and their tables) at another ``time``."""
+        if self.observer is None:
+            raise ParameterError("an abstract sky (a Sun elevation) has no time: make a new Sky")
+        return Sky(_graph=self.graph, _state=SkyState.at_place(self.observer, time))
+
+    def with_sun(self, elevation_deg: float, azimuth_deg: float = 180.0) -> Sky:
+        """The same layers with the abstract mode's Sun at an apparent elevation, azimuth."""
+        return Sky(_graph=self.graph, _state=SkyState.abstract(elevation_deg, azimuth_deg))
+
+    # ------------------------------------------------------------------ layers
+
+    @property
+    def layers(self) -> list[Layer]:
+        return self.graph.layers
+
+    def layer(self, name: str) -> Layer:
+        """A layer by name (``sky.layer("moon").enabled = False`` turns it off)."""
+        try:
+            return self.graph[name]
+        except KeyError:
+            names = ", ".join(la.name for la in self.layers)
+            raise ParameterError(f"no layer {name!r} in this sky; it has {names}") from None
+
+    # ------------------------------------------------------------------ cameras
+
+    def camera(self, look: str = "sun", *, fov_deg: float = 90.0, pitch_deg: float | None = None):
+        """A perspective camera aimed by ``look``: at the Sun or the Moon (centred on it), at
+        the zenith, or at a compass point (pitch 15 deg unless given)."""
+        if look not in LOOKS:
+            raise ParameterError(f"look {look!r} must be one of {', '.join(LOOKS)}")
+        if look in ("sun", "moon"):
+            light = self.state.sun if look == "sun" else self.state.moon
+            if light is None:
+                raise ParameterError("this sky has no Moon (the abstract mode has a Sun only)")
+            yaw, pitch = light.azimuth_deg, light.elevation_deg
+        elif look == "zenith":
+            yaw, pitch = 0.0, 90.0
+        else:
+            yaw, pitch = _COMPASS[look], 15.0
+        if pitch_deg is not None:
+            pitch = pitch_deg
+        return PerspectiveCamera(fov_deg=fov_deg, yaw_deg=yaw, pitch_deg=pitch)
+
+    def altitude_m(self, altitude_m: float | None = None) -> float:
+        """The camera's height above the atmosphere's ground (m): given, or the place's
+        elevation plus a standing eye (EYE_HEIGHT_M)."""
+        if altitude_m is not None:
+            return float(altitude_m)
+        ground = 0.0 if self.observer is None else max(float(self.observer.elevation_m), 0.0)
+        return ground + EYE_HEIGHT_M
+
+    # ------------------------------------------------------------------ frames
+
+    def render(
+        self,
+        camera: Camera | None = None,
+        width: int = 1280,
+        height: int = 720,
+        *,
+        look: str = "sun",
+        altitude_m: float | None = None,
+        exposure: str | float | None = "auto",
+        compensation_ev: float = 0.0,
+        tonemap: str | None = None,
+    ) -> Frame:
+        """A frame in cd/m^2 (read back once). ``exposure``: "auto" (GPU log-average), an
+        EV100 number, or None; with ``tonemap`` (e.g. "filmic") ``frame.image`` holds the
+        uint8 sRGB image. ``frame.info`` says where the lights were and what was used."""
+        from skydome.display.exposure import ev100_to_scale
+
+        cam = camera or self.camera(look)
+        scale = exposure if exposure in (None, "auto") else ev100_to_scale(exposure)
+        check_range("exposure compensation", compensation_ev, -20.0, 20.0, "EV")
+        frame = self.graph.render(
+            self.state,
+            cam,
+            width,
+            height,
+            altitude_m=self.altitude_m(altitude_m),
+            exposure=scale,
+            compensation_ev=compensation_ev,
+            tonemap=tonemap,
+        )
+        frame.info.update(self.state.summary())
+        frame.info["camera"] = cam.name
+        if self.state.time is not None:
+            frame.info["time"] = str(self.state.time.iso())
+        return frame
+
+    def draw(
+        self,
+        framebuffer,
+        camera: Camera,
+        *,
+        size: tuple[int, int] | None = None,
+        altitude_m: float | None = None,
+        exposure: str | float = "auto",
+        compensation_ev: float = 0.0,
+        tonemap: str = "filmic",
+    ) -> None:
+        """Draw into ``framebuffer`` (e.g. a window's ``ctx.screen``), tone-mapped on the GPU,
+        with no read-back. ``exposure``: "auto" or an EV100 number."""
+        from skydome.display.exposure import ev100_to_scale
+
+        scale = "auto" if exposure == "auto" else ev100_to_scale(exposure)
+        self.graph.draw(
+            self.state,
+            framebuffer,
+            camera,
+            altitude_m=self.altitude_m(altitude_m),
+            size=size,
+            exposure=scale,
+            compensation_ev=compensation_ev,
+            tonemap=tonemap,
+        )
+
+    def _repr_png_(self) -> bytes:
+        """A small tone-mapped equirect view, for Jupyter."""
+        import io
+
+        from PIL import Image
+
+        from skydome.render.cameras import EquirectCamera
+
+        frame = self.render(EquirectCamera(), 512, 256, tonemap="filmic")
+        buf = io.BytesIO()
+        Image.fromarray(frame.image).save(buf, format="PNG")
+        return buf.getvalue()
+
+    def __repr__(self) -> str:
+        s = self.state
+        where = (
+            "abstract"
+            if self.observer is None
+            else (f"{float(self.observer.latitude):.4f}, {float(self.observer.longitude):.4f}")
+        )
+        when = "" if s.time is None else f" at {s.time.iso()}"
+        sun = f"Sun {s.sun.elevation_deg:.2f} deg"
+        moon = "" if s.moon is None else f", Moon {s.moon.elevation_deg:.2f} deg"
+        return f"<Sky {where}{when}: {sun}{moon}; layers {[la.name for la in self.layers]}>"

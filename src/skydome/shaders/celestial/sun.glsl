@@ -1,0 +1,36 @@
+// Sun layer (space stage): the Sun's disk beyond the atmosphere, limb darkened per
+// wavelength (Neckel 2005 fits of Neckel & Labs 1994, skydome.celestial.limb_darkening) and
+// normalised so that it integrates to the Sun's irradiance; seen through refraction, so a
+// low Sun is flattened. The atmosphere layer then multiplies each pixel by the transmittance
+// of its own ray, so the lower limb of a setting Sun is redder and dimmer than the upper.
+// Output (R, G, B, scotopic) cd/m^2, or the 4 wavelengths of a spectral basis; drawn added.
+#include "common/camera.glsl"
+#include "common/refraction.glsl"
+#include "common/sphere_disk.glsl"
+
+uniform vec3 u_sun_direction_true;   // airless, unit ENU
+uniform float u_sin_angular_radius;  // sin of the disk's angular radius
+uniform float u_sun_scale;           // irradiance in units of the tabulated solar spectrum
+uniform mat4 u_spectral_to_rgbs[NUM_GROUPS];
+// I(mu)/I(1) = sum_k A_k mu^k; A_k of the 4 wavelengths of group g in u_limb[6 g + k].
+uniform vec4 u_limb[6 * NUM_GROUPS];
+uniform vec4 u_limb_norm[NUM_GROUPS];  // 1 / integral of I/I(1) over the disk, 1/sr
+out vec4 frag;
+
+void main() {
+    frag = vec4(0.0);
+    vec3 dir;
+    if (!camera_ray(gl_FragCoord.xy, dir)) return;
+    vec3 true_dir = airless_direction(dir);
+    if (!ray_meets_sphere(true_dir, u_sun_direction_true, u_sin_angular_radius)) return;
+    // Heliocentric angle: sin(psi) = sin(theta) / sin(alpha) (exact for a sphere).
+    float rho = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
+    float mu = sqrt(max(1.0 - rho * rho, 0.0));
+    for (int g = 0; g < NUM_GROUPS; ++g) {
+        int k = 6 * g;
+        vec4 ld = u_limb[k] + mu * (u_limb[k + 1] + mu * (u_limb[k + 2] + mu * (u_limb[k + 3]
+                + mu * (u_limb[k + 4] + mu * u_limb[k + 5]))));
+        frag += u_spectral_to_rgbs[g] * (ld * u_limb_norm[g]);
+    }
+    frag *= u_sun_scale;
+}
