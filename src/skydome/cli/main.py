@@ -33,6 +33,8 @@ app = typer.Typer(
 COMMAND_MODULES = [
     "skydome.cli.info_cmd",
     "skydome.cli.render_cmd",
+    "skydome.cli.timelapse_cmd",
+    "skydome.cli.places_cmd",
     "skydome.cli.atmosphere_cmds",
     "skydome.cli.astro_cmds",
 ]

@@ -8,6 +8,17 @@ import time
 
 import typer
 
+from skydome.cli.place_options import (
+    LOOKS,
+    default_look,
+    describe_state,
+    elevation_option,
+    lat_option,
+    lon_option,
+    observer_from_flags,
+    parse_time,
+    place_option,
+)
 from skydome.errors import ParameterError, check_choice, check_range
 
 #: Frames larger than this many pixels are refused (a 16k x 8k equirect is 128 Mpixel).
@@ -139,14 +150,37 @@ def precompute_progress(console):
 def register(app: typer.Typer) -> None:
     @app.command()
     def render(
+        place: str = place_option(),
+        lat: float = lat_option(),
+        lon: float = lon_option(),
+        elevation: float = elevation_option(),
+        when: str = typer.Option(
+            None,
+            "--time",
+            help="ISO 8601 date and time, e.g. 2018-03-01T19:00Z (an offset or Z; naive is "
+            "UTC). With a place: the Sun and the Moon where they are.",
+        ),
+        look: str = typer.Option(
+            None,
+            "--look",
+            help="Aim the camera: sun | moon | zenith | north | east | south | west (default: "
+            "the Sun, or at night the Moon when it is up).",
+        ),
         sun_elevation: float = typer.Option(
-            30.0, "--sun-elevation", help="Sun elevation above the horizon, degrees (-90..90)."
+            None,
+            "--sun-elevation",
+            help="Sun elevation above the horizon, degrees (-90..90; default 30), without a "
+            "place and time.",
         ),
         sun_azimuth: float = typer.Option(
-            180.0, "--sun-azimuth", help="Sun azimuth from north through east, degrees."
+            None,
+            "--sun-azimuth",
+            help="Sun azimuth from north through east, degrees (default 180), without a place.",
         ),
         altitude: float = typer.Option(
-            1.7, "--altitude", help="Camera altitude above the ground, metres."
+            None,
+            "--altitude",
+            help="Camera altitude above the ground, metres (default 1.7 m above the place).",
         ),
         camera: str = typer.Option(
             "perspective", "--camera", help="perspective | fisheye | equirect | cubemap."
@@ -162,7 +196,9 @@ def register(app: typer.Typer) -> None:
             "--yaw",
             help="View azimuth from north through east, degrees (default: the Sun's).",
         ),
-        pitch: float = typer.Option(15.0, "--pitch", help="View elevation, degrees."),
+        pitch: float = typer.Option(
+            None, "--pitch", help="View elevation, degrees (default 15, or the --look target's)."
+        ),
         roll: float = typer.Option(
             0.0, "--roll", help="Camera roll about the view direction, degrees."
         ),
@@ -234,12 +270,32 @@ def register(app: typer.Typer) -> None:
         from skydome.spectra.grids import MODES
 
         # Validate everything before any work, so bad input writes nothing.
-        el = check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
-        az = check_range("--sun-azimuth", sun_azimuth, -360.0, 360.0, "deg")
+        observer = observer_from_flags(place, lat, lon, elevation)
+        abstract = observer is None
+        if not abstract and (sun_elevation is not None or sun_azimuth is not None):
+            raise ParameterError(
+                "--place/--lat/--lon with --time set the Sun: drop --sun-elevation/--sun-azimuth"
+            )
+        if abstract and when is not None:
+            raise ParameterError("--time needs a place: add --place NAME or --lat and --lon")
+        if not abstract and when is None:
+            raise ParameterError("a place needs --time, e.g. --time 2018-03-01T19:00Z")
+        t = parse_time("--time", when) if when is not None else None
+        if look is not None:
+            check_choice("--look", look, LOOKS, "view")
+            if abstract and look == "moon":
+                raise ParameterError("--look moon needs a place and a time (there is no Moon)")
+        el = check_range(
+            "--sun-elevation", 30.0 if sun_elevation is None else sun_elevation, -90.0, 90.0, "deg"
+        )
+        az = check_range(
+            "--sun-azimuth", 180.0 if sun_azimuth is None else sun_azimuth, -360.0, 360.0, "deg"
+        )
         width, height = parse_size(size)
         ev = parse_exposure(exposure)
         check_range("--exposure-compensation", compensation, -20.0, 20.0, "EV")
-        check_range("--altitude", altitude, 0.0, MAX_ALTITUDE_M, "m")
+        if altitude is not None:
+            check_range("--altitude", altitude, 0.0, MAX_ALTITUDE_M, "m")
         check_choice("--tonemap", tonemap, TONEMAPS, "tone map")
         check_choice("--model", model, MODELS, "model")
         check_choice("--camera", camera, CAMERAS, "camera")
@@ -253,54 +309,109 @@ def register(app: typer.Typer) -> None:
                     "every ray from its tables (drop --samples or add --model single)"
                 )
             check_int("--samples", samples, 1, MAX_VIEW_SAMPLES)
+        if model == "single" and not abstract:
+            raise ParameterError(
+                "--model single renders a Sun alone: use --sun-elevation, or the default model "
+                "for a place and a time"
+            )
         check_range("--fov", fov, *FOV_RANGE_DEG, "deg")
-        check_range("--pitch", pitch, *PITCH_RANGE_DEG, "deg")
+        if pitch is not None:
+            check_range("--pitch", pitch, *PITCH_RANGE_DEG, "deg")
         check_range("--roll", roll, *ROLL_RANGE_DEG, "deg")
         if yaw is not None:
             check_range("--yaw", yaw, *YAW_RANGE_DEG, "deg")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
-        kwargs = {
-            "fov_deg": fov,
-            "yaw_deg": az if yaw is None else yaw,
-            "pitch_deg": pitch,
-            "roll_deg": roll,
-        }
-        cam = make_camera(camera, **kwargs)
         paths = [check_output_path(p) for p in output]
         if len({str(p.resolve()) for p in paths}) != len(paths):
             raise ParameterError("-o/--output: the same path is given twice")
 
         console = Console(soft_wrap=True)
-        with precompute_progress(console) as report:
-            renderer = get_renderer(
-                model,
-                params,
-                spectral=spectral,
-                orders=orders,
-                progress=report,
-                **({} if samples is None else {"samples": samples}),
+        if model == "single":
+            cam = make_camera(
+                camera,
+                **{
+                    "fov_deg": fov,
+                    "yaw_deg": az if yaw is None else yaw,
+                    "pitch_deg": 15.0 if pitch is None else pitch,
+                    "roll_deg": roll,
+                },
             )
-        frame = renderer.render(
-            cam, width, height, sun_direction=direction_from_angles(el, az), altitude_m=altitude
-        )
-        scale = (
-            auto_exposure(frame, compensation_ev=compensation, clip_percentile=99.5)
-            if ev is None
-            else ev100_to_scale(ev, compensation)
-        )
-        t0 = time.perf_counter()
-        ldr = (
-            gpu_tonemap(frame, tonemap, scale)
-            if any(not WRITERS[p.suffix.lower()].hdr for p in paths)
-            else None
-        )
-        tone_ms = (time.perf_counter() - t0) * 1e3
+            renderer = get_renderer(
+                model, params, spectral=spectral, orders=orders,
+                **({} if samples is None else {"samples": samples}),
+            )  # fmt: skip
+            frame = renderer.render(
+                cam, width, height, sun_direction=direction_from_angles(el, az),
+                altitude_m=1.7 if altitude is None else altitude,
+            )  # fmt: skip
+            scale = (
+                auto_exposure(frame, compensation_ev=compensation, clip_percentile=99.5)
+                if ev is None
+                else ev100_to_scale(ev, compensation)
+            )
+            t0 = time.perf_counter()
+            ldr = (
+                gpu_tonemap(frame, tonemap, scale)
+                if any(not WRITERS[p.suffix.lower()].hdr for p in paths)
+                else None
+            )
+            tone_ms = (time.perf_counter() - t0) * 1e3
+        else:
+            from skydome.atmosphere.layer import AtmosphereLayer
+            from skydome.atmosphere.precompute_config import PrecomputeConfig
+            from skydome.celestial.moon import MoonLayer
+            from skydome.celestial.sun import SunLayer
+            from skydome.scene import Sky
+
+            with precompute_progress(console) as report:
+                air = AtmosphereLayer(
+                    params,
+                    config=PrecomputeConfig(wavelengths=spectral, orders=orders),
+                    progress=report,
+                )
+                layers = [SunLayer(), MoonLayer(), air] if not abstract else [SunLayer(), air]
+                if abstract:
+                    sky = Sky(sun_elevation_deg=el, sun_azimuth_deg=az, layers=layers)
+                else:
+                    sky = Sky(observer, t, layers=layers)
+            for line in describe_state(sky.state):
+                console.print(line)
+            target = look or (default_look(sky.state) if not abstract else None)
+            if target is not None:
+                aim = sky.camera(target)
+                view_yaw, view_pitch = aim.yaw_deg, aim.pitch_deg
+            else:
+                view_yaw, view_pitch = az, 15.0
+            cam = make_camera(
+                camera,
+                **{
+                    "fov_deg": fov,
+                    "yaw_deg": view_yaw if yaw is None else yaw,
+                    "pitch_deg": view_pitch if pitch is None else pitch,
+                    "roll_deg": roll,
+                },
+            )
+            want_ldr = any(not WRITERS[p.suffix.lower()].hdr for p in paths)
+            t0 = time.perf_counter()
+            frame = sky.render(
+                cam,
+                width,
+                height,
+                altitude_m=altitude,
+                exposure="auto" if ev is None else ev,
+                compensation_ev=compensation,
+                tonemap=tonemap if want_ldr else None,
+            )
+            tone_ms = 0.0
+            ldr = frame.image
+            scale = ev100_to_scale(frame.info["exposure_ev100"])
         metadata = {**frame.info, "exposure_ev100": scale_to_ev100(scale), "tonemap": tonemap}
         written = write_outputs(paths, frame.data, ldr, metadata=metadata)
         h, w = frame.shape
         for p in written:
             console.print(f"wrote [bold]{p}[/bold] ({w}x{h})")
         console.print(
-            f"frame {frame.info['render_ms']:.1f} ms ({model}, {camera}, {params.name}), tone map {tone_ms:.1f} ms, "
-            f"exposure EV100 {scale_to_ev100(scale):.2f}"
+            f"frame {frame.info['render_ms']:.1f} ms ({model}, {camera}, {params.name}), "
+            f"tone map {tone_ms:.1f} ms, exposure EV100 {scale_to_ev100(scale):.2f}"
+            + (" (auto)" if ev is None else "")
         )

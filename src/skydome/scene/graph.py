@@ -144,6 +144,19 @@ class FrameGraph:
             current = nxt
         return texs[current]
 
+    def frame_texture(self, state, camera: Camera, width: int, height: int, *, altitude_m: float):
+        """Draw a whole frame (one tile: at most TILE_SIZE on a side) and return the float
+        texture holding it, still on the GPU (valid until the next draw of this size): for
+        front ends that tone-map or measure it there (time-lapses, windows)."""
+        w, h = camera.frame_size(width, height)
+        if max(w, h) > TILE_SIZE or isinstance(camera, DirectionsCamera):
+            raise ParameterError(
+                f"a frame kept on the GPU must be one tile (at most {TILE_SIZE} pixels a side, "
+                "not a DirectionsCamera); use render()"
+            )
+        self.update(state)
+        return self.draw_tile(camera, (w, h), (0, 0, w, h), altitude_m)
+
     def render(
         self,
         state,

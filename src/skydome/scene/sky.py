@@ -39,6 +39,27 @@ def observer_for(place: Any, **weather):
     return parse_place(place).observer(**weather)
 
 
+def aim_camera(
+    state: SkyState, look: str = "sun", *, fov_deg: float = 90.0, pitch_deg: float | None = None
+) -> PerspectiveCamera:
+    """A perspective camera aimed by ``look``: at the Sun or the Moon (centred on it), at the
+    zenith, or at a compass point (pitch 15 deg unless given)."""
+    if look not in LOOKS:
+        raise ParameterError(f"look {look!r} must be one of {', '.join(LOOKS)}")
+    if look in ("sun", "moon"):
+        light = state.sun if look == "sun" else state.moon
+        if light is None:
+            raise ParameterError("this sky has no Moon (the abstract mode has a Sun only)")
+        yaw, pitch = light.azimuth_deg, light.elevation_deg
+    elif look == "zenith":
+        yaw, pitch = 0.0, 90.0
+    else:
+        yaw, pitch = _COMPASS[look], 15.0
+    if pitch_deg is not None:
+        pitch = pitch_deg
+    return PerspectiveCamera(fov_deg=fov_deg, yaw_deg=yaw, pitch_deg=pitch)
+
+
 class Sky:
     """The sky over a place at a time, or of a Sun at an elevation (the abstract mode).
 
@@ -143,22 +164,8 @@ class Sky:
     # ------------------------------------------------------------------ cameras
 
     def camera(self, look: str = "sun", *, fov_deg: float = 90.0, pitch_deg: float | None = None):
-        """A perspective camera aimed by ``look``: at the Sun or the Moon (centred on it), at
-        the zenith, or at a compass point (pitch 15 deg unless given)."""
-        if look not in LOOKS:
-            raise ParameterError(f"look {look!r} must be one of {', '.join(LOOKS)}")
-        if look in ("sun", "moon"):
-            light = self.state.sun if look == "sun" else self.state.moon
-            if light is None:
-                raise ParameterError("this sky has no Moon (the abstract mode has a Sun only)")
-            yaw, pitch = light.azimuth_deg, light.elevation_deg
-        elif look == "zenith":
-            yaw, pitch = 0.0, 90.0
-        else:
-            yaw, pitch = _COMPASS[look], 15.0
-        if pitch_deg is not None:
-            pitch = pitch_deg
-        return PerspectiveCamera(fov_deg=fov_deg, yaw_deg=yaw, pitch_deg=pitch)
+        """A perspective camera aimed by ``look`` (see :func:`aim_camera`)."""
+        return aim_camera(self.state, look, fov_deg=fov_deg, pitch_deg=pitch_deg)
 
     def altitude_m(self, altitude_m: float | None = None) -> float:
         """The camera's height above the atmosphere's ground (m): given, or the place's

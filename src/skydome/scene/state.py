@@ -140,20 +140,60 @@ class SkyState:
         t = to_time(time)
         if t.shape != ():
             raise ParameterError(f"a sky is for one instant; got {t.shape} times")
+        return cls.series(observer, t.jd_utc.reshape(1))[0]
+
+    @classmethod
+    def series(cls, observer, times) -> list[SkyState]:
+        """One state per time (a 1-D sequence), the astronomy computed once for all of them
+        (vectorized: a 24-hour time-lapse at 1-minute steps costs one call)."""
+        from skydome.astro import libration
+        from skydome.astro.time import Time, to_time
+
+        t = to_time(times)
+        if len(t.shape) != 1:
+            raise ParameterError(f"times must be a 1-D sequence, got shape {t.shape}")
         sky = observer.sky(t, bodies=("sun", "moon"))
-        sun_b, moon_b = sky["sun"], sky["moon"]
-        sun = _light("sun", sun_b)
-        moon = _light("moon", moon_b)
-        moon_view = _moon_view(observer, t, sun_b, moon_b)
-        return cls(
-            sun=sun,
-            moon=moon,
-            moon_view=moon_view,
-            time=t,
-            observer=observer,
-            pressure_hPa=float(observer.pressure_hPa),
-            temperature_C=float(observer.temperature_C),
+        s, m = sky["sun"], sky["moon"]
+        lat = math.radians(float(observer.latitude))
+        lib = libration.moon_topocentric_libration(
+            t, lat, math.radians(float(observer.longitude)), float(observer.elevation_m)
         )
+        pole = np.array([0.0, math.cos(lat), math.sin(lat)])  # the true pole of date in ENU
+        out = []
+        for i in range(t.shape[0]):
+            sun = _light(
+                "sun", s.enu[i], s.enu_unrefracted[i], s.distance_km[i], s.illuminance_lux[i]
+            )
+            moon = _light(
+                "moon", m.enu[i], m.enu_unrefracted[i], m.distance_km[i], m.illuminance_lux[i]
+            )
+            sun_km = sun.direction_true * sun.distance_km
+            moon_km = moon.direction_true * moon.distance_km
+            to_sun = (sun_km - moon_km) / np.linalg.norm(sun_km - moon_km)
+            l, b, p = (float(lib[k][i]) for k in ("l", "b", "P"))
+            earth_phase = float(m.earth_phase_angle[i])
+            view = MoonView(
+                phase_angle_rad=float(m.phase_angle[i]),
+                illuminated_fraction=float(m.illuminated_fraction[i]),
+                bright_limb_angle_rad=float(m.bright_limb_angle[i]),
+                earth_phase_angle_rad=earth_phase,
+                to_sun=to_sun,
+                frame=moon_frame_enu(moon.direction_true, pole, l, b, p),
+                libration_rad=(l, b, p),
+                earthshine_lux=earthshine_lux(sun.illuminance_lux, earth_phase, moon.distance_km),
+            )
+            out.append(
+                cls(
+                    sun=sun,
+                    moon=moon,
+                    moon_view=view,
+                    time=Time(t.jd_utc[i], t.jd_ut1[i], t.jd_tt[i]),
+                    observer=observer,
+                    pressure_hPa=float(observer.pressure_hPa),
+                    temperature_C=float(observer.temperature_C),
+                )
+            )
+        return out
 
     def summary(self) -> dict[str, Any]:
         """Where the lights are, for reports: degrees, lux."""
@@ -172,16 +212,16 @@ class SkyState:
         return out
 
 
-def _light(name: str, body) -> Light:
-    d_km = float(body.distance_km)
+def _light(name: str, enu, enu_true, distance_km, illuminance_lux) -> Light:
+    d_km = float(distance_km)
     radius_km = SUN_RADIUS_KM if name == "sun" else MOON_RADIUS_KM
     return Light(
         name,
-        np.asarray(body.enu, dtype=np.float64),
-        np.asarray(body.enu_unrefracted, dtype=np.float64),
+        np.asarray(enu, dtype=np.float64),
+        np.asarray(enu_true, dtype=np.float64),
         d_km,
         math.asin(min(radius_km / d_km, 1.0)),
-        float(body.illuminance_lux),
+        float(illuminance_lux),
     )
 
 
@@ -220,37 +260,6 @@ def earthshine_lux(sun_illuminance_lux: float, earth_phase_angle_rad: float, moo
     phase_law = (math.sin(a) + (math.pi - a) * math.cos(a)) / math.pi
     geometric_albedo = 2.0 / 3.0 * 0.30
     return sun_illuminance_lux * geometric_albedo * phase_law * (EARTH_RADIUS_KM / moon_km) ** 2
-
-
-def _moon_view(observer, t, sun_b, moon_b) -> MoonView:
-    from skydome.astro import libration
-
-    s = np.asarray(sun_b.enu_unrefracted) * float(sun_b.distance_km)
-    m = np.asarray(moon_b.enu_unrefracted) * float(moon_b.distance_km)
-    to_sun = (s - m) / np.linalg.norm(s - m)
-    lat = math.radians(float(observer.latitude))
-    pole = np.array([0.0, math.cos(lat), math.sin(lat)])  # the true pole of date in ENU
-    lib = libration.moon_topocentric_libration(
-        t,
-        math.radians(float(observer.latitude)),
-        math.radians(float(observer.longitude)),
-        float(observer.elevation_m),
-    )
-    l, b, p = (float(lib[k]) for k in ("l", "b", "P"))
-    frame = moon_frame_enu(np.asarray(moon_b.enu_unrefracted), pole, l, b, p)
-    e_sun = float(sun_b.illuminance_lux)
-    return MoonView(
-        phase_angle_rad=float(moon_b.phase_angle),
-        illuminated_fraction=float(moon_b.illuminated_fraction),
-        bright_limb_angle_rad=float(moon_b.bright_limb_angle),
-        earth_phase_angle_rad=float(moon_b.earth_phase_angle),
-        to_sun=to_sun,
-        frame=frame,
-        libration_rad=(l, b, p),
-        earthshine_lux=earthshine_lux(
-            e_sun, float(moon_b.earth_phase_angle), float(moon_b.distance_km)
-        ),
-    )
 
 
 def refraction_scale(state: SkyState) -> float:

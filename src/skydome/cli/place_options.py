@@ -1,0 +1,127 @@
+"""Options shared by the commands that take a place and a time (``render``, ``timelapse``):
+parsing and checking them, with errors that name the flag."""
+
+from __future__ import annotations
+
+import re
+
+import typer
+
+from skydome.errors import ParameterError, check_range
+
+#: Valid ranges of the place flags (the Observer's).
+LAT_RANGE = (-90.0, 90.0)
+LON_RANGE = (-180.0, 360.0)
+ELEVATION_RANGE_M = (-1000.0, 100000.0)
+LOOKS = ("sun", "moon", "zenith", "north", "east", "south", "west")
+
+_UNITS_S = {
+    "s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0,
+    "min": 60.0, "minute": 60.0, "minutes": 60.0, "m": 60.0,
+    "h": 3600.0, "hour": 3600.0, "hours": 3600.0,
+    "d": 86400.0, "day": 86400.0, "days": 86400.0,
+}  # fmt: skip
+
+
+def place_option():
+    return typer.Option(
+        None, "--place", help="A city or observatory of the built-in gazetteer (skydome places)."
+    )
+
+
+def lat_option():
+    return typer.Option(None, "--lat", help="Latitude, degrees north (-90..90).")
+
+
+def lon_option():
+    return typer.Option(None, "--lon", help="Longitude, degrees east (-180..360).")
+
+
+def elevation_option():
+    return typer.Option(
+        None, "--elevation", help="Elevation above sea level, metres (default: the place's, or 0)."
+    )
+
+
+def observer_from_flags(place: str | None, lat: float | None, lon: float | None, elevation):
+    """The Observer the flags describe, or None when none of them is given (the abstract
+    mode). Raises ParameterError naming the flag for bad or conflicting values."""
+    if place is not None and (lat is not None or lon is not None):
+        raise ParameterError("--place and --lat/--lon both give the place: use one of them")
+    if place is None and (lat is None) != (lon is None):
+        raise ParameterError("--lat and --lon go together: give both")
+    if place is None and lat is None:
+        if elevation is not None:
+            raise ParameterError("--elevation needs a place: add --place or --lat and --lon")
+        return None
+    if elevation is not None:
+        check_range("--elevation", elevation, *ELEVATION_RANGE_M, "m")
+    from skydome.astro import Observer
+
+    if place is not None:
+        from skydome.astro.places import find_place
+
+        try:
+            p = find_place(place)
+        except ParameterError as exc:
+            raise ParameterError(f"--place: {exc}") from None
+        return Observer(
+            latitude=p.latitude_deg,
+            longitude=p.longitude_deg,
+            elevation_m=p.elevation_m if elevation is None else elevation,
+        )
+    check_range("--lat", lat, *LAT_RANGE, "deg")
+    check_range("--lon", lon, *LON_RANGE, "deg")
+    return Observer(
+        latitude=lat, longitude=lon, elevation_m=0.0 if elevation is None else elevation
+    )
+
+
+def parse_time(flag: str, text: str):
+    """An instant (skydome.astro.Time) from ISO 8601 text (an offset or Z; naive is UTC)."""
+    from skydome.astro import to_time
+
+    try:
+        t = to_time(text)
+    except ParameterError:
+        raise ParameterError(
+            f"{flag} {text!r} must be an ISO 8601 date and time, e.g. 2018-03-01T19:00Z "
+            "(an offset or Z; without one it is UTC)"
+        ) from None
+    if t.shape != ():
+        raise ParameterError(f"{flag} {text!r} must be one instant")
+    return t
+
+
+def parse_step(text: str) -> float:
+    """Seconds from a duration such as 1min, 30s, 2h, 1d or 90 (seconds); > 0."""
+    m = re.fullmatch(r"\s*(\d+(?:\.\d*)?|\.\d+)\s*([a-zA-Z]*)\s*", text or "")
+    unit = (m.group(2).lower() or "s") if m else ""
+    if not m or unit not in _UNITS_S:
+        raise ParameterError(f"--step {text} must be a duration such as 30s, 1min, 2h or 1d")
+    seconds = float(m.group(1)) * _UNITS_S[unit]
+    if not seconds > 0:
+        raise ParameterError(f"--step {text} must be longer than zero")
+    return seconds
+
+
+def describe_state(state) -> list[str]:
+    """Lines saying where the Sun and the Moon are (degrees) for a command's report."""
+    sun = state.sun
+    lines = [f"sun: elevation {sun.elevation_deg:.2f} deg, azimuth {sun.azimuth_deg:.2f} deg"]
+    if state.moon is not None and state.moon_view is not None:
+        moon = state.moon
+        lines.append(
+            f"moon: elevation {moon.elevation_deg:.2f} deg, azimuth {moon.azimuth_deg:.2f} deg, "
+            f"{100 * state.moon_view.illuminated_fraction:.1f} % lit, "
+            f"{moon.illuminance_lux:.3g} lx outside the air"
+        )
+    return lines
+
+
+def default_look(state) -> str:
+    """What a camera looks at when no --look or --yaw is given: the Sun while it is up or in
+    twilight, else the Moon when it is up, else the zenith."""
+    if state.sun.elevation_deg > -6.0 or state.moon is None:
+        return "sun"
+    return "moon" if state.moon.elevation_deg > 0.0 else "zenith"
