@@ -76,11 +76,21 @@ class AtmosphereLayer(Layer):
         self.spectral_basis = SpectralBasis.for_wavelengths(
             tables.wavelengths_nm, self.renderer.config.output
         )
+        weights = behind_transmittance_weights(self.spectral_basis.to_output)
+        groups = weights.shape[1] // 4
+        self._behind = {
+            "u_behind_transmittance": np.concatenate(
+                [weights[:, 4 * g : 4 * g + 4].T.ravel() for g in range(groups)]
+            ).tolist()
+        }
 
     def update(self, state: SkyState) -> None:
         sun = state.sun
         lights = {
-            "sun_direction": sun.direction,
+            # The tables' light paths are straight: the air is lit from the airless direction
+            # (the apparent one is for the disk, which the Sun layer draws refracted). It is
+            # also continuous: the refraction laws stop at the horizon.
+            "sun_direction": sun.direction_true,
             # The tables hold the Sun at 1 au: scale by the true distance.
             "sun_scale": (AU_KM / sun.distance_km) ** 2,
             "light2_direction": None,
@@ -88,7 +98,7 @@ class AtmosphereLayer(Layer):
         }
         if self.moonlight and state.moon is not None:
             ratio = state.moon.illuminance_lux / self._solar_lux() / self.params.solar_scale
-            lights["light2_direction"] = state.moon.direction
+            lights["light2_direction"] = state.moon.direction_true
             lights["light2_scale"] = tuple(ratio * self._moon_tint())
         self._lights = lights
         self._state = state
@@ -113,11 +123,37 @@ class AtmosphereLayer(Layer):
             self._tint = basis.colour(moon_spectral_albedo(wl)) / basis.colour(np.ones(len(wl)))
         return self._tint
 
+    def dark_below_deg(self, altitude_m: float) -> float:
+        """The light elevation (deg) below which a light adds nothing to the tables' sky seen
+        from ``altitude_m``: every lookup fades it out below mu_s_min - 0.05 (Bruneton's
+        cut-off, precomputed_params.glsl sun_cutoff_fade), and a point of the atmosphere
+        seen from the camera has its vertical turned by at most acos(R / r) + acos(R / R_top)
+        from the camera's (to the horizon, then on to the top of the air)."""
+        import math
+
+        p = self.params
+        r = p.bottom_radius_m + max(altitude_m, 0.0)
+        if r >= p.top_radius_m:
+            return -90.0
+        tilt = math.acos(p.bottom_radius_m / r) + math.acos(p.bottom_radius_m / p.top_radius_m)
+        cutoff = math.asin(max(self.renderer.tables.mu_s_min - 0.05, -1.0))
+        return math.degrees(cutoff - tilt)
+
     def draw(self, frame: DrawContext) -> None:
         r = self.renderer
-        plan = r.frame_plan(
-            frame.camera, frame.frame_size, altitude_m=frame.altitude_m, **self._lights
-        )
+        lights = dict(self._lights)
+        # A light far enough below the horizon adds exactly nothing: its sky-view table is
+        # left as it is (not re-aimed) and its light out.
+        dark = self.dark_below_deg(frame.altitude_m)
+        if _elevation_deg(lights["sun_direction"]) < dark:
+            lights["sun_scale"] = 0.0
+            if self._last_sun is not None:
+                lights["sun_direction"] = self._last_sun
+        self._last_sun = lights["sun_direction"]
+        moon = lights["light2_direction"]
+        if moon is not None and _elevation_deg(moon) < dark:
+            lights["light2_direction"], lights["light2_scale"] = None, 0.0
+        plan = r.frame_plan(frame.camera, frame.frame_size, altitude_m=frame.altitude_m, **lights)
         extra = (*plan.extra, "COMPOSITE_BEHIND")
         fpass = r._pass(frame.camera, extra, plan.shader)
         # Above the atmosphere the ground is shaded in a second pass (see render/base.py);
@@ -131,7 +167,7 @@ class AtmosphereLayer(Layer):
             second,
             frame.fbo,
             (tw, th),
-            {**plan.uniforms, **frame.uniforms},
+            {**plan.uniforms, **frame.uniforms, **self._behind},
             {**plan.textures, **frame.textures, "u_behind": frame.behind},
         )
 
@@ -150,6 +186,14 @@ class AtmosphereLayer(Layer):
         if self.renderer is not None:
             self.renderer.release()
             self.renderer = None
+
+
+def behind_transmittance_weights(to_output: np.ndarray) -> np.ndarray:
+    """(4, N) weights W with T_c = sum_l W[c, l] T(l) the transmittance of output channel c
+    for light of the solar spectrum's shape: M[c, l] / sum_l M[c, l], M = ``to_output`` (the
+    signed sRGB rows included: exact, since each channel is linear in the spectrum)."""
+    m = np.asarray(to_output, dtype=np.float64)
+    return m / m.sum(axis=1, keepdims=True)
 
 
 def _elevation_deg(direction) -> float:

@@ -54,6 +54,19 @@ vec4 output_transmittance(vec3 c) {
     return t;
 }
 
+#ifdef COMPOSITE_BEHIND
+// Transmittance per output channel of light with the solar spectrum's shape (what the space
+// layers draw: the Sun, and closely the Moon and the stars): T_c = sum_l M[c, l] T(l) /
+// sum_l M[c, l], exact for that shape because each channel is a linear functional of the
+// spectrum (skydome.atmosphere.layer.behind_transmittance_weights).
+uniform mat4 u_behind_transmittance[NUM_GROUPS];
+vec4 behind_transmittance(vec3 c) {
+    vec4 t = vec4(0.0);
+    for (int g = 0; g < NUM_GROUPS; ++g) t += u_behind_transmittance[g] * exp(-optical_depth(g, c));
+    return t;
+}
+#endif
+
 // Fraction of the Sun's disk above the horizon seen from radius r (Bruneton 2017
 // GetTransmittanceToSun: linear in the sine of the disk's height above the horizon).
 float sun_visible_fraction(float r, float mu_s) {

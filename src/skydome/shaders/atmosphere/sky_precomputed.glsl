@@ -112,7 +112,7 @@ void main() {
     bool surface = needs_surface(u_camera_position, dir);
 #ifdef COMPOSITE_BEHIND
     // The ground hides what lies beyond; column is 0 where the ray misses the atmosphere.
-    if (!surface) frag += texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0) * output_transmittance(column);
+    if (!surface) frag += texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0) * behind_transmittance(column);
 #endif
     gl_FragDepth = surface ? 0.5 : 1.0;
 #endif

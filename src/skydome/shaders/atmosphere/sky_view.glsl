@@ -135,7 +135,7 @@ void main() {
     // Only where something lies behind (a CPU rasterizer skips the block of pixels that has
     // nothing): the ground and a user's scene hide it.
     if (!scene && !hits_ground && any(greaterThan(behind, vec4(0.0))))
-        frag += behind * output_transmittance(column_to_top(r, dir.z));
+        frag += behind * behind_transmittance(column_to_top(r, dir.z));
 #else
     gl_FragDepth = !scene && !hits_ground && sees_disk(dir, u_sun_direction) ? 0.5 : 1.0;
 #endif
