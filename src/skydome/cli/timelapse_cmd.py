@@ -111,7 +111,8 @@ def register(app: typer.Typer) -> None:
             raise ParameterError("a time-lapse needs a place: --place NAME or --lat and --lon")
         t0, t1 = parse_time("--start", start), parse_time("--end", end)
         step_s = parse_step(step)
-        span_s = (float(t1.jd_utc) - float(t0.jd_utc)) * 86400.0
+        # To the millisecond: Julian Dates near 2.46e6 days hold ~40 us.
+        span_s = round((float(t1.jd_utc) - float(t0.jd_utc)) * 86400.0, 3)
         if span_s < 0:
             raise ParameterError(f"--end {end} is before --start {start}")
         frames = int(math.floor(span_s / step_s + 1e-9)) + 1
