@@ -7,8 +7,9 @@ eq. 9.4, as the single-scattering limit of a dark regolith), with A the albedo m
 (skydome.celestial.moon_albedo) turned by the libration. The constant k is set for each
 instant so that the disk integrates to the Moon's illuminance of the astronomy, Allen's
 phase law (skydome.astro.photometry.moon_magnitude): the shape of the lit disk is the
-law's, its total is the measured phase curve's. The integral is taken on the CPU over a
-grid of the disk (:func:`disk_integrals`), with the same normals and map as the shader.
+law's, its total is the measured phase curve's. The integral is taken on the CPU by
+Gauss-Legendre quadrature over the lit, visible part of the sphere (:func:`disk_integrals`),
+with the same geometry and map as the shader.
 
 Earthshine: the Earth lights the night side from the observer's direction (phase ~0), so
 that side is drawn as a full Moon of illuminance E_full * E_earth / E_sun, E_earth the
@@ -30,9 +31,18 @@ from skydome.celestial.moon_albedo import albedo_at, moon_albedo_map, moon_spect
 from skydome.scene.layer import DrawContext, Layer
 from skydome.scene.state import AU_KM, SkyState, refraction_scale
 
-#: Grid of the CPU disk integral: GRID x GRID cells over the disk's bounding square (the
-#: disk's ~7200 cells sum Allen's law to 0.1 %, measured against 4x finer grids).
-GRID = 96
+#: Gauss-Legendre nodes per dimension of each piece of the CPU disk integral (6 ms a call).
+#: With the albedo map, against a 3000 x 3000 ray-traced grid at phase angles 6, 83, 128 and
+#: 151 deg, the sunlit integral is within 0.09 % and the opposition one within 0.27 % (the
+#: map's texels alias; 96 nodes: 0.09 % both, at 3x the time). With a uniform albedo the
+#: sunlit integral matches the closed form to 1.5e-7 (1.4e-6 for a 170 deg crescent).
+NODES = 64
+
+
+def _gauss_legendre_01(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [0, 1]."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (x + 1.0), 0.5 * w
 
 
 def disk_integrals(
@@ -40,37 +50,91 @@ def disk_integrals(
     sin_radius: float,
     to_sun: np.ndarray,
     enu_to_moon: np.ndarray,
-    grid: int = GRID,
+    nodes: int = NODES,
     use_map: bool = True,
 ) -> tuple[float, float]:
     """Integrals over the Moon's disk (sr) of A mu0/(mu0+mu) (the sunlit law) and of A/2
-    (the law at opposition, mu0 = mu), for a disk of angular radius asin(sin_radius) towards
-    ``moon_dir`` lit from ``to_sun`` (unit ENU vectors), with the map turned by
-    ``enu_to_moon`` (3x3, ENU -> Moon-fixed; ``use_map=False``: a uniform albedo of 1). Cells of the tangent plane at unit distance,
-    each of solid angle dx dy / (1 + x^2 + y^2)^(3/2)."""
-    u = moon_dir / np.linalg.norm(moon_dir)
-    e1 = np.cross(u, [0.0, 0.0, 1.0] if abs(u[2]) < 0.9 else [1.0, 0.0, 0.0])
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(u, e1)
-    # Tangent-plane half-width tan(alpha) covers the disk; cell centres.
-    half = sin_radius / math.sqrt(1.0 - sin_radius**2)
-    c = (np.arange(grid) + 0.5) / grid * 2.0 - 1.0
-    x, y = np.meshgrid(c * half, c * half)
-    cell = (2.0 * half / grid) ** 2 / (1.0 + x * x + y * y) ** 1.5
-    d = u + x[..., None] * e1 + y[..., None] * e2
-    d /= np.linalg.norm(d, axis=-1, keepdims=True)
-    s2 = np.sum(np.cross(d, u) ** 2, axis=-1)
-    inside = (s2 < sin_radius**2) & (d @ u > 0)
-    d, s2, cell = d[inside], s2[inside], cell[inside]
-    t = d @ u - np.sqrt(np.maximum(sin_radius**2 - s2, 0.0))
-    n = (t[:, None] * d - u) / sin_radius
-    mu = np.maximum(-np.sum(n * d, axis=-1), 0.0)
-    mu0 = n @ to_sun
-    m = n @ enu_to_moon.T
-    lon, lat = np.arctan2(m[:, 1], m[:, 0]), np.arcsin(np.clip(m[:, 2], -1.0, 1.0))
-    albedo = albedo_at(lon, lat) if use_map else np.ones_like(lon)
-    law = np.where(mu0 > 0, mu0 / np.maximum(mu0 + mu, 1e-12), 0.0)
-    return float(np.sum(albedo * law * cell)), float(np.sum(albedo * 0.5 * cell))
+    (the law at opposition, mu0 = mu), for a sphere of angular radius asin(sin_radius) towards
+    ``moon_dir`` lit by parallel sunlight from ``to_sun`` (unit ENU vectors), with the map
+    turned by ``enu_to_moon`` (3x3, ENU -> Moon-fixed; ``use_map=False``: a uniform albedo 1).
+
+    The geometry is the shader's: the observer at a finite distance sees the cap within
+    90 deg - alpha of the sub-observer point, mu is the cosine of the emission angle of the
+    ray to the observer, and a surface element dA of the sphere subtends mu dA / |p|^2.
+
+    Quadrature in photometric coordinates on the sphere (latitude beta about the axis normal
+    to the Sun-Moon-observer plane, longitude lambda from the sub-observer point towards the
+    Sun): the sunlit visible region is lambda in [a - pi/2, lambda_v(beta)] (a the phase
+    angle, cos(lambda_v) cos(beta) = sin(alpha) the visible edge), so that the terminator
+    and the limb are edges of the domain and Gauss-Legendre converges fast; the
+    beta-integral is split where the terminator meets the limb and takes
+    beta = beta_max - D s^2 where the chord closes like a square root. For a uniform albedo
+    and alpha -> 0 the sunlit integral is (Omega/2) times the Lommel-Seeliger phase function
+    1 - sin(a/2) tan(a/2) ln(cot(a/4)) (tested against it).
+    """
+    u = np.asarray(moon_dir, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    w = -u  # from the Moon's centre towards the observer
+    s = np.asarray(to_sun, dtype=np.float64)
+    s = s / np.linalg.norm(s)
+    rho = float(sin_radius)  # the Moon's radius in units of its distance
+    side = s - (s @ w) * w
+    if np.linalg.norm(side) < 1e-12:  # Sun exactly behind the observer or the Moon
+        side = np.cross(w, [0.0, 0.0, 1.0] if abs(w[2]) < 0.9 else [1.0, 0.0, 0.0])
+    ex = side / np.linalg.norm(side)
+    ey = np.cross(w, ex)
+    a = math.atan2(float(s @ ex), float(s @ w))  # phase angle, [0, pi]
+    beta_max = math.acos(rho)
+    t, wt = _gauss_legendre_01(nodes)
+    to_moon = np.asarray(enu_to_moon, dtype=np.float64)
+
+    def strip(beta, dbeta, low, sunlit: bool) -> float:
+        cb, sb = np.cos(beta)[:, None], np.sin(beta)[:, None]
+        high = np.arccos(np.minimum(rho / cb[:, 0], 1.0))
+        low = np.maximum(low(high), -high)
+        span = np.maximum(high - low, 0.0)
+        lam = low[:, None] + span[:, None] * t
+        weight = span[:, None] * wt * dbeta[:, None]
+        nw = cb * np.cos(lam)
+        n = nw[..., None] * w + (cb * np.sin(lam))[..., None] * ex + sb[..., None] * ey
+        p2 = 1.0 - 2.0 * rho * nw + rho * rho  # |u + rho n|^2, the squared distance
+        mu = np.maximum((nw - rho) / np.sqrt(p2), 0.0)
+        d_omega = mu * rho * rho * cb / p2 * weight
+        if sunlit:
+            mu0 = cb * np.cos(lam - a)
+            law = np.where(mu0 > 0.0, mu0 / np.maximum(mu0 + mu, 1e-300), 0.0)
+        else:
+            law = 0.5
+        albedo = 1.0
+        if use_map:
+            m = n @ to_moon.T
+            lon = np.arctan2(m[..., 1], m[..., 0])
+            albedo = albedo_at(lon, np.arctan2(m[..., 2], np.hypot(m[..., 0], m[..., 1])))
+        return float(np.sum(albedo * law * d_omega))
+
+    def both(beta, dbeta, low, sunlit: bool) -> float:
+        return strip(beta, dbeta, low, sunlit) + strip(-beta, dbeta, low, sunlit)
+
+    def outer(b0: float):  # [b0, beta_max], the chord closing like sqrt(beta_max - beta)
+        d = beta_max - b0
+        return beta_max - d * t * t, 2.0 * d * t * wt
+
+    def chord(high):
+        return -high
+
+    def terminator(high):
+        return np.full_like(high, a - 0.5 * math.pi)
+
+    opposition = both(*outer(0.0), chord, False)
+    if a < 0.5 * math.pi and math.sin(a) <= rho:  # the whole visible cap is lit
+        return both(*outer(0.0), chord, True), opposition
+    # |beta| < b_k: the terminator bounds the lit part; beyond, (a < 90 deg) the whole chord
+    # is lit, or (a > 90 deg) nothing is.
+    b_k = math.acos(min(rho / math.sin(a), 1.0))
+    sunlit = both(b_k * t, b_k * wt, terminator, True)
+    if a < 0.5 * math.pi:
+        sunlit += both(*outer(b_k), chord, True)
+    return sunlit, opposition
 
 
 class MoonLayer(Layer):

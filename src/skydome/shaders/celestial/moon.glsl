@@ -31,7 +31,7 @@ void main() {
     float mu = max(dot(n, -true_dir), 0.0);
     float mu0 = dot(n, u_moon_to_sun);
     vec3 m = u_enu_to_moon * n;
-    vec2 st = vec2(atan(m.y, m.x) / (2.0 * PI) + 0.5, 0.5 - asin(clamp(m.z, -1.0, 1.0)) / PI);
+    vec2 st = vec2(atan(m.y, m.x) / (2.0 * PI) + 0.5, 0.5 - atan(m.z, length(m.xy)) / PI);
     float albedo = texture(u_albedo_map, st).r;
     float lommel_seeliger = mu0 > 0.0 ? mu0 / (mu0 + mu) : 0.0;
     frag = u_colour * (albedo * (u_sunlit_scale * lommel_seeliger + u_earthlit_scale));
