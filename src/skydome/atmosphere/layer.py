@@ -15,11 +15,16 @@ the Sun's (the same approximation).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.scene.layer import DrawContext, Layer, SpectralBasis
 from skydome.scene.state import AU_KM, SkyState
+
+#: Texels of the view-transmittance table (per camera altitude, over the view cosine).
+VIEW_TRANSMITTANCE_SIZE = 1024
 
 
 class AtmosphereLayer(Layer):
@@ -61,6 +66,7 @@ class AtmosphereLayer(Layer):
         self._lights: dict = {}
         self._solar: float | None = None
         self._last_sun = None
+        self._vt = None  # the view-transmittance table: [texture, framebuffer, pass, radius]
         self._tint: np.ndarray | None = None
 
     def prepare(self, graph) -> None:
@@ -154,6 +160,12 @@ class AtmosphereLayer(Layer):
         if moon is not None and _elevation_deg(moon) < dark:
             lights["light2_direction"], lights["light2_scale"] = None, 0.0
         plan = r.frame_plan(frame.camera, frame.frame_size, altitude_m=frame.altitude_m, **lights)
+        behind = dict(self._behind)
+        textures = {**plan.textures, **frame.textures, "u_behind": frame.behind}
+        if plan.sky_view:
+            radius_km = plan.uniforms["u_view_radius"]
+            behind.update(self._view_transmittance_uniforms(radius_km))
+            textures["u_view_transmittance"] = self._view_transmittance(radius_km, plan)
         extra = (*plan.extra, "COMPOSITE_BEHIND")
         fpass = r._pass(frame.camera, extra, plan.shader)
         # Above the atmosphere the ground is shaded in a second pass (see render/base.py);
@@ -167,9 +179,42 @@ class AtmosphereLayer(Layer):
             second,
             frame.fbo,
             (tw, th),
-            {**plan.uniforms, **frame.uniforms, **self._behind},
-            {**plan.textures, **frame.textures, "u_behind": frame.behind},
+            {**plan.uniforms, **frame.uniforms, **behind},
+            textures,
         )
+
+    def _view_transmittance_uniforms(self, radius_km: float) -> dict:
+        bottom = self.params.bottom_radius_m / 1e3
+        horizon_mu = -math.sqrt(max(1.0 - (bottom / radius_km) ** 2, 0.0))
+        return {"u_view_horizon_mu": horizon_mu, "u_view_radius": radius_km}
+
+    def _view_transmittance(self, radius_km: float, plan):
+        """The view-transmittance table (atmosphere/view_transmittance.glsl) of a camera at
+        ``radius_km``, redrawn when the altitude changes."""
+        from skydome.gpu import FullscreenPass
+        from skydome.gpu.textures import linear_clamped
+
+        ctx = self.graph.ctx
+        if self._vt is None:
+            tex = linear_clamped(ctx.texture((VIEW_TRANSMITTANCE_SIZE, 1), 4, dtype="f4"), ctx)
+            fpass = FullscreenPass(
+                ctx,
+                "atmosphere/view_transmittance_lut.glsl",
+                {**self.renderer.tables.defines(), "COMPOSITE_BEHIND": 1},
+            )
+            self._vt = [tex, ctx.framebuffer(color_attachments=[tex]), fpass, None]
+        tex, fbo, fpass, drawn = self._vt
+        if drawn != radius_km:
+            fbo.viewport = (0, 0, VIEW_TRANSMITTANCE_SIZE, 1)
+            uniforms = {
+                **plan.uniforms,
+                **self._behind,
+                **self._view_transmittance_uniforms(radius_km),
+                "u_table_size": float(VIEW_TRANSMITTANCE_SIZE),
+            }
+            fpass.draw(fbo, uniforms, self.renderer.textures)
+            self._vt[3] = radius_km
+        return tex
 
     def info(self) -> dict:
         r = self.renderer
@@ -183,6 +228,10 @@ class AtmosphereLayer(Layer):
 
     def release(self) -> None:
         super().release()
+        if self._vt is not None:
+            for obj in self._vt[:3]:
+                obj.release()
+            self._vt = None
         if self.renderer is not None:
             self.renderer.release()
             self.renderer = None

@@ -60,6 +60,7 @@ class FrameGraph:
         self.layers = list(layers)
         self.solar_scale = float(solar_scale)
         self._targets: dict[tuple[int, int], tuple] = {}
+        self._staging: dict[tuple[int, int], np.ndarray] = {}
         self._post = None
         self._exposure = None
         self.basis = basis
@@ -138,8 +139,9 @@ class FrameGraph:
             ctx.disable(ctx.BLEND)
             ctx.blend_func = ctx.ONE, ctx.ZERO
         for layer in self.active("volume"):
+            # A volume layer writes every pixel of its target (its light and what it lets
+            # through from behind): no clear.
             nxt = 1 - current
-            fbos[nxt].clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=(0, 0, tw, th))
             layer.draw(context(fbos[nxt], behind=texs[current]))
             current = nxt
         return texs[current]
@@ -193,7 +195,9 @@ class FrameGraph:
             }
             try:
                 last = self.draw_tile(camera, (w, h), (x0, y0, tw, th), altitude_m, owned)
-                staging = np.empty((th, tw, 4), np.float32)
+                staging = self._staging.get((tw, th))  # kept: page faults cost more than reads
+                if staging is None:
+                    staging = self._staging[(tw, th)] = np.empty((th, tw, 4), np.float32)
                 last.read_into(staging, alignment=1)
                 data[rows, x0 : x0 + tw] = staging[::-1]
             finally:
@@ -279,6 +283,7 @@ class FrameGraph:
             for obj in (*fbos, *texs, depth):
                 obj.release()
         self._targets.clear()
+        self._staging.clear()
         for obj in (self._post, self._exposure):
             if obj is not None:
                 obj.release()

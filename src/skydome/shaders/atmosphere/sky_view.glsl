@@ -33,6 +33,7 @@ uniform sampler2D u_light2_single_mie;
 layout(location = 0) out vec4 frag;
 #ifdef COMPOSITE_BEHIND
 uniform sampler2D u_behind;  // radiance from beyond the atmosphere along each ray, cd/m^2
+#include "atmosphere/view_transmittance.glsl"
 #endif
 #ifdef HAS_SHADOW_MAP
 uniform sampler2D u_shadow_map;  // shadowed length along each view ray, km
@@ -131,11 +132,10 @@ void main() {
     }
 #endif
 #ifdef COMPOSITE_BEHIND
-    vec4 behind = texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0);
-    // Only where something lies behind (a CPU rasterizer skips the block of pixels that has
-    // nothing): the ground and a user's scene hide it.
-    if (!scene && !hits_ground && any(greaterThan(behind, vec4(0.0))))
-        frag += behind * behind_transmittance(column_to_top(r, dir.z));
+    // What lies beyond, seen through the air (hidden by the ground and a user's scene): one
+    // fetch from the table of this altitude's view transmittance.
+    if (!scene && !hits_ground)
+        frag += texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0) * view_transmittance(dir.z);
 #else
     gl_FragDepth = !scene && !hits_ground && sees_disk(dir, u_sun_direction) ? 0.5 : 1.0;
 #endif

@@ -1,0 +1,134 @@
+"""The scene's costs: a frame with the Sun and the Moon against the atmosphere alone, a new
+time, a window draw, and a 24-hour time-lapse.
+
+Usage: python benchmarks/bench_scene.py [--repeats 9] [--no-timelapse]
+
+Prints the GL device, then:
+- frames at 1280 x 720 of a Sky at Valletta, 2018-03-09 06:00 UTC (the Sun 7 deg and a
+  waning Moon 33 deg up, both in the view), read back: the scene (both lights, both disks),
+  its atmosphere layer alone (both lights), and, for scale, the precomputed renderer's frame
+  with the Sun's light only; the budget is scene <= 1.15 x the atmosphere alone;
+- ``at(t)``: a new time (astronomy, the Moon's disk integral, the sky-view tables re-aimed at
+  both lights), GPU work finished;
+- ``draw 1920x1080``: Sky.draw into an offscreen 8-bit framebuffer (no read-back; GPU
+  exposure and tone mapping), GPU work finished;
+- ``timelapse``: ``skydome timelapse`` of 24 hours at 1-minute steps (1441 frames) at
+  640 x 360 to MP4, wall time of the command in this process.
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+from timing import median_ms
+
+from skydome import Sky
+from skydome.gpu import gl_info
+from skydome.render.cameras import PerspectiveCamera
+from skydome.render.precomputed import PrecomputedRenderer
+from skydome.scene import SkyState
+
+PLACE = (35.8989, 14.5146, 56.0)
+TIME = "2018-03-09T06:00Z"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=9)
+    ap.add_argument("--no-timelapse", action="store_true")
+    args = ap.parse_args()
+    sky = Sky(PLACE, TIME)
+    ctx = sky.graph.ctx
+    print(f"# device: {gl_info(ctx).describe()}")
+    # Both disks in view: look between them.
+    sun, moon = sky.state.sun, sky.state.moon
+    cam = PerspectiveCamera(
+        fov_deg=120.0, yaw_deg=0.5 * (sun.azimuth_deg + moon.azimuth_deg), pitch_deg=20.0
+    )
+    air = sky.layer("atmosphere").renderer
+    alone = PrecomputedRenderer(air.params, air.config, ctx=ctx)
+
+    def renderer_frame():
+        alone.render(cam, 1280, 720, sun_direction=sun.direction_true, altitude_m=57.7)
+
+    def scene_frame():
+        sky.render(cam, 1280, 720, exposure=None)
+
+    disks = [sky.layer("sun"), sky.layer("moon")]
+
+    def atmosphere_layer_frame():
+        for layer in disks:
+            layer.enabled = False
+        try:
+            sky.render(cam, 1280, 720, exposure=None)
+        finally:
+            for layer in disks:
+                layer.enabled = True
+
+    # Interleaved, so that a machine's drift hits all alike; the median of three medians.
+    runs = {"renderer": [], "air": [], "scene": []}
+    for _ in range(3):
+        runs["renderer"].append(median_ms(renderer_frame, args.repeats // 3 or 1))
+        runs["air"].append(median_ms(atmosphere_layer_frame, args.repeats // 3 or 1))
+        runs["scene"].append(median_ms(scene_frame, args.repeats // 3 or 1))
+    r_ms, a_ms, s_ms = (sorted(v)[1] for v in runs.values())
+    print(f"precomputed renderer frame 1280x720 (the Sun's sky and disk): {r_ms:.1f} ms")
+    print(f"atmosphere layer alone 1280x720 (sky lit by the Sun and the Moon): {a_ms:.1f} ms")
+    print(
+        f"scene frame 1280x720 (+ Sun and Moon disks): {s_ms:.1f} ms, "
+        f"{s_ms / a_ms:.3f} x the atmosphere layer alone"
+    )
+
+    minute = iter(range(1, 10_000))
+
+    def new_time():
+        later = sky.at(f"2018-03-09T07:{next(minute) % 60:02d}:00Z")
+        later.graph.update(later.state)
+        layer = later.layer("atmosphere")
+        layer.renderer.frame_plan(cam, (64, 36), altitude_m=57.7, **layer._lights)
+        ctx.finish()
+
+    print(
+        f"at(t) (astronomy + Moon integral + sky-view tables): {median_ms(new_time, args.repeats):.1f} ms"
+    )
+    one = median_ms(lambda: SkyState.series(sky.observer, [TIME]), args.repeats)
+    batch = [f"2018-03-09T06:{m:02d}:30Z" for m in range(40)]
+    many = median_ms(lambda: SkyState.series(sky.observer, batch), 3) / len(batch)
+    print(f"  astronomy alone: {one:.1f} ms for one time, {many:.2f} ms per time in a batch of 40")
+
+    tex = ctx.texture((1920, 1080), 4, dtype="f1")
+    fbo = ctx.framebuffer(color_attachments=[tex])
+
+    def draw():
+        sky.draw(fbo, cam, size=(1920, 1080))
+        ctx.finish()
+
+    print(f"draw 1920x1080 (no read-back): {median_ms(draw, args.repeats):.1f} ms")
+    fbo.release()
+    tex.release()
+
+    if not args.no_timelapse:
+        from tests.cli_helpers import run_cli
+
+        with tempfile.TemporaryDirectory() as d:
+            out = Path(d) / "day.mp4"
+            t0 = time.perf_counter()
+            r = run_cli(
+                "timelapse", "--lat", "35.8989", "--lon", "14.5146", "--start",
+                "2018-03-01T00:00Z", "--end", "2018-03-02T00:00Z", "--step", "1min",
+                "--size", "640x360", "-o", str(out),
+            )  # fmt: skip
+            wall = time.perf_counter() - t0
+            if r.returncode != 0:
+                raise SystemExit(r.stderr)
+            print(
+                f"timelapse 24 h at 1 min (1441 frames) 640x360 to MP4: {wall:.1f} s "
+                f"({out.stat().st_size / 1e6:.2f} MB); {r.stdout.strip().splitlines()[-1]}"
+            )
+
+
+if __name__ == "__main__":
+    main()
