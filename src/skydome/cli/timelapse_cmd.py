@@ -186,7 +186,8 @@ def register(app: typer.Typer) -> None:
         timings: list[float] = []
         evs: list[float] = []
         if to_mp4:
-            writer = Mp4Writer(target, fps, (width, height))
+            # x264 "veryfast": the encoder shares the CPU with a software rasterizer.
+            writer = Mp4Writer(target, fps, (width, height), preset="veryfast")
         else:
             writer = FrameSequenceWriter(target, "." + frame_format, frame_count=frames)
         bar = Progress(

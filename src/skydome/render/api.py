@@ -109,6 +109,15 @@ def render_sky(
     """
     el = check_range("sun elevation", sun_elevation_deg, -90.0, 90.0, "deg")
     az = check_range("sun azimuth", sun_azimuth_deg, -360.0, 360.0, "deg")
+    cam = camera or PerspectiveCamera(fov_deg=90.0, yaw_deg=az, pitch_deg=15.0)
+    if model == "precomputed":
+        # The scene's frame graph (skydome.scene) in its abstract mode: the atmosphere and the
+        # Sun's limb-darkened, refracted disk, as the command line and the viewer draw them.
+        sky = get_sky(atmosphere, spectral=spectral, orders=orders, progress=progress)
+        sky = sky.with_sun(el, az)
+        frame = sky.render(cam, width, height, altitude_m=altitude_m, exposure=None)
+        frame.info.update(model="precomputed", sun_direction=sky.state.sun.direction.tolist())
+        return frame
     renderer = get_renderer(
         model,
         atmosphere,
@@ -118,7 +127,36 @@ def render_sky(
         orders=orders,
         progress=progress,
     )
-    cam = camera or PerspectiveCamera(fov_deg=90.0, yaw_deg=az, pitch_deg=15.0)
     return renderer.render(
         cam, width, height, sun_direction=direction_from_angles(el, az), altitude_m=altitude_m
     )
+
+
+def get_sky(
+    atmosphere: str | AtmosphereParams = "earth",
+    *,
+    spectral: str = "accurate",
+    orders: int = 4,
+    progress: Callable[[str, float], None] | None = None,
+):
+    """An abstract-mode Sky (the Sun and the atmosphere, skydome.scene) for ``render_sky``,
+    kept like get_renderer's renderers so that repeated frames reuse its tables and passes."""
+    from skydome.atmosphere.layer import AtmosphereLayer
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+    from skydome.celestial.sun import SunLayer
+    from skydome.scene import Sky
+
+    params = preset(atmosphere) if isinstance(atmosphere, str) else atmosphere
+    if not isinstance(orders, int) or not 1 <= orders <= 20:
+        raise ParameterError(f"orders = {orders!r} must be an integer in [1, 20]")
+    spectral_key = spectral if isinstance(spectral, str) else tuple(spectral)
+    key = ("scene", params, spectral_key, orders)
+    sky = _RENDERERS.pop(key, None)
+    if sky is None:
+        config = PrecomputeConfig(wavelengths=spectral, orders=orders)
+        air = AtmosphereLayer(params, config=config, progress=progress)
+        sky = Sky(sun_elevation_deg=30.0, layers=[SunLayer(), air])
+    _RENDERERS[key] = sky
+    while len(_RENDERERS) > _KEEP:
+        _RENDERERS.popitem(last=False)
+    return sky
