@@ -1,6 +1,6 @@
 """Render the README gallery into docs/gallery/ (small PNGs, auto exposure, filmic).
 
-Usage: python tools/make_gallery.py [--model single] [--size 480x270]
+Usage: python tools/make_gallery.py [--model single] [--size 480x270] [--scene]
 """
 
 from __future__ import annotations
@@ -48,9 +48,13 @@ def main() -> None:
     ap.add_argument("--model", default="precomputed", help="precomputed | single")
     ap.add_argument("--size", default="480x270")
     ap.add_argument("--only", default="", help="comma-separated view names")
+    ap.add_argument("--scene", action="store_true", help="only the place-and-time views")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     OUT.mkdir(parents=True, exist_ok=True)
+    if args.scene:
+        scene_views(w, h)
+        return
     names = [n for n in VIEWS if not args.only or n in args.only.split(",")]
     for name in names:
         el, az, alt, cam, atmosphere = VIEWS[name]
@@ -77,6 +81,7 @@ def main() -> None:
             aerial_perspective(w, h)
             light_shafts(w, h)
             real_earth(w, h)
+            scene_views(w, h)
 
 
 def side_by_side(w: int, h: int) -> None:
@@ -203,6 +208,58 @@ def real_earth(w: int, h: int) -> None:
     path = OUT / "mars-noon-sunset.png"
     atomic_write(path, lambda tmp: write_png(tmp, np.concatenate(mars, axis=1), {"views": "mars"}))
     print(f"{path.relative_to(OUT.parents[1])}")
+
+
+def scene_views(w: int, h: int) -> None:
+    """The sky for a place and time (skydome.scene): Valletta 2018-03-01 19:00 UTC looking at
+    the Moon, a setting (flattened) Sun, a crescent Moon with earthshine at dusk, a full-Moon
+    night, and a strip from a 24-hour time-lapse."""
+    import numpy as np
+
+    from skydome.scene import Sky, SkyState
+    from skydome.scene.sky import aim_camera
+
+    def save(name: str, image, note: str) -> None:
+        path = OUT / f"{name}.png"
+        atomic_write(path, lambda tmp: write_png(tmp, image, {"views": note}))
+        print(f"{path.relative_to(OUT.parents[1])}")
+
+    def shot(sky, cam, width, height, ev=None):
+        return sky.render(
+            cam, width, height, exposure="auto" if ev is None else ev, tonemap="filmic"
+        ).image
+
+    valletta = Sky("Valletta", "2018-03-01T19:00Z")
+    wide = shot(valletta, valletta.camera("moon", fov_deg=90), w, h)
+    zoom = shot(valletta, valletta.camera("moon", fov_deg=1.2), h, h, ev=11.0)
+    save("scene-valletta-moon", np.concatenate([wide, zoom], axis=1),
+         "Valletta 2018-03-01 19:00 UTC: the full Moon 28 deg up (auto exposure) and its disk (EV 11)")  # fmt: skip
+    # Sunset at Valletta, 2018-03-01: the apparent Sun half a degree up.
+    sunset = Sky("Valletta", "2018-03-01T16:52Z")
+    flat = shot(sunset, sunset.camera("sun", fov_deg=2.0), h, h, ev=22.0)
+    view = shot(sunset, sunset.camera("sun", fov_deg=70, pitch_deg=8), w, h)
+    save("scene-setting-sun", np.concatenate([view, flat], axis=1),
+         f"Valletta 2018-03-01 16:52 UTC, Sun {sunset.state.sun.elevation_deg:.2f} deg: flattened and reddened at its lower limb")  # fmt: skip
+    crescent = Sky("Valletta", "2018-03-19T18:20Z")
+    dusk = shot(crescent, crescent.camera("moon", fov_deg=60, pitch_deg=10), w, h)
+    earthshine = shot(crescent, crescent.camera("moon", fov_deg=1.5), h, h, ev=0.0)
+    save("scene-crescent-earthshine", np.concatenate([dusk, earthshine], axis=1),
+         "Valletta 2018-03-19 18:20 UTC: a crescent at dusk; zoomed at EV 0 the earthlit side shows")  # fmt: skip
+    night = Sky("Paranal", "2018-03-02T03:00Z")
+    save("scene-full-moon-night", shot(night, night.camera("moon", fov_deg=100, pitch_deg=20), w, h),
+         "Paranal 2018-03-02 03:00 UTC: a full-Moon night (auto exposure)")  # fmt: skip
+    # A day at Valletta, 2018-03-01, every 3 hours from 01:30 UTC, one eye-adapted exposure
+    # per frame as skydome timelapse makes them (here: auto exposure per still).
+    states = SkyState.series(valletta.observer, 2458178.5 + (1.5 + 3 * np.arange(8)) / 24)
+    tiles = []
+    for state in states:
+        cam = aim_camera(state, "south", fov_deg=100)
+        frame = valletta.graph.render(
+            state, cam, w // 2, h // 2, altitude_m=57.7, exposure="auto", tonemap="filmic"
+        )
+        tiles.append(frame.image)
+    save("scene-day-strip", np.concatenate([np.concatenate(tiles[:4], axis=1), np.concatenate(tiles[4:], axis=1)]),
+         "Valletta 2018-03-01, looking south, 01:30 to 22:30 UTC every 3 h")  # fmt: skip
 
 
 if __name__ == "__main__":
