@@ -79,6 +79,7 @@ def test_python_snippet_runs(line, source, tmp_path, monkeypatch):
 #: while parsing, before the eager --help prints and exits).
 SLOW_COMMANDS: dict[str, str] = {
     "precompute --atmosphere hazy --orders 6": "21 s of CPU, 52 s wall (2 shared cores)",
+    "timelapse --place Valletta --start 2018-03-01T00:00Z": "1441 frames: 49 s wall (2 cores)",
 }
 _OUTPUT_OPTIONS = ("-o", "--output")
 

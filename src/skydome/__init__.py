@@ -12,9 +12,11 @@ __all__ = ["Sky", "SkydomeError", "__version__"]
 
 
 def __getattr__(name: str):
-    # Sky is imported on first use: the command line starts without NumPy or GL.
+    # Sky is imported on first use: the command line starts without NumPy or GL. By name, not
+    # by an import statement: the tables' cache key follows import statements
+    # (atmosphere/cache.py), and the package's root must not pull the scene into it.
     if name == "Sky":
-        from skydome.scene import Sky
+        import importlib
 
-        return Sky
+        return importlib.import_module("skydome.scene").Sky
     raise AttributeError(f"module 'skydome' has no attribute {name!r}")
