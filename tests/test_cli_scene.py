@@ -134,3 +134,36 @@ def test_places_lists_and_searches():
     r = run_cli("places", "paranal")
     assert r.returncode == 0 and "Paranal" in r.stdout and "-24.62" in r.stdout
     assert run_cli("places").stdout.count("\n") > 300
+
+
+@pytest.mark.parametrize("target", ["dusk.mp4", "frames/"])
+def test_timelapse_interrupted_leaves_complete_output(tmp_path, monkeypatch, target):
+    # Ctrl-C (KeyboardInterrupt) during the fourth frame: the MP4 holds the three frames
+    # written and plays; a frame folder holds three complete frames and nothing else.
+    import imageio_ffmpeg
+
+    from skydome.scene.graph import FrameGraph
+
+    original = FrameGraph.frame_texture
+    calls = {"n": 0}
+
+    def interrupted(self, *args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 4:
+            raise KeyboardInterrupt
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(FrameGraph, "frame_texture", interrupted)
+    out = f"{tmp_path}/{target}"
+    r = run_cli(
+        *TIMELAPSE, "--end", "2018-03-01T17:50Z", "--step", "5min", "--size", "32x18", "-o", out
+    )
+    assert r.returncode == 130 and "holds the 3 frames rendered" in r.stdout
+    if target.endswith(".mp4"):
+        reader = imageio_ffmpeg.read_frames(out)
+        next(reader)
+        assert sum(1 for _ in reader) == 3
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["dusk.mp4"]  # no temporary file
+    else:
+        names = sorted(p.name for p in (tmp_path / "frames").iterdir())
+        assert names == [f"frame_00000{i}.png" for i in range(3)]

@@ -201,33 +201,39 @@ def register(app: typer.Typer) -> None:
             transient=not console.is_terminal,
             disable=not console.is_terminal,
         )
-        with writer, bar:
-            task = bar.add_task("frames", total=frames)
-            for first in range(0, frames, CHUNK):
-                count = min(CHUNK, frames - first)
-                jds = jd0 + (first + np.arange(count)) * step_s / 86400.0
-                for state in SkyState.series(observer, jds):
-                    t_start = time.perf_counter()
-                    cam = camera_for(state)
-                    tex = graph.frame_texture(state, cam, width, height, altitude_m=altitude)
-                    if adapt:
-                        meter = graph.exposure_pass()
-                        meter.measure(tex)
-                        eye.update(meter.read(), step_s)
-                        scale = eye.exposure_scale(compensation)
-                    else:
-                        scale = fixed
-                    if to_mp4 or not writer.hdr:
-                        image = gpu_tonemap(tex, tonemap, scale, ctx=graph.ctx)
-                    else:
-                        tw, th = tex.size
-                        data = np.empty((th, tw, 4), np.float32)
-                        tex.read_into(data, alignment=1)
-                        image = data[::-1]  # GL rows are bottom-up
-                    writer.write(image)
-                    evs.append(scale_to_ev100(scale))
-                    timings.append(time.perf_counter() - t_start)
-                    bar.advance(task)
+        try:
+            with writer, bar:
+                task = bar.add_task("frames", total=frames)
+                for first in range(0, frames, CHUNK):
+                    count = min(CHUNK, frames - first)
+                    jds = jd0 + (first + np.arange(count)) * step_s / 86400.0
+                    for state in SkyState.series(observer, jds):
+                        t_start = time.perf_counter()
+                        cam = camera_for(state)
+                        tex = graph.frame_texture(state, cam, width, height, altitude_m=altitude)
+                        if adapt:
+                            meter = graph.exposure_pass()
+                            meter.measure(tex)
+                            eye.update(meter.read(), step_s)
+                            scale = eye.exposure_scale(compensation)
+                        else:
+                            scale = fixed
+                        if to_mp4 or not writer.hdr:
+                            image = gpu_tonemap(tex, tonemap, scale, ctx=graph.ctx)
+                        else:
+                            tw, th = tex.size
+                            data = np.empty((th, tw, 4), np.float32)
+                            tex.read_into(data, alignment=1)
+                            image = data[::-1]  # GL rows are bottom-up
+                        writer.write(image)
+                        evs.append(scale_to_ev100(scale))
+                        timings.append(time.perf_counter() - t_start)
+                        bar.advance(task)
+        except KeyboardInterrupt:
+            # The writers have closed: the MP4 plays, the folder holds complete frames only.
+            done = len(timings)
+            console.print(f"interrupted: {target} holds the {done} frames rendered", style="bold")
+            raise typer.Exit(130) from None
         what = (
             f"{target} ({frames} frames, {frames / fps:.1f} s at {fps:g} fps)"
             if to_mp4
