@@ -7,9 +7,7 @@
 // side is seen at opposition (the Earth lights it from the observer's side): mu0 = mu.
 // Output: the output channels of the Moon's colour (solar spectrum x lunar spectral albedo),
 // drawn added; the atmosphere layer applies the transmittance.
-#include "common/camera.glsl"
-#include "common/refraction.glsl"
-#include "common/sphere_disk.glsl"
+#include "celestial/disk_pixel.glsl"
 
 uniform vec3 u_moon_direction_true;   // airless, unit ENU, observer -> Moon centre
 uniform float u_sin_angular_radius;
@@ -23,10 +21,8 @@ out vec4 frag;
 
 void main() {
     frag = vec4(0.0);
-    vec3 dir;
-    if (!camera_ray(gl_FragCoord.xy, dir)) return;
-    vec3 true_dir = airless_direction(dir);
-    if (!ray_meets_sphere(true_dir, u_moon_direction_true, u_sin_angular_radius)) return;
+    vec3 true_dir;
+    if (!pixel_sees_sphere(gl_FragCoord.xy, u_moon_direction_true, u_sin_angular_radius, true_dir)) return;
     vec3 n = sphere_normal(true_dir, u_moon_direction_true, u_sin_angular_radius);
     float mu = max(dot(n, -true_dir), 0.0);
     float mu0 = dot(n, u_moon_to_sun);

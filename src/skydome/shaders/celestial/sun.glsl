@@ -4,9 +4,7 @@
 // low Sun is flattened. The atmosphere layer then multiplies each pixel by the transmittance
 // of its own ray, so the lower limb of a setting Sun is redder and dimmer than the upper.
 // Output (R, G, B, scotopic) cd/m^2, or the 4 wavelengths of a spectral basis; drawn added.
-#include "common/camera.glsl"
-#include "common/refraction.glsl"
-#include "common/sphere_disk.glsl"
+#include "celestial/disk_pixel.glsl"
 
 uniform vec3 u_sun_direction_true;   // airless, unit ENU
 uniform float u_sin_angular_radius;  // sin of the disk's angular radius
@@ -19,10 +17,8 @@ out vec4 frag;
 
 void main() {
     frag = vec4(0.0);
-    vec3 dir;
-    if (!camera_ray(gl_FragCoord.xy, dir)) return;
-    vec3 true_dir = airless_direction(dir);
-    if (!ray_meets_sphere(true_dir, u_sun_direction_true, u_sin_angular_radius)) return;
+    vec3 true_dir;
+    if (!pixel_sees_sphere(gl_FragCoord.xy, u_sun_direction_true, u_sin_angular_radius, true_dir)) return;
     // Heliocentric angle: sin(psi) = sin(theta) / sin(alpha) (exact for a sphere).
     float rho = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
     float mu = sqrt(max(1.0 - rho * rho, 0.0));
