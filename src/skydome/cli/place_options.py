@@ -117,11 +117,3 @@ def describe_state(state) -> list[str]:
             f"{moon.illuminance_lux:.3g} lx outside the air"
         )
     return lines
-
-
-def default_look(state) -> str:
-    """What a camera looks at when no --look or --yaw is given: the Sun while it is up or in
-    twilight, else the Moon when it is up, else the zenith."""
-    if state.sun.elevation_deg > -6.0 or state.moon is None:
-        return "sun"
-    return "moon" if state.moon.elevation_deg > 0.0 else "zenith"

@@ -10,7 +10,6 @@ import typer
 
 from skydome.cli.place_options import (
     LOOKS,
-    default_look,
     describe_state,
     elevation_option,
     lat_option,
@@ -362,6 +361,7 @@ def register(app: typer.Typer) -> None:
             from skydome.celestial.moon import MoonLayer
             from skydome.celestial.sun import SunLayer
             from skydome.scene import Sky
+            from skydome.scene.sky import default_look
 
             with precompute_progress(console) as report:
                 air = AtmosphereLayer(

@@ -60,6 +60,14 @@ def aim_camera(
     return PerspectiveCamera(fov_deg=fov_deg, yaw_deg=yaw, pitch_deg=pitch)
 
 
+def default_look(state: SkyState) -> str:
+    """What a camera looks at when nothing else is said: the Sun while it is up or in
+    twilight (above -6 deg), else the Moon when it is up, else the zenith."""
+    if state.sun.elevation_deg > -6.0 or state.moon is None:
+        return "sun"
+    return "moon" if state.moon.elevation_deg > 0.0 else "zenith"
+
+
 class Sky:
     """The sky over a place at a time, or of a Sun at an elevation (the abstract mode).
 
@@ -183,18 +191,20 @@ class Sky:
         width: int = 1280,
         height: int = 720,
         *,
-        look: str = "sun",
+        look: str | None = None,
         altitude_m: float | None = None,
         exposure: str | float | None = "auto",
         compensation_ev: float = 0.0,
         tonemap: str | None = None,
     ) -> Frame:
-        """A frame in cd/m^2 (read back once). ``exposure``: "auto" (GPU log-average), an
+        """A frame in cd/m^2 (read back once). Without a ``camera``, a 90 deg perspective one
+        aimed by ``look`` (:func:`aim_camera`; default: :func:`default_look`). ``exposure``:
+        "auto" (GPU log-average), an
         EV100 number, or None; with ``tonemap`` (e.g. "filmic") ``frame.image`` holds the
         uint8 sRGB image. ``frame.info`` says where the lights were and what was used."""
         from skydome.display.exposure import ev100_to_scale
 
-        cam = camera or self.camera(look)
+        cam = camera or self.camera(look or default_look(self.state))
         scale = exposure if exposure in (None, "auto") else ev100_to_scale(exposure)
         check_range("exposure compensation", compensation_ev, -20.0, 20.0, "EV")
         frame = self.graph.render(
