@@ -24,7 +24,7 @@ from skydome.render.cameras import (
     direction_from_angles,
     disk_scissor,
 )
-from skydome.scene import SkyState
+from skydome.scene import Layer, SkyState
 from tests.conftest import precomputed_renderer
 
 VALLETTA = (35.8989, 14.5146, 56.0)
@@ -275,3 +275,61 @@ def test_disks_are_seen_through_the_air_of_their_own_pixels():
     expected = np.exp(-tau) @ behind_transmittance_weights(basis.to_output).T
     np.testing.assert_allclose(measured, expected, rtol=0.01)
     assert expected[:, 1].max() > 1.05 * expected[:, 1].min()  # the limbs do differ
+
+
+class GlowLayer(Layer):
+    """A plug-in space layer written outside the package: a uniform radiance from beyond the
+    atmosphere (like a night-sky glow), in its own GLSL, touching no other layer."""
+
+    name = "glow"
+    stage = "space"
+    SOURCE = (
+        '#include "common/camera.glsl"\n'
+        "uniform vec4 u_glow;\nout vec4 frag;\n"
+        "void main() { vec3 d; frag = camera_ray(gl_FragCoord.xy, d) ? u_glow : vec4(0.0); }\n"
+    )
+
+    def __init__(self, radiance):
+        super().__init__()
+        self.radiance = tuple(float(v) for v in radiance)
+        self._glow_pass = None
+
+    def draw(self, frame):
+        from skydome.gpu import FullscreenPass
+
+        if self._glow_pass is None:
+            defines = {"CAMERA_MODEL": frame.camera.model}
+            self._glow_pass = FullscreenPass(frame.ctx, "glow.glsl", defines, source=self.SOURCE)
+        uniforms = {**frame.uniforms, "u_glow": self.radiance}
+        self._glow_pass.draw(frame.fbo, uniforms, frame.textures)
+
+    def release(self):
+        super().release()
+        if self._glow_pass is not None:
+            self._glow_pass.release()
+
+
+def test_a_new_layer_plugs_in_without_editing_the_others():
+    # The frame graph composites a space layer it has never seen: its light reaches the
+    # camera times each ray's transmittance (zero where the ground is), added to the sky.
+    glow = GlowLayer((1e-3, 1e-3, 1e-3, 2e-3))
+    plain = Sky(sun_elevation_deg=-30.0)  # the Sun far down: the sky adds nothing
+    glowing = Sky(sun_elevation_deg=-30.0, extra_layers=[glow])
+    up = [direction_from_angles(e, 90.0) for e in (90.0, 30.0, 5.0, -5.0)]
+    cam = DirectionsCamera(np.array(up))
+    added = (
+        glowing.render(cam, 0, 0, exposure=None).data[0]
+        - plain.render(cam, 0, 0, exposure=None).data[0]
+    )
+    t_zenith = added[0, 1] / 1e-3
+    # The zenith transmittance of the measured Earth in green, ~0.75-0.9 (Rayleigh 0.097,
+    # aerosol 0.1, ozone); lower towards the horizon; nothing through the ground.
+    assert 0.7 < t_zenith < 0.95
+    assert added[0, 1] > added[1, 1] > added[2, 1] > 0
+    assert np.all(added[3] == 0)
+    glowing.layer("glow").enabled = False
+    off = (
+        glowing.render(cam, 0, 0, exposure=None).data[0]
+        - plain.render(cam, 0, 0, exposure=None).data[0]
+    )
+    np.testing.assert_allclose(off, 0.0, atol=1e-9)
