@@ -117,7 +117,9 @@ def test_ctrl_c_while_a_frame_is_piped_keeps_that_frame(tmp_path):
             send = video._send
 
             def send_interrupted(data):
-                os.kill(os.getpid(), signal.SIGINT)  # delivered during the "pipe write"
+                # raise(), not kill(): delivered to this thread at once (a kill() may land on
+                # one of the GL driver's threads and reach Python only after the write)
+                signal.raise_signal(signal.SIGINT)
                 send(data)
 
             video._send = send_interrupted
