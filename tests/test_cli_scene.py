@@ -115,6 +115,7 @@ def test_timelapse_to_mp4_and_to_frames(tmp_path):
         (["--end", "2018-04-01T00:00Z", "--step", "10s"], ["261,781 frames", "--yes"]),
         (["--end", "2018-03-01T17:00Z", "--exposure", "auto"], ["flickers"]),
         (["--end", "2018-03-01T17:00Z", "--size", "33x18"], ["even width"]),
+        (["--end", "2018-03-01T17:00Z", "--altitude", "-5"], ["--altitude -5"]),
     ],
 )  # fmt: skip
 def test_timelapse_refuses_bad_input(tmp_path, args, needles):

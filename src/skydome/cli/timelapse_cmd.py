@@ -65,6 +65,11 @@ def register(app: typer.Typer) -> None:
         fov: float = typer.Option(90.0, "--fov", help="Horizontal field of view, degrees."),
         yaw: float = typer.Option(None, "--yaw", help="View azimuth, degrees (overrides --look)."),
         pitch: float = typer.Option(None, "--pitch", help="View elevation, degrees."),
+        altitude: float = typer.Option(
+            None,
+            "--altitude",
+            help="Camera altitude above the ground, metres (default 1.7 m above the place).",
+        ),
         atmosphere: str = typer.Option("earth", "--atmosphere", help="Atmosphere preset."),
         albedo: float = knob_option("--albedo"),
         aod: float = knob_option("--aod"),
@@ -103,6 +108,7 @@ def register(app: typer.Typer) -> None:
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
         from skydome.io.video import FrameSequenceWriter, Mp4Writer, check_video_output
         from skydome.render import make_camera
+        from skydome.render.base import MAX_ALTITUDE_M
         from skydome.render.cameras import CAMERAS, FOV_RANGE_DEG, PITCH_RANGE_DEG, YAW_RANGE_DEG
 
         # Everything is checked before any work: bad input writes nothing.
@@ -133,6 +139,8 @@ def register(app: typer.Typer) -> None:
             check_range("--yaw", yaw, *YAW_RANGE_DEG, "deg")
         if pitch is not None:
             check_range("--pitch", pitch, *PITCH_RANGE_DEG, "deg")
+        if altitude is not None:
+            check_range("--altitude", altitude, 0.0, MAX_ALTITUDE_M, "m")
         check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
         check_choice("--tonemap", tonemap, TONEMAPS, "tone map")
         adapt = exposure.strip().lower() == "adapt"
@@ -182,7 +190,7 @@ def register(app: typer.Typer) -> None:
         eye = EyeAdaptation(speed=adaptation_speed) if adapt else None
         fixed = None if adapt else ev100_to_scale(ev, compensation)
         jd0 = float(t0.jd_utc)
-        altitude = sky.altitude_m()
+        altitude = sky.altitude_m(altitude)
         timings: list[float] = []
         evs: list[float] = []
         if to_mp4:
