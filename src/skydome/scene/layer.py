@@ -16,7 +16,7 @@ their own segment of each ray. A layer never edits another.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
@@ -97,7 +97,6 @@ class DrawContext:
     altitude_m: float
     basis: SpectralBasis
     behind: object = None
-    extra: dict = field(default_factory=dict)
 
 
 class Layer:

@@ -13,7 +13,7 @@ light; distances in km.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -93,7 +93,6 @@ class SkyState:
     observer: Any = None
     pressure_hPa: float = STANDARD_PRESSURE_HPA
     temperature_C: float = STANDARD_TEMPERATURE_C
-    extra: dict = field(default_factory=dict)
 
     # ------------------------------------------------------------------ abstract mode
 
