@@ -333,3 +333,17 @@ def test_a_new_layer_plugs_in_without_editing_the_others():
         - plain.render(cam, 0, 0, exposure=None).data[0]
     )
     np.testing.assert_allclose(off, 0.0, atol=1e-9)
+
+
+def test_lights_below_the_dark_bound_add_exactly_nothing(valletta):
+    # AtmosphereLayer.dark_below_deg: below it a light is left out and its table not re-aimed.
+    # That is exact only if the tables give nothing there: a precomputed frame (which has no
+    # such shortcut) of a Sun just below the bound is black at the ground and at 10 km.
+    air = valletta.layer("atmosphere")
+    renderer = precomputed_renderer()
+    for altitude in (1.7, 10_000.0):
+        dark = air.dark_below_deg(altitude)
+        assert -40.0 < dark < -20.0  # the cut-off (-23 deg) less the verticals' tilt
+        sun = direction_from_angles(dark - 0.01, 180.0)
+        frame = renderer.render(EquirectCamera(), 128, 64, sun_direction=sun, altitude_m=altitude)
+        assert np.all(frame.data == 0.0)

@@ -63,6 +63,15 @@ def input_image(
     return np.where(np.isposinf(a), posinf, a * scale).astype(np.float32)
 
 
+def input_texture(ctx, image: np.ndarray):
+    """A float32 texture (texelFetch) of one tile of a per-pixel input (H, W) or (H, W, C),
+    row 0 at the top, in GL row order. The caller releases it."""
+    th, tw = image.shape[:2]
+    channels = 1 if image.ndim == 2 else image.shape[2]
+    data = np.ascontiguousarray(image[::-1], dtype="f4")
+    return ctx.texture((tw, th), channels, data.tobytes(), dtype="f4")
+
+
 #: Frames larger than this on a side are drawn in tiles of this size (GL's framebuffer limit
 #: is 16384 on llvmpipe and most GPUs; a tile's float targets cost 64 MB per attachment).
 TILE_SIZE = 2048
@@ -175,7 +184,7 @@ class PassRenderer:
         for x0, y0, tw, th in frame_tiles(w, h, tile):
             rows = slice(h - y0 - th, h - y0)  # the tile's rows in the top-first frame
             tile_inputs = {
-                name: self._input_texture(image[rows, x0 : x0 + tw])
+                name: input_texture(self.ctx, image[rows, x0 : x0 + tw])
                 for name, image in inputs.items()
             }
             try:
@@ -199,13 +208,6 @@ class PassRenderer:
                 for tex in tile_inputs.values():
                     tex.release()
         return out, (time.perf_counter() - t0) * 1e3
-
-    def _input_texture(self, image: np.ndarray):
-        """A float32 texture (texelFetch) of one tile of a per-pixel input, GL row order."""
-        th, tw = image.shape[:2]
-        channels = 1 if image.ndim == 2 else image.shape[2]
-        data = np.ascontiguousarray(image[::-1], dtype="f4")
-        return self.ctx.texture((tw, th), channels, data.tobytes(), dtype="f4")
 
     def _draw_tile(self, fpass, second, fbo, size, uniforms: dict, textures: dict) -> None:
         """One draw (or sky + surface pair) over a (w, h) viewport; GL state restored after."""

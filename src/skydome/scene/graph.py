@@ -21,7 +21,7 @@ import numpy as np
 
 from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
 from skydome.errors import ParameterError
-from skydome.render.base import TILE_SIZE, frame_tiles
+from skydome.render.base import TILE_SIZE, frame_tiles, input_texture
 from skydome.render.cameras import Camera, DirectionsCamera
 from skydome.render.frame import Frame
 from skydome.scene.layer import STAGES, DrawContext, Layer, SpectralBasis
@@ -190,7 +190,7 @@ class FrameGraph:
         for x0, y0, tw, th in tiles:
             rows = slice(h - y0 - th, h - y0)  # the tile's rows in the top-first frame
             owned = {
-                name: _input_texture(self.ctx, image[rows, x0 : x0 + tw])
+                name: input_texture(self.ctx, image[rows, x0 : x0 + tw])
                 for name, image in inputs.items()
             }
             try:
@@ -290,11 +290,3 @@ class FrameGraph:
         self._post = self._exposure = None
         for layer in self.layers:
             layer.release()
-
-
-def _input_texture(ctx, image: np.ndarray):
-    """A float32 texture (texelFetch) of one tile of a per-pixel input, GL row order."""
-    th, tw = image.shape[:2]
-    channels = 1 if image.ndim == 2 else image.shape[2]
-    data = np.ascontiguousarray(image[::-1], dtype="f4")
-    return ctx.texture((tw, th), channels, data.tobytes(), dtype="f4")

@@ -60,6 +60,15 @@ def aim_camera(
     return PerspectiveCamera(fov_deg=fov_deg, yaw_deg=yaw, pitch_deg=pitch)
 
 
+def _exposure_scale(exposure, compensation_ev: float):
+    """The frame graph's exposure from a Sky's: "auto" and None as they are, an EV100 number
+    as its scale (m^2/cd); the compensation checked."""
+    from skydome.display.exposure import COMPENSATION_RANGE, ev100_to_scale
+
+    check_range("exposure compensation", compensation_ev, *COMPENSATION_RANGE, "EV")
+    return exposure if exposure is None or exposure == "auto" else ev100_to_scale(exposure)
+
+
 def default_look(state: SkyState) -> str:
     """What a camera looks at when nothing else is said: the Sun while it is up or in
     twilight (above -6 deg), else the Moon when it is up, else the zenith."""
@@ -202,11 +211,8 @@ class Sky:
         "auto" (GPU log-average), an
         EV100 number, or None; with ``tonemap`` (e.g. "filmic") ``frame.image`` holds the
         uint8 sRGB image. ``frame.info`` says where the lights were and what was used."""
-        from skydome.display.exposure import ev100_to_scale
-
         cam = camera or self.camera(look or default_look(self.state))
-        scale = exposure if exposure in (None, "auto") else ev100_to_scale(exposure)
-        check_range("exposure compensation", compensation_ev, -20.0, 20.0, "EV")
+        scale = _exposure_scale(exposure, compensation_ev)
         frame = self.graph.render(
             self.state,
             cam,
@@ -236,9 +242,7 @@ class Sky:
     ) -> None:
         """Draw into ``framebuffer`` (e.g. a window's ``ctx.screen``), tone-mapped on the GPU,
         with no read-back. ``exposure``: "auto" or an EV100 number."""
-        from skydome.display.exposure import ev100_to_scale
-
-        scale = "auto" if exposure == "auto" else ev100_to_scale(exposure)
+        scale = _exposure_scale(exposure, compensation_ev)
         self.graph.draw(
             self.state,
             framebuffer,
