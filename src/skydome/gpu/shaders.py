@@ -158,16 +158,27 @@ def build_program(
     *,
     source: str | None = None,
     layered: bool = False,
+    vertex: str | None = None,
 ):
     """Compile a full-screen fragment program from the shader library.
 
     ``fragment`` names a file under ``skydome/shaders`` (or labels ``source``). With
     ``layered=True`` a geometry shader routes instance i to layer ``u_layer0 + i`` and the
-    fragment shader receives ``flat in int v_layer``. Compile errors raise GLError naming
+    fragment shader receives ``flat in int v_layer``. ``vertex`` names a vertex shader of
+    the library (expanded with the same defines) for passes that draw geometry (point
+    sources, lines) instead of the full-screen triangle. Compile errors raise GLError naming
     the file and line.
     """
     src = expand(fragment, defines, source)
     try:
+        if vertex is not None:
+            vsrc = expand(vertex, defines)
+            try:
+                return ctx.program(vertex_shader=vsrc.text, fragment_shader=src.text)
+            except Exception as exc:
+                if "vertex" in str(exc).lower():
+                    src = vsrc  # locate the error in the vertex shader's files
+                raise
         if layered:
             return ctx.program(
                 vertex_shader=LAYERED_VS_INSTANCED,
