@@ -1,0 +1,358 @@
+"""Night vision: what a dark-adapted human eye sees, as a display pass before the tone map.
+
+The pass reads the float frame (linear sRGB in cd/m^2, channel 3 the scotopic luminance) and
+writes a frame in the same units, the photopic-equivalent luminance shown to a viewer whose
+own eye is light adapted. It changes the displayed image only, never the frame's data, and
+does nothing at all (the output equals the input bit for bit) in photopic vision. Off by
+default; the frame graph's post stage runs it before the tone map.
+
+1. **Mesopic blend**, CIE 191:2010 (recommended system for mesopic photometry, MES2). The
+   adaptation coefficient m follows from the photopic and scotopic adaptation luminances by
+   the standard's fixed-point iteration (:func:`mesopic_coefficient`):
+   ``L_mes = (m L_p + (1 - m) L_s V'(555)) / (m + (1 - m) V'(555))``, ``V'(555) = 683/1699``,
+   ``m = 0.7670 + 0.3334 log10(L_mes)`` clamped to [0, 1] (1 from L_mes = 5 cd/m^2 up, 0 from
+   0.005 down), starting from m = 0.5. Each pixel is then shown with the mesopic luminance
+   the standard gives it, ``w_p L_p + w_s L_s`` with ``w_p = m / (m + (1 - m) V'(555))``,
+   the photopic share in the pixel's colour and the scotopic share in a desaturated blue grey
+   (the blue shift of Thompson, Shirley & Ferwerda 2002, "A spatial post-processing algorithm
+   for images of night scenes", JGT 7(1); seed 001 eqs. 5.7-5.8 blend the same two images).
+2. **Purkinje shift**: falls out of 1, as the scotopic channel weighs blue light more than red.
+3. **Loss of acuity**: a separable Gaussian blur whose width follows Ferwerda, Pattanaik,
+   Shirley & Greenberg 1996 ("A model of visual adaptation for realistic image synthesis",
+   SIGGRAPH 96, eq. 7, their fit of Shaler 1937): the highest resolvable spatial frequency
+   ``R(L) = 17.25 atan(1.4 log10 L + 0.35) + 25.72`` cycles/deg (:func:`acuity_cycles_per_deg`).
+4. **Temporal noise**, growing as the light falls (Thompson et al. 2002), mean preserving,
+   from a hash of the pixel, the seed and the frame time.
+
+The frame's adaptation field: its photopic log-average luminance (a number, or a
+:class:`skydome.display.gpu_exposure.GpuExposure` read on the GPU), and its S/P ratio, the
+ratio of the log-average scotopic and photopic luminances, measured by the pass on
+the GPU from the frame itself (``post/night_log_luminance.glsl``). The float64 twin of the
+whole pass is :func:`skydome.reference.night_vision.night_vision_reference`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from skydome.display.exposure import DEFAULT_DELTA
+from skydome.errors import ParameterError, check_range
+from skydome.spectra import SRGB_LUMINANCE, XYZ_TO_LINEAR_SRGB
+
+# -- CIE 191:2010, MES2 ---------------------------------------------------------------------
+#: m = MES2_A + MES2_B log10(L_mes) (CIE 191:2010, sec. 6; a, b as the standard prints them).
+MES2_A = 0.7670
+MES2_B = 0.3334
+#: V'(lambda_0) at lambda_0 = 555 nm, written 683/1699 in CIE 191:2010 (the ratio of the
+#: photopic and scotopic maximum luminous efficacies; the frame's scotopic channel uses
+#: 1700 lm/W, 0.06 % apart).
+V_PRIME_555 = 683.0 / 1699.0
+#: Edges of the mesopic range of CIE 191:2010 (cd/m^2): m = 1 above, 0 below.
+PHOTOPIC_LIMIT_CD_M2 = 5.0
+SCOTOPIC_LIMIT_CD_M2 = 0.005
+#: Fixed-point iterations at most (the map converges in < 30 for S/P < 18: Li et al. 2018).
+MES2_ITERATIONS = 64
+#: Convergence tolerance on m (CIE 191 asks for iteration "until m converges").
+MES2_TOLERANCE = 1e-12
+
+# -- Blue shift -----------------------------------------------------------------------------
+#: CIE 1931 xy of the blue grey in which scotopic luminance is drawn: a bluish white near a
+#: 10 000 K correlated colour temperature, u'v' distance 0.029 from D65. Thompson et al. 2002
+#: (sec. 3) and Jensen et al. 2001 ("Night rendering", sec. 5) choose their blue shift by eye;
+#: this one is as faint: a slightly blue grey, not a blue.
+BLUE_GREY_XY = (0.28, 0.29)
+
+
+def _xy_to_linear_srgb_unit_luminance(x: float, y: float) -> np.ndarray:
+    xyz = np.array([x / y, 1.0, (1.0 - x - y) / y])
+    return XYZ_TO_LINEAR_SRGB @ xyz
+
+
+#: C_b: linear sRGB of BLUE_GREY_XY with luminance Y = 1.
+BLUE_GREY = _xy_to_linear_srgb_unit_luminance(*BLUE_GREY_XY)
+
+# -- Acuity ---------------------------------------------------------------------------------
+#: sigma of the Gaussian whose modulation transfer exp(-2 pi^2 sigma^2 f^2) is 1/2 at f = R:
+#: sigma = sqrt(ln 2 / 2) / (pi R) (R in cycles/deg, sigma in deg).
+HALF_TRANSFER_SIGMA_CYCLES = math.sqrt(math.log(2.0) / 2.0) / math.pi
+#: Below this blur width (pixels) the blur pass copies the frame (brief: "~0.5 px").
+MIN_SIGMA_PX = 0.5
+#: Taps on each side at most (3 sigma up to sigma = 64 px); a wider blur is truncated.
+MAX_BLUR_RADIUS = 192
+
+# -- Noise ----------------------------------------------------------------------------------
+#: Photon-count law of the noise: relative standard deviation 1 / sqrt(N), N = NOISE_QUANTA *
+#: L_s (L_s in scotopic cd/m^2): the de Vries-Rose square-root law of quantum fluctuations
+#: (Rose 1948; Kellnhofer et al. 2015, "Modeling luminance perception at absolute threshold",
+#: EGSR, sec. 3). The constant is chosen for display: 10 % at 2e-4 cd/m^2 (a moonless sky),
+#: 3 % at 2e-3, 0.4 % at a full-Moon sky's 0.1 cd/m^2 (and times 1 - m).
+NOISE_QUANTA = 5.0e5
+#: Largest relative amplitude: 1 / sqrt(6) keeps 1 + a n >= 0 for the triangular n on
+#: [-sqrt 6, sqrt 6], so nothing is clipped and the mean is preserved.
+NOISE_CAP = 1.0 / math.sqrt(6.0)
+
+#: Grid of the S/P measurement (that of skydome.display.gpu_exposure).
+GRID = (256, 128)
+
+
+def _check_luminance(name: str, value: float) -> float:
+    v = check_range(name, value, 0.0, 1e12, "cd/m^2")
+    return v
+
+
+def mesopic_coefficient(photopic_cd_m2: float, scotopic_cd_m2: float) -> tuple[float, float]:
+    """CIE 191:2010 MES2: the adaptation coefficient m and the mesopic luminance L_mes.
+
+    Fixed-point iteration from m0 = 0.5 as the standard prescribes:
+    ``L_mes,n = (m_(n-1) L_p + (1 - m_(n-1)) L_s V'(555)) / (m_(n-1) + (1 - m_(n-1)) V'(555))``,
+    ``m_n = 0.7670 + 0.3334 log10(L_mes,n)``, clamped to [0, 1].
+
+    Args:
+        photopic_cd_m2: photopic adaptation luminance L_p, cd/m^2 (>= 0).
+        scotopic_cd_m2: scotopic adaptation luminance L_s, scotopic cd/m^2 (>= 0).
+
+    Returns:
+        (m, L_mes): m in [0, 1] (1 = photopic), L_mes in cd/m^2.
+    """
+    lp = _check_luminance("photopic luminance", photopic_cd_m2)
+    ls = _check_luminance("scotopic luminance", scotopic_cd_m2)
+    m = 0.5
+    lmes = 0.0
+    for _ in range(MES2_ITERATIONS):
+        lmes = (m * lp + (1.0 - m) * ls * V_PRIME_555) / (m + (1.0 - m) * V_PRIME_555)
+        nxt = MES2_A + MES2_B * math.log10(lmes) if lmes > 0.0 else 0.0
+        nxt = min(max(nxt, 0.0), 1.0)
+        done = abs(nxt - m) < MES2_TOLERANCE
+        m = nxt
+        if done:
+            break
+    lmes = (m * lp + (1.0 - m) * ls * V_PRIME_555) / (m + (1.0 - m) * V_PRIME_555)
+    return m, lmes
+
+
+def mesopic_weight(adaptation_cd_m2: float, sp_ratio: float = 1.0) -> float:
+    """The CIE 191:2010 adaptation coefficient m for a photopic adaptation luminance.
+
+    Args:
+        adaptation_cd_m2: photopic adaptation luminance L_p, cd/m^2 (>= 0).
+        sp_ratio: S/P ratio of the adaptation field (L_s / L_p, > 0); 1 by default, where
+            L_mes = L_p and m = 0.767 + 0.3334 log10(L_p).
+
+    Returns:
+        m in [0, 1]: 1 at L_mes >= 5 cd/m^2 (photopic), 0 at L_mes <= 0.005 (scotopic).
+    """
+    lp = _check_luminance("adaptation luminance", adaptation_cd_m2)
+    sp = check_range("S/P ratio", sp_ratio, 1e-6, 1e6)
+    return mesopic_coefficient(lp, lp * sp)[0]
+
+
+def photopic_share(m: float) -> float:
+    """w_p = m / (m + (1 - m) V'(555)): the photopic channel's share of a pixel's mesopic
+    luminance at adaptation coefficient m (the scotopic share is 1 - w_p)."""
+    mm = check_range("m", m, 0.0, 1.0)
+    return mm / (mm + (1.0 - mm) * V_PRIME_555)
+
+
+def acuity_cycles_per_deg(luminance_cd_m2):
+    """Highest resolvable spatial frequency (cycles/deg) at an adaptation luminance (cd/m^2):
+    Ferwerda et al. 1996 eq. 7, their fit of Shaler's 1937 acuity data. Array-friendly."""
+    lum = np.maximum(np.asarray(luminance_cd_m2, dtype=np.float64), 1e-30)
+    r = 17.25 * np.arctan(1.4 * np.log10(lum) + 0.35) + 25.72
+    return float(r) if np.ndim(r) == 0 else r
+
+
+def blur_sigma_deg(luminance_cd_m2: float) -> float:
+    """Standard deviation (deg of visual angle) of the Gaussian blur added at an adaptation
+    luminance: ``sqrt(sigma(L)^2 - sigma(5 cd/m^2)^2)``, ``sigma(L) = sqrt(ln 2 / 2) / (pi R(L))``
+    (the Gaussian whose transfer function is 1/2 at the acuity limit R of
+    :func:`acuity_cycles_per_deg`); 0 from 5 cd/m^2 up, where vision is photopic and the
+    viewer's own eye resolves what the scene's observer would."""
+    lum = _check_luminance("adaptation luminance", luminance_cd_m2)
+    s = HALF_TRANSFER_SIGMA_CYCLES / max(acuity_cycles_per_deg(lum), 1e-3)
+    s_ref = HALF_TRANSFER_SIGMA_CYCLES / acuity_cycles_per_deg(PHOTOPIC_LIMIT_CD_M2)
+    return math.sqrt(max(s * s - s_ref * s_ref, 0.0))
+
+
+def blur_sigma_px(luminance_cd_m2: float, pixel_angle_rad: float) -> float:
+    """:func:`blur_sigma_deg` in pixels of angular size ``pixel_angle_rad``."""
+    px = check_range("pixel_angle_rad", pixel_angle_rad, 1e-9, math.pi, "rad")
+    return blur_sigma_deg(luminance_cd_m2) / math.degrees(px)
+
+
+def noise_amplitude(scotopic_cd_m2, m: float):
+    """Relative standard deviation of the temporal noise of a pixel of scotopic luminance
+    ``scotopic_cd_m2`` at adaptation coefficient m: ``(1 - m) min(cap, 1 / sqrt(Q L_s))``
+    (photon-count law; see NOISE_QUANTA). Array-friendly."""
+    ls = np.maximum(np.asarray(scotopic_cd_m2, dtype=np.float64), 0.0)
+    with np.errstate(divide="ignore"):
+        rel = np.where(ls > 0.0, 1.0 / np.sqrt(NOISE_QUANTA * ls), np.inf)
+    a = (1.0 - m) * np.minimum(NOISE_CAP, rel)
+    return float(a) if np.ndim(a) == 0 else a
+
+
+def shader_defines() -> dict[str, object]:
+    """The NV_* constants of ``post/night_adaptation.glsl`` and the passes."""
+    return {
+        "NV_DELTA": float(DEFAULT_DELTA),
+        "NV_MES2_A": float(MES2_A),
+        "NV_MES2_B": float(MES2_B),
+        "NV_V_PRIME_555": float(V_PRIME_555),
+        "NV_MES2_ITERATIONS": MES2_ITERATIONS,
+        "NV_PHOTOPIC_LIMIT": float(PHOTOPIC_LIMIT_CD_M2),
+        "NV_MIN_SIGMA_PX": float(MIN_SIGMA_PX),
+        "NV_MAX_RADIUS": MAX_BLUR_RADIUS,
+        "NV_NOISE_QUANTA": float(NOISE_QUANTA),
+        "NV_NOISE_CAP": float(NOISE_CAP),
+    }
+
+
+class NightVision:
+    """The night-vision display pass for one context (GPU; GLSL under ``shaders/post/``).
+
+    Args:
+        ctx: a moderngl context.
+        seed: seed of the temporal noise (non-negative integer < 2^32).
+        noise: add the temporal noise of scotopic vision.
+        acuity: blur for the loss of acuity.
+
+    :meth:`apply` returns an RGBA32F texture owned by the pass (one pair per frame size,
+    reused): valid until the next :meth:`apply` of the same size or :meth:`release`.
+    """
+
+    def __init__(self, ctx, *, seed: int = 0, noise: bool = True, acuity: bool = True):
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+            raise ParameterError(f"seed = {seed!r} must be an integer in [0, 2^32 - 1]")
+        if not 0 <= int(seed) < 2**32:
+            raise ParameterError(f"seed = {seed} is outside the valid range [0, 4294967295]")
+        self.ctx = ctx
+        self.seed = int(seed)
+        self.noise = bool(noise)
+        self.acuity = bool(acuity)
+        self._programs: dict[tuple[str, bool], object] = {}
+        self._targets: dict[tuple[int, int], list] = {}
+        from skydome.gpu import FullscreenPass
+
+        self._pass_cls = FullscreenPass
+        w, h = GRID
+        self._measure = FullscreenPass(
+            ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h}
+        )
+        self._grid = ctx.texture(GRID, 4, dtype="f4")
+        self._grid.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
+        self._grid_fbo = ctx.framebuffer(color_attachments=[self._grid])
+        self._grid_level = int(math.log2(max(GRID)))
+
+    def _program(self, name: str, from_texture: bool):
+        key = (name, from_texture)
+        if key not in self._programs:
+            defines = shader_defines()
+            if from_texture:
+                defines["ADAPTATION_FROM_TEXTURE"] = 1
+            self._programs[key] = self._pass_cls(self.ctx, name, defines)
+        return self._programs[key]
+
+    def _pair(self, size: tuple[int, int]) -> list:
+        if size not in self._targets:
+            pair = []
+            for _ in range(2):
+                tex = self.ctx.texture(size, 4, dtype="f4")
+                tex.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
+                pair.append((tex, self.ctx.framebuffer(color_attachments=[tex])))
+            self._targets[size] = pair
+        return self._targets[size]
+
+    def apply(
+        self,
+        hdr_texture,
+        size: tuple[int, int],
+        *,
+        pixel_angle_rad: float,
+        adaptation,
+        time_s: float = 0.0,
+    ):
+        """Run the pass over ``hdr_texture`` (RGBA32F, GL rows, (width, height) = ``size``).
+
+        Args:
+            hdr_texture: R, G, B linear sRGB in cd/m^2, A scotopic cd/m^2.
+            size: (width, height) in pixels.
+            pixel_angle_rad: angular size of one pixel at the frame's centre, rad (> 0).
+            adaptation: photopic adaptation luminance (cd/m^2, > 0), or a GpuExposure that
+                has measured the frame (its log-average luminance is read on the GPU).
+            time_s: frame time, s: drives the noise (same seed and time, same image).
+
+        Returns:
+            An RGBA32F texture of the same size, owned by the pass: R, G, B the displayed
+            (photopic-equivalent) luminance in cd/m^2, A the input's scotopic channel.
+        """
+        w, h = (int(v) for v in size)
+        if w <= 0 or h <= 0:
+            raise ParameterError(f"size = {size!r} must be two positive integers")
+        if tuple(hdr_texture.size) != (w, h):
+            raise ParameterError(f"size = {size!r} does not match the texture's {hdr_texture.size}")
+        px = check_range("pixel_angle_rad", pixel_angle_rad, 1e-9, math.pi, "rad")
+        t = check_range("time_s", time_s, -1e9, 1e9, "s")
+        uniforms: dict[str, object] = {
+            "u_nv_log_luminance_level": float(self._grid_level),
+            "u_blue_grey": tuple(float(c) for c in BLUE_GREY),
+            "u_pixel_angle_deg": math.degrees(px),
+            "u_seed": self.seed,
+            "u_time": float(np.float32(t)),
+        }
+        textures_extra: dict[str, object] = {"u_nv_log_luminance": self._grid}
+        from_texture = not isinstance(adaptation, (int, float, np.floating, np.integer))
+        if from_texture:
+            if not (hasattr(adaptation, "texture") and hasattr(adaptation, "uniforms")):
+                raise ParameterError(
+                    f"adaptation must be a luminance in cd/m^2 or a GpuExposure, got "
+                    f"{type(adaptation).__name__}"
+                )
+            uniforms.update(adaptation.uniforms())
+            textures_extra["u_log_luminance"] = adaptation.texture
+        else:
+            uniforms["u_adaptation"] = check_range("adaptation", adaptation, 1e-12, 1e12, "cd/m^2")
+
+        # The frame's S/P ratio, on the GPU (no read-back).
+        self._grid_fbo.viewport = (0, 0, *GRID)
+        self._measure.draw(
+            self._grid_fbo,
+            {
+                "u_luminance_weights": tuple(float(x) for x in SRGB_LUMINANCE),
+                "u_delta": DEFAULT_DELTA,
+            },
+            {"u_hdr": hdr_texture},
+        )
+        self._grid.build_mipmaps(0, self._grid_level)
+
+        (tex_a, fbo_a), (tex_b, fbo_b) = self._pair((w, h))
+        steps: list[tuple[str, dict]] = [("post/night_vision.glsl", {})]
+        if self.acuity:
+            steps.append(("post/acuity_blur.glsl", {"u_direction": (1.0, 0.0)}))
+            steps.append(("post/acuity_blur.glsl", {"u_direction": (0.0, 1.0)}))
+        if self.noise:
+            steps.append(("post/night_noise.glsl", {}))
+        source = hdr_texture
+        targets = [(tex_a, fbo_a), (tex_b, fbo_b)]
+        for i, (name, extra) in enumerate(steps):
+            tex, fbo = targets[i % 2]
+            fbo.viewport = (0, 0, w, h)
+            self._program(name, from_texture).draw(
+                fbo, {**uniforms, **extra}, {"u_hdr": source, **textures_extra}
+            )
+            source = tex
+        return source
+
+    def release(self) -> None:
+        """Free the programs, targets and the measurement grid."""
+        for pair in self._targets.values():
+            for tex, fbo in pair:
+                fbo.release()
+                tex.release()
+        self._targets.clear()
+        for prog in self._programs.values():
+            prog.release()
+        self._programs.clear()
+        self._grid_fbo.release()
+        self._grid.release()
+        self._measure.release()
