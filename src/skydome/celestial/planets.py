@@ -1,0 +1,322 @@
+"""The planets layer: Mercury to Neptune at their apparent places, as disks or points.
+
+Positions and brightness come from ``skydome.astro`` (``Observer.sky``): the apparent
+(refracted) and airless directions, the distance, the angular diameter from the IAU radii,
+the phase angle, and the V magnitude of Mallama & Hilton (2018), turned into an illuminance
+outside the atmosphere with ``photometry.magnitude_to_lux`` (the atmosphere layer applies
+the extinction). Saturn's magnitude is that of its globe and rings together (their eq. 10);
+the rings are not drawn, so the globe carries their light.
+
+Colour: the solar spectrum times each planet's geometric albedo spectrum
+(skydome.celestial.planet_colours: smooth curves fitted to the B, V and R albedos of
+Mallama et al. 2017), through the frame's spectral basis.
+
+A planet is drawn as a **disk** when its radius in the frame is at least
+``DISK_MIN_RADIUS_PX`` pixels (the pixel size at the planet from
+``render.projection.pixel_solid_angle``), otherwise as a **point** through the shared
+point-source pass (skydome.celestial.point_sources, a Gaussian PSF of sigma 0.8 px). Both
+integrate to the planet's illuminance, so the switch conserves the light.
+
+The disk (``shaders/celestial/planet.glsl``) is a sphere lit by parallel sunlight from the
+planet -> Sun direction, built from the phase angle of the astronomy and the Sun's direction:
+the planet -> Sun vector has, across the line of sight, the component of the observer -> Sun
+vector (the planet lies on the line of sight), and makes the phase angle with the planet ->
+observer direction. Its radiance follows one of two laws, each normalised on the CPU by its
+closed-form disk integral (exact for a sphere seen from far away; a planet's finite
+distance changes it by the planet's angular radius in radians, < 3e-4):
+
+- **Lommel-Seeliger**, L = k mu0 / (mu0 + mu), for Mercury and Mars: the single-scattering
+  law of a dark, porous regolith (Hapke 2012, "Theory of reflectance and emittance
+  spectroscopy", eq. 9.4; the Moon layer's law), disk integral (Omega/2) Phi_LS(a) with
+  Phi_LS(a) = 1 - sin(a/2) tan(a/2) ln(cot(a/4)) (Fairbairn 2005, JRASC 99, 92);
+- **Lambert**, L = k mu0, for Venus and the giant planets: their bright cloud decks
+  (geometric albedos 0.44-0.69 in V) scatter light many times, which brings the reflection
+  towards the isotropic, limb-darkened Lambert surface (Minnaert's law with exponent 1; an
+  approximation: measured limb darkening varies with wavelength and latitude), disk
+  integral (2/3) Omega Phi_L(a) with Phi_L(a) = (sin a + (pi - a) cos a) / pi (Russell
+  1916, ApJ 43, 173).
+
+The Moon hides what lies behind its disk: disk pixels inside it and point sources under it
+get nothing.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from skydome.astro.planets import PLANETS
+from skydome.celestial.planet_colours import planet_albedo
+from skydome.scene.layer import DrawContext, Layer
+from skydome.scene.state import SkyState, refraction_scale
+
+#: A planet whose disk has at least this radius in frame pixels is drawn as a disk.
+DISK_MIN_RADIUS_PX = 1.0
+#: The point-source PSF (Gaussian sigma, frame pixels), the stars' value.
+PSF_SIGMA_PX = 0.8
+#: The photometric law of each planet's disk (see the module docstring).
+LAWS = {
+    "mercury": "lommel-seeliger",
+    "venus": "lambert",
+    "mars": "lommel-seeliger",
+    "jupiter": "lambert",
+    "saturn": "lambert",
+    "uranus": "lambert",
+    "neptune": "lambert",
+}
+_LAW_DEFINE = {"lambert": 0, "lommel-seeliger": 1}
+
+
+def lambert_phase_function(phase_angle_rad) -> np.ndarray:
+    """Disk-integrated Lambert sphere at phase angle a (rad), 1 at a = 0:
+    (sin a + (pi - a) cos a) / pi (Russell 1916)."""
+    a = np.clip(np.asarray(phase_angle_rad, dtype=np.float64), 0.0, math.pi)
+    return (np.sin(a) + (math.pi - a) * np.cos(a)) / math.pi
+
+
+def lommel_seeliger_phase_function(phase_angle_rad) -> np.ndarray:
+    """Disk-integrated Lommel-Seeliger sphere at phase angle a (rad), 1 at a = 0:
+    1 - sin(a/2) tan(a/2) ln(cot(a/4)) (Fairbairn 2005, JRASC 99, 92)."""
+    a = np.clip(np.asarray(phase_angle_rad, dtype=np.float64), 1e-9, math.pi - 1e-9)
+    phi = 1.0 - np.sin(a / 2) * np.tan(a / 2) * np.log(1.0 / np.tan(a / 4))
+    return np.maximum(phi, 0.0)
+
+
+def disk_law_integral(law: str, phase_angle_rad: float, angular_radius_rad: float) -> float:
+    """Integral (sr) over a sphere's disk of the law (``"lambert"``: mu0, or
+    ``"lommel-seeliger"``: mu0 / (mu0 + mu)) for a sphere of angular radius
+    ``angular_radius_rad`` lit at ``phase_angle_rad`` (its far-away limit)."""
+    r = float(angular_radius_rad)
+    omega = 4.0 * math.pi * math.sin(0.5 * r) ** 2  # 2 pi (1 - cos r)
+    if law == "lambert":
+        return 2.0 / 3.0 * omega * float(lambert_phase_function(phase_angle_rad))
+    return 0.5 * omega * float(lommel_seeliger_phase_function(phase_angle_rad))
+
+
+def planet_to_sun(direction_true, sun_direction_true, phase_angle_rad: float) -> np.ndarray:
+    """Unit ENU vector from a planet towards the Sun: at the phase angle from the planet ->
+    observer direction, towards the Sun's side across the line of sight (unit airless ENU
+    directions of the planet and of the Sun from the observer)."""
+    u = np.asarray(direction_true, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    s = np.asarray(sun_direction_true, dtype=np.float64)
+    across = s - (s @ u) * u
+    norm = float(np.linalg.norm(across))
+    if norm < 1e-12:  # the Sun on the line of sight: any perpendicular will do
+        across = np.cross(u, [0.0, 0.0, 1.0] if abs(u[2]) < 0.9 else [1.0, 0.0, 0.0])
+        norm = float(np.linalg.norm(across))
+    a = float(phase_angle_rad)
+    return math.cos(a) * -u + math.sin(a) * across / norm
+
+
+@dataclass(frozen=True)
+class PlanetView:
+    """One planet as the observer sees it at one instant (ENU unit vectors, radians, lux)."""
+
+    name: str
+    direction: np.ndarray
+    direction_true: np.ndarray
+    distance_km: float
+    angular_radius_rad: float
+    illuminance_lux: float
+    magnitude: float
+    phase_angle_rad: float
+    to_sun: np.ndarray
+
+    @property
+    def elevation_deg(self) -> float:
+        """Apparent elevation, degrees."""
+        return math.degrees(math.asin(float(np.clip(self.direction[2], -1.0, 1.0))))
+
+    @property
+    def illuminated_fraction(self) -> float:
+        """Fraction of the disk's area that is sunlit, (1 + cos a) / 2."""
+        return 0.5 * (1.0 + math.cos(self.phase_angle_rad))
+
+
+def planet_views(observer, time, sun_direction_true) -> list[PlanetView]:
+    """The seven planets seen by ``observer`` at one ``time`` (a skydome.astro Time), lit
+    from the airless Sun direction ``sun_direction_true``."""
+    sky = observer.sky(time, bodies=PLANETS)
+    out = []
+    for name in PLANETS:
+        b = sky[name]
+        true = np.asarray(b.enu_unrefracted, dtype=np.float64).reshape(3)
+        phase = float(b.extra["phase_angle"])
+        out.append(
+            PlanetView(
+                name=name,
+                direction=np.asarray(b.enu, dtype=np.float64).reshape(3),
+                direction_true=true,
+                distance_km=float(b.distance_km),
+                angular_radius_rad=0.5 * float(b.angular_diameter),
+                illuminance_lux=float(b.illuminance_lux),
+                magnitude=float(b.extra["magnitude"]),
+                phase_angle_rad=phase,
+                to_sun=planet_to_sun(true, sun_direction_true, phase),
+            )
+        )
+    return out
+
+
+def _samples_per_axis(radius_px: float, phase_angle_rad: float) -> int:
+    """Rays per pixel along each axis for a disk of this radius (frame pixels) at this phase:
+    enough for the disk (32 / radius) and for the lit part's width across the terminator,
+    radius (1 + cos a) (12 / width), at most 32. Measured on Venus at phase angles 117 and
+    150 deg, 1.5 to 7.5 px in radius: the disk's total is within 1.5 % of the closed form;
+    thinner crescents (a > ~160 deg, narrower than ~0.2 px) alias, by up to tens of %."""
+    if not math.isfinite(radius_px):
+        return 1
+    r = max(radius_px, 1e-6)
+    width = max(r * (1.0 + math.cos(phase_angle_rad)), 1e-6)
+    return int(min(32, max(1, math.ceil(max(32.0 / r, 12.0 / width)))))
+
+
+class PlanetsLayer(Layer):
+    """Mercury to Neptune: disks when at least ``DISK_MIN_RADIUS_PX`` in radius, else points.
+
+    Draws nothing in the abstract mode (no place or time)."""
+
+    name = "planets"
+    stage = "space"
+    shader = "celestial/planet.glsl"
+
+    def __init__(self, *, enabled: bool = True):
+        super().__init__(enabled=enabled)
+        self._key = None
+        self._views: list[PlanetView] = []
+        self._colours: dict = {}  # basis id -> {planet: colour (4,)}
+        self._moon = None
+        self._refraction = 0.0
+        self._points = None
+        self._drawn_as_disk: dict[str, bool] = {}
+
+    # ------------------------------------------------------------------ update
+
+    def update(self, state: SkyState) -> None:
+        if state.observer is None or state.time is None:
+            self._key, self._views, self._moon = None, [], None
+            return
+        key = (id(state.observer), float(np.asarray(state.time.jd_tt)), id(state.sun))
+        self._moon = state.moon
+        self._refraction = refraction_scale(state)
+        if key == self._key:
+            return
+        self._views = planet_views(state.observer, state.time, state.sun.direction_true)
+        self._key = key
+
+    def views(self) -> list[PlanetView]:
+        """The planets of the last update."""
+        return list(self._views)
+
+    def colour(self, basis, planet: str) -> np.ndarray:
+        """Output channels per cd/m^2 of ``planet``'s light in ``basis`` (cached)."""
+        table = self._colours.get(id(basis))
+        if table is None or table[0] is not basis:
+            wl = basis.wavelengths_nm
+            table = (basis, {p: basis.colour(planet_albedo(p, wl)) for p in PLANETS})
+            self._colours[id(basis)] = table
+        return table[1][planet]
+
+    # ------------------------------------------------------------------ draw
+
+    def radius_px(self, frame: DrawContext, view: PlanetView) -> float:
+        """The planet's angular radius in frame pixels where it lies (inf for cameras with
+        no forward mapping, e.g. a DirectionsCamera: those always get the disk)."""
+        from skydome.render.projection import has_projection, pixel_solid_angle
+
+        if not has_projection(frame.camera):
+            return math.inf
+        w, h = frame.frame_size
+        pixel_sr = float(pixel_solid_angle(frame.camera, view.direction, w, h))
+        return view.angular_radius_rad / math.sqrt(pixel_sr) if pixel_sr > 0 else math.inf
+
+    def draw(self, frame: DrawContext) -> None:
+        if not self._views:
+            return
+        points, channels = [], []
+        for view in self._views:
+            if view.illuminance_lux <= 0.0:
+                continue
+            colour = self.colour(frame.basis, view.name)
+            r_px = self.radius_px(frame, view)
+            disk = r_px >= DISK_MIN_RADIUS_PX
+            self._drawn_as_disk[view.name] = disk
+            if disk:
+                self._draw_disk(frame, view, colour, r_px)
+            else:
+                points.append(view.direction)
+                channels.append(colour * view.illuminance_lux)
+        if points:
+            from skydome.celestial.point_sources import PointSources
+
+            if self._points is None:
+                self._points = PointSources(frame.ctx)
+            occluder = None
+            if self._moon is not None:
+                occluder = [(self._moon.direction, self._moon.angular_radius_rad)]
+            self._points.draw(
+                frame,
+                np.array(points),
+                np.array(channels),
+                psf_sigma_px=PSF_SIGMA_PX,
+                occluder=occluder,
+            )
+
+    def _draw_disk(self, frame: DrawContext, view: PlanetView, colour, radius_px: float):
+        law = LAWS[view.name]
+        integral = disk_law_integral(law, view.phase_angle_rad, view.angular_radius_rad)
+        if not integral > 0.0:
+            return  # a new planet: nothing lit faces the observer
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, frame.camera, {"LAW": _LAW_DEFINE[law]}
+        )
+        moon = self._moon
+        uniforms = {
+            "u_planet_direction_true": tuple(float(v) for v in view.direction_true),
+            "u_sin_angular_radius": math.sin(view.angular_radius_rad),
+            "u_planet_to_sun": tuple(float(v) for v in view.to_sun),
+            "u_moon_direction_true": (
+                tuple(float(v) for v in moon.direction_true) if moon else (0.0, 0.0, 1.0)
+            ),
+            "u_moon_sin_radius": math.sin(moon.angular_radius_rad) if moon else 0.0,
+            "u_scale": view.illuminance_lux / integral,
+            "u_colour": tuple(float(v) for v in colour),
+            "u_samples": _samples_per_axis(radius_px, view.phase_angle_rad),
+            "u_refraction_scale": self._refraction,
+            **frame.uniforms,
+        }
+        # The apparent disk lies within its true radius of the apparent centre (refraction
+        # only flattens it); 10 % spare, and draw_small adds 2 pixels for the pixel footprint.
+        self.draw_small(
+            frame,
+            fpass,
+            uniforms,
+            frame.textures,
+            view.direction,
+            1.1 * view.angular_radius_rad,
+        )
+
+    # ------------------------------------------------------------------ reports
+
+    def info(self) -> dict:
+        if not self._views:
+            return {}
+        return {
+            "planets": {
+                v.name: {
+                    "magnitude": v.magnitude,
+                    "elevation_deg": v.elevation_deg,
+                    "disk": self._drawn_as_disk.get(v.name, False),
+                }
+                for v in self._views
+            }
+        }
+
+    def release(self) -> None:
+        super().release()
+        if self._points is not None:
+            self._points.release()
+            self._points = None
