@@ -39,6 +39,7 @@ import numpy as np
 
 from skydome.display.exposure import DEFAULT_DELTA
 from skydome.errors import ParameterError, check_range
+from skydome.gpu import FullscreenPass
 from skydome.spectra import SRGB_LUMINANCE, XYZ_TO_LINEAR_SRGB
 
 # -- CIE 191:2010, MES2 ---------------------------------------------------------------------
@@ -219,6 +220,10 @@ class NightVision:
 
     :meth:`apply` returns an RGBA32F texture owned by the pass (one pair per frame size,
     reused): valid until the next :meth:`apply` of the same size or :meth:`release`.
+
+    Below 5 cd/m^2 the output's luminance is each pixel's mesopic luminance, not its photopic
+    one: a moonlit sky (S/P about 2.5) comes out about twice as luminous. An exposure taken
+    from the input frame therefore shows the night brighter than one taken from the output.
     """
 
     def __init__(self, ctx, *, seed: int = 0, noise: bool = True, acuity: bool = True):
@@ -232,9 +237,6 @@ class NightVision:
         self.acuity = bool(acuity)
         self._programs: dict[tuple[str, bool], object] = {}
         self._targets: dict[tuple[int, int], list] = {}
-        from skydome.gpu import FullscreenPass
-
-        self._pass_cls = FullscreenPass
         w, h = GRID
         self._measure = FullscreenPass(
             ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h}
@@ -250,7 +252,7 @@ class NightVision:
             defines = shader_defines()
             if from_texture:
                 defines["ADAPTATION_FROM_TEXTURE"] = 1
-            self._programs[key] = self._pass_cls(self.ctx, name, defines)
+            self._programs[key] = FullscreenPass(self.ctx, name, defines)
         return self._programs[key]
 
     def _pair(self, size: tuple[int, int]) -> list:
