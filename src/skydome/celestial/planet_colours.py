@@ -91,9 +91,7 @@ _GRID_NM = np.arange(WAVELENGTH_MIN_NM, WAVELENGTH_MAX_NM + 0.5, 1.0)
 def _check_planet(planet: str) -> str:
     p = str(planet).lower()
     if p not in PLANET_BAND_ALBEDOS:
-        raise ParameterError(
-            f"planet = {planet!r} is not one of {', '.join(PLANET_BAND_ALBEDOS)}"
-        )
+        raise ParameterError(f"planet = {planet!r} is not one of {', '.join(PLANET_BAND_ALBEDOS)}")
     return p
 
 

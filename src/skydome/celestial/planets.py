@@ -36,8 +36,9 @@ distance changes it by the planet's angular radius in radians, < 3e-4):
   integral (2/3) Omega Phi_L(a) with Phi_L(a) = (sin a + (pi - a) cos a) / pi (Russell
   1916, ApJ 43, 173).
 
-The Moon hides what lies behind its disk: disk pixels inside it and point sources under it
-get nothing.
+The Moon hides what lies behind its disk: the rays of a disk's pixels that meet the Moon
+get nothing, and a point planet whose centre lies behind the Moon is not drawn (the point
+pass also darkens its PSF's pixels on the Moon's disk).
 """
 
 from __future__ import annotations
@@ -246,7 +247,7 @@ class PlanetsLayer(Layer):
             self._drawn_as_disk[view.name] = disk
             if disk:
                 self._draw_disk(frame, view, colour, r_px)
-            else:
+            elif not self._behind_moon(view):
                 points.append(view.direction)
                 channels.append(colour * view.illuminance_lux)
         if points:
@@ -264,6 +265,18 @@ class PlanetsLayer(Layer):
                 psf_sigma_px=PSF_SIGMA_PX,
                 occluder=occluder,
             )
+
+    def _behind_moon(self, view: PlanetView) -> bool:
+        """Whether a point planet's centre lies behind the Moon's disk (then it gives no
+        light at all; the point pass's occluder only darkens the pixels on the Moon)."""
+        moon = self._moon
+        if moon is None:
+            return False
+        u = np.asarray(moon.direction_true, dtype=np.float64)
+        return bool(
+            u @ view.direction_true > 0.0
+            and np.linalg.norm(np.cross(u, view.direction_true)) < math.sin(moon.angular_radius_rad)
+        )
 
     def _draw_disk(self, frame: DrawContext, view: PlanetView, colour, radius_px: float):
         law = LAWS[view.name]
