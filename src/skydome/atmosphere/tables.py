@@ -24,7 +24,9 @@ def tables_key(params: AtmosphereParams, config: PrecomputeConfig) -> str:
         "precomputed",
         params.to_dict(),
         config.key(),
-        sources_digest(),
+        # The tables are made by shaders/atmosphere/ with includes from shaders/common/ only:
+        # night-sky, celestial and display shaders do not invalidate them.
+        sources_digest(("atmosphere", "common")),
         code_digest("skydome.atmosphere.tables"),
     )
 

@@ -120,16 +120,23 @@ class GpuToneMapper:
             self._targets[(width, height)] = (tex, self.ctx.framebuffer(color_attachments=[tex]))
         return self._targets[(width, height)]
 
-    def render(self, source, name: str, exposure_scale: float, **params: float) -> np.ndarray:
+    def render(
+        self, source, name: str, exposure_scale: float, *, overlay=None, **params: float
+    ) -> np.ndarray:
         """Tone-map ``source`` and read it back as uint8 (H, W, 3), row 0 at the top.
 
         ``source`` is a NumPy frame (H, W, 4) in cd/m^2 (row 0 at the top; uploaded with
         :func:`upload_frame`; a ``Frame`` object's ``.data`` too) or a moderngl RGBA float
-        texture in GL row order.
+        texture in GL row order. ``overlay(fbo, (w, h))``, if given, draws over the
+        tone-mapped image before it is read back (the whole frame: not banded).
         """
         if isinstance(getattr(source, "data", None), np.ndarray):
             source = as_array(source)
-        if isinstance(source, np.ndarray) and source.shape[0] * source.shape[1] > BAND_PIXELS:
+        if (
+            overlay is None
+            and isinstance(source, np.ndarray)
+            and source.shape[0] * source.shape[1] > BAND_PIXELS
+        ):
             # Large frames go up in bands of rows: GPU memory stays at one band's texture, and
             # no side reaches GL's texture limit. Tone maps are per pixel: bands are exact.
             rows = max(1, BAND_PIXELS // source.shape[1])
@@ -152,6 +159,8 @@ class GpuToneMapper:
             w, h = texture.size
             _, fbo = self._target(w, h)
             self.draw(texture, fbo, (w, h), name, exposure_scale, **params)
+            if overlay is not None:
+                overlay(fbo, (w, h))
             return read_rgb8(fbo, w, h)
         finally:
             if owned:
@@ -172,15 +181,16 @@ _mappers: dict[int, GpuToneMapper] = {}
 
 
 def gpu_tonemap(
-    source, name: str, exposure_scale: float, *, ctx=None, **params: float
+    source, name: str, exposure_scale: float, *, ctx=None, overlay=None, **params: float
 ) -> np.ndarray:
     """GPU twin of :func:`skydome.display.tonemap.tonemap`: uint8 (H, W, 3), row 0 at the top.
 
-    ``source`` is a NumPy frame or an RGBA32F texture (GL row order). The mapper for each
-    context is created once and reused.
+    ``source`` is a NumPy frame or an RGBA32F texture (GL row order); ``overlay(fbo, size)``
+    draws over the image before the read-back. The mapper for each context is created once
+    and reused.
     """
     ctx = ctx or shared_context()
     mapper = _mappers.get(id(ctx))
     if mapper is None or mapper.ctx is not ctx:
         mapper = _mappers[id(ctx)] = GpuToneMapper(ctx)
-    return mapper.render(source, name, exposure_scale, **params)
+    return mapper.render(source, name, exposure_scale, overlay=overlay, **params)

@@ -23,11 +23,17 @@ _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
 
 
 @cache
-def sources_digest() -> str:
-    """SHA-256 (hex) of every shader file: part of the keys of cached GPU results, so that a
-    change to the GLSL (a new table layout, a fixed integral) never reuses stale tables."""
+def sources_digest(folders: tuple[str, ...] | None = None) -> str:
+    """SHA-256 (hex) of the shader files (of ``folders`` of the library, default all): part
+    of the keys of cached GPU results, so that a change to the GLSL (a new table layout, a
+    fixed integral) never reuses stale tables."""
     h = hashlib.sha256()
-    for path in sorted(SHADER_DIR.rglob("*.glsl")):
+    paths = (
+        SHADER_DIR.rglob("*.glsl")
+        if folders is None
+        else (p for f in folders for p in (SHADER_DIR / f).rglob("*.glsl"))
+    )
+    for path in sorted(paths):
         name = path.relative_to(SHADER_DIR).as_posix()
         h.update(name.encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()

@@ -25,7 +25,13 @@ from skydome.render.cameras import (
     PerspectiveCamera,
 )
 
-__all__ = ["has_projection", "project", "pixel_solid_angle", "pixel_directions"]
+__all__ = [
+    "has_projection",
+    "project",
+    "pixel_solid_angle",
+    "pixel_directions",
+    "centre_pixel_angle",
+]
 
 
 def has_projection(camera: Camera) -> bool:
@@ -147,3 +153,12 @@ def pixel_directions(camera: Camera, x, y, width: int, height: int):
     else:
         raise ParameterError(f"a {camera.name} camera has no closed-form pixel mapping")
     return _unit(d), ok
+
+
+def centre_pixel_angle(camera: Camera, width: int, height: int) -> float:
+    """Angular size (rad) of a pixel at the frame's centre: the square root of its solid
+    angle (for a direction map, the mean over its pixels' spread is not defined: 0)."""
+    if not has_projection(camera):
+        return 0.0
+    d, _ = pixel_directions(camera, 0.5 * width, 0.5 * height, width, height)
+    return float(np.sqrt(pixel_solid_angle(camera, d, width, height)))

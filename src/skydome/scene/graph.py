@@ -6,7 +6,10 @@ For each tile of a frame (one tile up to TILE_SIZE on a side):
    their radiance, unattenuated, into target A;
 2. **volume**: each volume layer (the atmosphere, later clouds) reads the light behind it
    and writes ``behind * transmittance + in-scattered`` into the other target (ping-pong);
-3. **post** (whole frames): the GPU exposure pass and the tone-mapping pass.
+3. **post** (whole frames): the GPU exposure pass, then the display passes: night vision
+   (``display.night_vision``: what a dark-adapted eye sees, HDR to HDR, off by default),
+   the tone map, and the overlays (``display.overlays``: lines, labels, a grid, drawn over
+   the 8-bit image). The display passes change the image only, never ``Frame.data``.
 
 ``render`` reads the float frame back once (and, if asked, the tone-mapped image);
 ``draw`` tone-maps into a caller's framebuffer and reads nothing back. Every front end
@@ -63,6 +66,12 @@ class FrameGraph:
         self._staging: dict[tuple[int, int], np.ndarray] = {}
         self._post = None
         self._exposure = None
+        self._night_vision = None
+        self._overlays = None
+        #: Display settings (see :meth:`set_display`).
+        self.night_vision = False
+        self.night_vision_seed = 0
+        self.overlays: tuple[str, ...] = ()
         self.basis = basis
         for layer in self.layers:  # a volume layer may bring the spectral basis (its tables)
             layer.prepare(self)
@@ -217,12 +226,34 @@ class FrameGraph:
         if tonemap is not None:
             if scale is None:
                 raise ParameterError("a tone-mapped image needs an exposure ('auto' or a scale)")
-            from skydome.display.gpu_tonemap import gpu_tonemap
-
-            source = last if len(tiles) == 1 else data
-            frame.image = gpu_tonemap(source, tonemap, scale, ctx=self.ctx)
+            frame.image = self._display_image(
+                last if len(tiles) == 1 else data, state, camera, (w, h), tonemap, scale
+            )
             info["tonemap"] = tonemap
+            if self.night_vision:
+                info["night_vision"] = True
+            if self.overlays:
+                info["overlays"] = list(self.overlays)
         return frame
+
+    def _display_image(self, source, state, camera, size, tonemap: str, scale: float):
+        """The 8-bit image of a frame (a texture in GL rows, or the read-back frame):
+        night vision, tone map and overlays on the GPU, one read-back."""
+        from skydome.display.gpu_tonemap import gpu_tonemap, upload_frame
+
+        overlays = self._overlay_pass(state)
+        if not self.night_vision and overlays is None:
+            return gpu_tonemap(source, tonemap, scale, ctx=self.ctx)
+        owned = None
+        if isinstance(source, np.ndarray):
+            source = owned = upload_frame(self.ctx, source)
+        try:
+            texture = self._eye(source, state, camera, size)
+            draw = None if overlays is None else (lambda fbo, s: overlays.draw(fbo, camera, s))
+            return gpu_tonemap(texture, tonemap, scale, ctx=self.ctx, overlay=draw)
+        finally:
+            if owned is not None:
+                owned.release()
 
     def _exposure_scale(self, exposure, compensation_ev, texture, data) -> float | None:
         if exposure is None:
@@ -272,10 +303,72 @@ class FrameGraph:
             exposure_pass = self.exposure_pass()
             exposure_pass.measure(texture)
             key = 2.0**compensation_ev * DEFAULT_KEY
-            self._post.draw(texture, framebuffer, (w, h), tonemap, key, auto_exposure=exposure_pass)
+            shown = self._eye(texture, state, camera, (w, h))
+            self._post.draw(shown, framebuffer, (w, h), tonemap, key, auto_exposure=exposure_pass)
         else:
             scale = float(exposure) * 2.0**compensation_ev
-            self._post.draw(texture, framebuffer, (w, h), tonemap, scale)
+            shown = self._eye(texture, state, camera, (w, h))
+            self._post.draw(shown, framebuffer, (w, h), tonemap, scale)
+        overlays = self._overlay_pass(state)
+        if overlays is not None:
+            overlays.draw(framebuffer, camera, (w, h))
+
+    # ------------------------------------------------------------------ display passes
+
+    def set_display(
+        self, *, night_vision: bool | None = None, overlays=None, seed: int | None = None
+    ) -> None:
+        """Display settings: ``night_vision`` (the eye's night vision on the image),
+        ``overlays`` (names from ``skydome.display.overlays.OVERLAYS`` or a comma list),
+        ``seed`` (the night-vision noise)."""
+        if night_vision is not None:
+            self.night_vision = bool(night_vision)
+        if seed is not None:
+            self.night_vision_seed = int(seed)
+            if self._night_vision is not None:
+                self._night_vision.release()
+                self._night_vision = None
+        if overlays is not None:
+            from skydome.display.overlays import parse_overlays
+
+            names = parse_overlays(overlays if isinstance(overlays, str) else ",".join(overlays))
+            if names != self.overlays and self._overlays is not None:
+                self._overlays.release()
+                self._overlays = None
+            self.overlays = names
+
+    def _eye(self, texture, state, camera: Camera, size: tuple[int, int]):
+        """``texture`` through the night-vision pass when it is on (else as it is). The
+        adaptation is the frame's own log-average luminance, measured on the GPU."""
+        if not self.night_vision:
+            return texture
+        from skydome.display.night_vision import NightVision
+        from skydome.render.projection import centre_pixel_angle
+
+        if self._night_vision is None:
+            self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
+        meter = self.exposure_pass()
+        meter.measure(texture)
+        # Seconds of the UTC day: drives the temporal noise (same time, same image).
+        time_s = 0.0 if state.time is None else float(state.time.jd_utc - 0.5) % 1.0 * 86400.0
+        return self._night_vision.apply(
+            texture,
+            size,
+            pixel_angle_rad=centre_pixel_angle(camera, *size),
+            adaptation=meter,
+            time_s=time_s,
+        )
+
+    def _overlay_pass(self, state):
+        """The overlays, updated for ``state``; None when there are none."""
+        if not self.overlays:
+            return None
+        from skydome.display.overlays import Overlays
+
+        if self._overlays is None:
+            self._overlays = Overlays(self.ctx, self.overlays)
+        self._overlays.update(state)
+        return self._overlays
 
     def release(self) -> None:
         """Free the targets, the post passes and every layer's GPU resources."""
@@ -284,9 +377,9 @@ class FrameGraph:
                 obj.release()
         self._targets.clear()
         self._staging.clear()
-        for obj in (self._post, self._exposure):
+        for obj in (self._post, self._exposure, self._night_vision, self._overlays):
             if obj is not None:
                 obj.release()
-        self._post = self._exposure = None
+        self._post = self._exposure = self._night_vision = self._overlays = None
         for layer in self.layers:
             layer.release()
