@@ -38,9 +38,11 @@ Processing (each step's reason)
    display dots, not the stars' flux, and counting them would double the stars the catalogue
    draws. Every catalogue star is moved to the image's epoch (J2016.0, Gaia EDR3) with its
    proper motion, put in galactic coordinates (IAU 1958 rotation, :func:`galactic_matrix`),
-   and the pixels within ``STAR_RADIUS_PX`` (3 px = 0.17 deg; V < 4: 4 px) of it are
-   replaced by the median of the unmasked pixels of a 9 x 9 window around each (a 21 x 21
-   window where that has too few). Fainter stars are left: they are the diffuse background
+   and the pixels within ``STAR_RADII_PX`` of it (3 px = 0.17 deg; V < 4: 4 px; V < 2.5:
+   8 px; V < 1: 12 px, for the halo of spurious sources Gaia has around the brightest stars,
+   e.g. Arcturus) are replaced by unmasked pixels drawn at random from a 9 x 9 window around
+   each (21 x 21 or 41 x 41 where that has too few): the local background with its own statistics
+   (:func:`fill_masked` says why not a median). Fainter stars are left: they are the diffuse background
    the catalogue lacks.
 3. Calibration to S10 (1 S10 = one V = 10 star per square degree) against two published
    totals, which fix a and k:
@@ -89,9 +91,9 @@ LOG_MIN, LOG_MAX = -1.0, 5.0  # log10(S10) range of the uint16 encoding
 FORMAT_VERSION = 1
 #: Gaia EDR3 reference epoch (J2016.0) as a Julian year, and Hipparcos' (J1991.25).
 GAIA_EPOCH_YR, HIPPARCOS_EPOCH_YR = 2016.0, 1991.25
-STAR_RADIUS_PX = 3
-BRIGHT_STAR_RADIUS_PX = 4
-BRIGHT_STAR_V = 4.0
+#: Removal radius (source pixels of 0.055 deg) by V: (fainter than, radius). Stars brighter
+#: than V ~ 1.5 carry a halo of spurious Gaia sources out to ~10 px (Arcturus).
+STAR_RADII_PX = ((4.0, 3), (2.5, 4), (1.0, 8), (-99.0, 12))
 #: Published totals the map is calibrated to (see the module docstring, step 3).
 POLE_TOTAL_S10 = 0.5 * (29.0 + 33.0)  # Leinert et al. 1998 Table 34, Pioneer 10, V > 6.5
 POLE_STAR_CUT_V = 6.5
@@ -175,10 +177,10 @@ def star_mask(shape, lon_deg, lat_deg, vmag) -> np.ndarray:
     x = np.mod(180.0 - lon_deg, 360.0) / 360.0 * w - 0.5
     y = (90.0 - lat_deg) / 180.0 * h - 0.5
     mask = np.zeros((h, w), dtype=bool)
-    for radius, sel in (
-        (STAR_RADIUS_PX, vmag >= BRIGHT_STAR_V),
-        (BRIGHT_STAR_RADIUS_PX, vmag < BRIGHT_STAR_V),
-    ):
+    upper = np.inf
+    for lower, radius in STAR_RADII_PX:
+        sel = (vmag >= lower) & (vmag < upper)
+        upper = lower
         cx, cy = np.round(x[sel]).astype(int), np.round(y[sel]).astype(int)
         for dy in range(-radius, radius + 1):
             for dx in range(-radius, radius + 1):
@@ -190,25 +192,31 @@ def star_mask(shape, lon_deg, lat_deg, vmag) -> np.ndarray:
     return mask
 
 
-def fill_masked(channel: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """``channel`` with each masked pixel replaced by the median of the unmasked pixels in a
-    9 x 9 window around it (21 x 21 where fewer than 10 are unmasked); wraps in longitude."""
+def fill_masked(channel: np.ndarray, mask: np.ndarray, seed: int = 20201203) -> np.ndarray:
+    """``channel`` with each masked pixel replaced by an unmasked pixel drawn at random (fixed
+    seed) from the 9 x 9 window around it (21 x 21, then 41 x 41, where fewer than 10 are
+    unmasked); wraps
+    in longitude. A draw keeps the local distribution of values, so the filled patch has the
+    surroundings' mean light whatever the decoding; a median would not (the faint stars' dots
+    skew the distribution: median fills came out 2 % darker than their surroundings)."""
     out = channel.astype(np.float32).copy()
     h, w = channel.shape
+    rng = np.random.default_rng(seed)
     todo = np.argwhere(mask)
-    for half, need in ((4, 10), (10, 1)):
+    for half, need in ((4, 10), (10, 10), (20, 1)):
         if todo.size == 0:
             break
         offs = np.arange(-half, half + 1)
-        yy = np.clip(todo[:, 0, None, None] + offs[None, :, None], 0, h - 1)
-        xx = np.mod(todo[:, 1, None, None] + offs[None, None, :], w)
-        vals = np.where(mask[yy, xx], np.nan, channel[yy, xx].astype(np.float32))
-        vals = vals.reshape(len(todo), -1)
-        count = np.sum(np.isfinite(vals), axis=1)
+        yy = np.clip(todo[:, 0, None, None] + offs[None, :, None], 0, h - 1).reshape(len(todo), -1)
+        xx = np.mod(todo[:, 1, None, None] + offs[None, None, :], w).reshape(len(todo), -1)
+        free = ~mask[yy, xx]
+        count = free.sum(axis=1)
         good = count >= need
-        with np.errstate(all="ignore"):
-            med = np.nanmedian(vals[good], axis=1)
-        out[todo[good, 0], todo[good, 1]] = med
+        order = np.argsort(~free[good], axis=1, kind="stable")  # unmasked first
+        pick = np.floor(rng.random(int(good.sum())) * count[good]).astype(int)
+        rows = np.arange(int(good.sum()))
+        src = order[rows, pick]
+        out[todo[good, 0], todo[good, 1]] = channel[yy[good][rows, src], xx[good][rows, src]]
         todo = todo[~good]
     return out
 

@@ -6,7 +6,7 @@
 // with mipmaps: linear within and between levels, wrapping in l, clamped at the poles; the
 // level comes from the screen-space derivatives of (s, t), taking for s the smaller of the
 // two derivatives of s and of s shifted by half a turn, so that the seam at l = 180 deg does
-// not pick the coarsest level (Tarini 2012, "Cylindrical and toroidal parameterizations
+// not pick the coarsest level, scaled by cos(b) (Tarini 2012, "Cylindrical and toroidal parameterizations
 // without vertex seams", JGT 16(3)). A DirectionsCamera's pixels are not neighbours: it reads
 // the base level. Output: luminance x the light's colour (u_colour = output channels per S10),
 // drawn added; the atmosphere layer applies the transmittance.
@@ -35,6 +35,11 @@ void main() {
     float dxs = dFdx(s_shifted), dys = dFdy(s_shifted);
     if (abs(dxs) < abs(dx.x)) dx.x = dxs;
     if (abs(dys) < abs(dy.x)) dy.x = dys;
+    // In angle a step in s is cos(b) times shorter: without this the level would follow the
+    // converging meridians and blur b near the poles as well.
+    float c = cos(lat);
+    dx.x *= c;
+    dy.x *= c;
     float s10 = textureGrad(u_milky_way, st, dx, dy).r;
 #endif
     frag = u_colour * s10;
