@@ -200,13 +200,22 @@ def test_zenith_report():
 # ---------------------------------------------------------------------- frames
 
 
+def base_layers():
+    from skydome.atmosphere.layer import AtmosphereLayer
+    from skydome.celestial.moon import MoonLayer
+    from skydome.celestial.sun import SunLayer
+
+    return [SunLayer(), MoonLayer(), AtmosphereLayer()]
+
+
 def test_every_layer_off_leaves_the_frame_bit_identical():
-    base = Sky(PLACE, TIME)
-    layers = [AirglowLayer(), ZodiacalLightLayer(), LightPollutionLayer.from_bortle(8)]
-    full = Sky(PLACE, TIME, extra_layers=layers)
+    # Explicit layer lists: the same Sun, Moon and air with and without the glow layers.
+    base = Sky(PLACE, TIME, layers=base_layers())
+    glow = [AirglowLayer(), ZodiacalLightLayer(), LightPollutionLayer.from_bortle(8)]
+    full = Sky(PLACE, TIME, layers=[*base_layers(), *glow])
     cam = FisheyeCamera()
     on = full.render(cam, 96, 96, exposure=None).data
-    for layer in layers:
+    for layer in glow:
         full.layer(layer.name).enabled = False
     off = full.render(cam, 96, 96, exposure=None).data
     plain = base.render(cam, 96, 96, exposure=None).data

@@ -2,7 +2,7 @@
 // observer on the ground sees (skydome.night.light_pollution), already including the air's
 // extinction, added to what lies behind: frag = behind + glow, exactly behind where the ray
 // meets the ground. The uniform glow rises towards the horizon as a homogeneous slab,
-// (1 - exp(-tau X(z))) / (1 - exp(-tau)) with X the Kasten-Young air mass; each city adds a
+// (1 - exp(-tau X(z))) / (1 - exp(-tau X(0))) with X the Kasten-Young air mass; each city adds a
 // dome calibrated by Walker's law at 45 deg elevation towards it.
 #include "common/camera.glsl"
 
@@ -24,7 +24,7 @@ float airmass(float cos_z) {
 }
 
 float slab(float cos_z) {
-    return (1.0 - exp(-u_tau * airmass(cos_z))) / (1.0 - exp(-u_tau));
+    return (1.0 - exp(-u_tau * airmass(cos_z))) / (1.0 - exp(-u_tau * airmass(1.0)));
 }
 
 void main() {
