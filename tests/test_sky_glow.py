@@ -195,6 +195,14 @@ def test_zenith_report():
     assert report["airglow"] == pytest.approx(22.38, abs=0.01)  # 145 S10
     # Valletta at 23 h in March: the zenith is ~30-40 deg from the ecliptic: 20-22.6.
     assert 21.0 < report["zodiacal_light"] < 23.4
+    # The report is what the layers draw at the zenith (no air, no refraction): 2 %.
+    bare = Sky(PLACE, TIME, layers=[AirglowLayer(), ZodiacalLightLayer()], pressure_hPa=0.0)
+    up = DirectionsCamera(np.array([[0.0, 0.0, 1.0]]))
+    for name in ("airglow", "zodiacal_light"):
+        for layer in bare.layers:
+            layer.enabled = layer.name == name
+        drawn = luminance(bare.render(up, 0, 0, exposure=None))[0]
+        assert drawn == pytest.approx(10.8e4 * 10 ** (-0.4 * report[name]), rel=0.02)
 
 
 # ---------------------------------------------------------------------- frames

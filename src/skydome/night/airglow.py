@@ -97,8 +97,11 @@ def solar_cycle_factor(solar_flux_sfu) -> np.ndarray:
     """Airglow brightness relative to solar minimum for a 10.7 cm solar flux (sfu).
 
     The zenith airglow in S10 (V) is I = 145 + 130 (S - 0.8) / 1.2 with S the 10.7 cm flux in
-    MJy (= 100 sfu), which runs from 0.8 to 2.0 over the 11-year cycle (Walker 1988, PASP 100,
-    496, as summarised by Leinert et al. 1998 sec. 11): ~275 S10 at solar maximum, 0.7 mag
+    MJy (= 100 sfu), which runs from 0.8 to 2.0 over the 11-year cycle: ~275 S10 at solar
+    maximum, 0.7 mag brighter. The relation is the one given with the 145 S10 night-sky budget
+    in the standard summaries (e.g. Wikipedia, "Sky brightness", relative contributions, after
+    Roach & Gordon 1973 and Leinert et al. 1998); its size agrees with Walker 1988 (PASP 100,
+    496: the V sky ~0.5 mag brighter at solar maximum) and Benn & Ellison 1998 (0.4 mag).
     brighter. Returns I(S) / I(0.8 MJy); linear outside 0.8-2.0 MJy within 50-400 sfu.
     """
     s = np.asarray(solar_flux_sfu, dtype=np.float64)

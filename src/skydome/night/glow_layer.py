@@ -36,6 +36,16 @@ def _solar_luminance(basis: SpectralBasis) -> float:
     return float(SRGB_LUMINANCE @ (conversion_matrix(wl, "rgbs") @ np.ones(len(wl)))[:3])
 
 
+def _reddened_luminance_ratio(elongation_deg: float) -> float:
+    """Luminance of the reddened zodiacal spectrum over the solar one at equal 500 nm
+    radiance (1 nm integration with the CIE V(lambda))."""
+    from skydome.spectra.tables import photopic_efficiency, solar_irradiance
+
+    g = np.arange(360.0, 831.0, 1.0)
+    sun = solar_irradiance(g) * photopic_efficiency(g)
+    return float(sun @ zl.reddening(g, elongation_deg) / sun.sum())
+
+
 def _vec4(v) -> tuple[float, float, float, float]:
     return tuple(float(x) for x in np.asarray(v, dtype=np.float64).ravel()[:4])
 
@@ -266,6 +276,7 @@ def zenith_brightness(state: SkyState, layers) -> dict[str, float]:
                 m = zl.helioecliptic_matrix(state.observer, state.time)
                 dlon, beta = zl.helioecliptic_coordinates(np.array([0.0, 0.0, 1.0]), m)
                 lum = layer.scale * float(zl.zodiacal_luminance(dlon, beta))
+                lum *= _reddened_luminance_ratio(float(zl.elongation_deg(dlon, beta)))
         elif isinstance(layer, LightPollutionLayer):
             lum = layer.model.zenith_cd_m2 if state.observer is not None else 0.0
             lum += (
