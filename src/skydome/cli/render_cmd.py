@@ -235,6 +235,23 @@ def register(app: typer.Typer) -> None:
         tonemap: str = typer.Option(
             "filmic", "--tonemap", help="filmic | reinhard | exponential | hvs | linear."
         ),
+        bortle: int = typer.Option(
+            None,
+            "--bortle",
+            help="Light pollution of a Bortle class, 1 (darkest) to 9 (inner city), with a "
+            "place (default: none).",
+        ),
+        night_vision: bool = typer.Option(
+            False,
+            "--night-vision",
+            help="Show the image as a dark-adapted eye sees it: colour fades, blur, noise "
+            "(the image only; EXR/HDR/NPY keep the physical frame).",
+        ),
+        overlay: str = typer.Option(
+            None,
+            "--overlay",
+            help="Draw over the image, comma separated: lines (constellations), labels, grid.",
+        ),
         output: list[str] = typer.Option(
             ["sky.png"],
             "-o",
@@ -319,6 +336,19 @@ def register(app: typer.Typer) -> None:
         check_range("--roll", roll, *ROLL_RANGE_DEG, "deg")
         if yaw is not None:
             check_range("--yaw", yaw, *YAW_RANGE_DEG, "deg")
+        if bortle is not None:
+            if abstract:
+                raise ParameterError("--bortle needs a place and a time (--place or --lat/--lon)")
+            check_int("--bortle", bortle, 1, 9)
+        overlays = ()
+        if overlay is not None:
+            from skydome.display.overlays import parse_overlays
+
+            overlays = parse_overlays(overlay)
+        if model == "single" and (night_vision or overlays):
+            raise ParameterError(
+                "--night-vision and --overlay need the default model (a sky of the scene)"
+            )
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         paths = [check_output_path(p) for p in output]
         if len({str(p.resolve()) for p in paths}) != len(paths):
@@ -358,10 +388,8 @@ def register(app: typer.Typer) -> None:
         else:
             from skydome.atmosphere.layer import AtmosphereLayer
             from skydome.atmosphere.precompute_config import PrecomputeConfig
-            from skydome.celestial.moon import MoonLayer
-            from skydome.celestial.sun import SunLayer
             from skydome.scene import Sky
-            from skydome.scene.sky import default_look
+            from skydome.scene.sky import default_layers, default_look
 
             with precompute_progress(console) as report:
                 air = AtmosphereLayer(
@@ -369,13 +397,23 @@ def register(app: typer.Typer) -> None:
                     config=PrecomputeConfig(wavelengths=spectral, orders=orders),
                     progress=report,
                 )
-                layers = [SunLayer(), MoonLayer(), air] if not abstract else [SunLayer(), air]
+                layers = default_layers(air, night=not abstract, light_pollution=bortle)
+                display = {"night_vision": night_vision, "overlays": overlays}
                 if abstract:
-                    sky = Sky(sun_elevation_deg=el, sun_azimuth_deg=az, layers=layers)
+                    layers = [la for la in layers if la.name != "moon"]
+                    sky = Sky(sun_elevation_deg=el, sun_azimuth_deg=az, layers=layers, **display)
                 else:
-                    sky = Sky(observer, t, layers=layers)
+                    sky = Sky(observer, t, layers=layers, **display)
             for line in describe_state(sky.state):
                 console.print(line)
+            if not abstract and sky.state.sun.elevation_deg < -12.0:
+                from skydome.night.glow_layer import zenith_brightness
+
+                glow = zenith_brightness(sky.state, sky.layers)
+                console.print(
+                    "night glow at the zenith, V mag/arcsec^2 outside the air: "
+                    + ", ".join(f"{name} {m:.2f}" for name, m in glow.items())
+                )
             target = look or (default_look(sky.state) if not abstract else None)
             if target is not None:
                 aim = sky.camera(target)

@@ -329,9 +329,12 @@ class FrameGraph:
                 self._night_vision.release()
                 self._night_vision = None
         if overlays is not None:
-            from skydome.display.overlays import parse_overlays
+            names: tuple[str, ...] = ()
+            if overlays:
+                from skydome.display.overlays import parse_overlays
 
-            names = parse_overlays(overlays if isinstance(overlays, str) else ",".join(overlays))
+                text = overlays if isinstance(overlays, str) else ",".join(overlays)
+                names = parse_overlays(text)
             if names != self.overlays and self._overlays is not None:
                 self._overlays.release()
                 self._overlays = None

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from skydome.errors import ParameterError, check_range
 from skydome.render.cameras import Camera, PerspectiveCamera
 from skydome.render.frame import Frame
@@ -69,6 +71,59 @@ def _exposure_scale(exposure, compensation_ev: float):
     return exposure if exposure is None or exposure == "auto" else ev100_to_scale(exposure)
 
 
+#: The layers of the night sky a Sky with a place has (in this order, before the air).
+NIGHT_LAYERS = ("stars", "planets", "milky_way", "zodiacal_light", "airglow")
+
+
+def light_pollution_layer(light_pollution: Any) -> Layer | None:
+    """The light-pollution layer for ``light_pollution``: None (none), a Bortle class (int
+    1-9), a ``LightPollution`` model or a ``LightPollutionLayer``."""
+    if light_pollution is None:
+        return None
+    from skydome.night.glow_layer import LightPollutionLayer
+    from skydome.night.light_pollution import LightPollution
+
+    if isinstance(light_pollution, LightPollutionLayer):
+        return light_pollution
+    if isinstance(light_pollution, LightPollution):
+        return LightPollutionLayer(light_pollution)
+    if isinstance(light_pollution, (int, np.integer)) and not isinstance(light_pollution, bool):
+        return LightPollutionLayer.from_bortle(int(light_pollution))
+    raise ParameterError(
+        f"light_pollution {light_pollution!r} must be a Bortle class 1-9, a LightPollution "
+        "or a LightPollutionLayer"
+    )
+
+
+def default_layers(
+    atmosphere_layer: Layer, *, night: bool = True, light_pollution: Any = None
+) -> list[Layer]:
+    """A sky's layers: the Sun and the Moon; with ``night``, the stars, the planets, the
+    Milky Way, the zodiacal light and the airglow; the atmosphere; the light pollution."""
+    from skydome.celestial.moon import MoonLayer
+    from skydome.celestial.sun import SunLayer
+
+    layers: list[Layer] = [SunLayer(), MoonLayer()]
+    if night:
+        from skydome.celestial.milky_way import MilkyWayLayer
+        from skydome.celestial.planets import PlanetsLayer
+        from skydome.celestial.stars import StarsLayer
+        from skydome.night.glow_layer import AirglowLayer, ZodiacalLightLayer
+
+        layers += [
+            StarsLayer(),
+            PlanetsLayer(),
+            MilkyWayLayer(),
+            ZodiacalLightLayer(),
+            AirglowLayer(),
+        ]
+    layers.append(atmosphere_layer)
+    glow = light_pollution_layer(light_pollution)
+    if glow is not None:
+        layers.append(glow)
+    return layers
+
+
 def default_look(state: SkyState) -> str:
     """What a camera looks at when nothing else is said: the Sun while it is up or in
     twilight (above -6 deg), else the Moon when it is up, else the zenith."""
@@ -86,8 +141,15 @@ class Sky:
         time: anything ``skydome.astro.to_time`` accepts (ISO 8601; naive is UTC).
         atmosphere: a preset name or ``AtmosphereParams``.
         sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (apparent, degrees).
-        layers: the layers to draw (default: Sun, Moon and the atmosphere); a list of
-            ``Layer`` objects replaces them, ``extra_layers`` adds to them.
+        layers: the layers to draw (default: :func:`default_layers`: with a place, the night
+            sky too); a list of ``Layer`` objects replaces them, ``extra_layers`` adds to
+            them.
+        night: with a place and the default layers, draw the night sky (stars, planets,
+            Milky Way, zodiacal light, airglow); the abstract mode has none.
+        light_pollution: a Bortle class (1-9), a ``skydome.night.LightPollution`` or None.
+        night_vision: show the image as a dark-adapted eye sees it (display only).
+        overlays: names of ``skydome.display.overlays.OVERLAYS`` ("lines", "labels",
+            "grid") or a comma list, drawn over the image (display only).
         config: the atmosphere tables' ``PrecomputeConfig``.
         progress: ``progress(stage, fraction)`` while tables are precomputed.
         ctx: a moderngl context (default: the shared headless one; a window's for a viewer).
@@ -109,6 +171,10 @@ class Sky:
         ctx=None,
         pressure_hPa: float | None = None,
         temperature_C: float | None = None,
+        night: bool = True,
+        light_pollution: Any = None,
+        night_vision: bool = False,
+        overlays: Any = (),
         _graph: FrameGraph | None = None,
         _state: SkyState | None = None,
     ):
@@ -139,18 +205,41 @@ class Sky:
             self.state = SkyState.at_place(self.observer, time)
         if layers is None:
             from skydome.atmosphere.layer import AtmosphereLayer
-            from skydome.celestial.moon import MoonLayer
-            from skydome.celestial.sun import SunLayer
 
-            layers = [
-                SunLayer(),
-                MoonLayer(),
-                AtmosphereLayer(atmosphere, config=config, progress=progress),
-            ]
+            air = AtmosphereLayer(atmosphere, config=config, progress=progress)
+            layers = default_layers(
+                air, night=night and not abstract, light_pollution=light_pollution
+            )
+        elif light_pollution is not None:
+            raise ParameterError(
+                "light_pollution adds to the default layers: with layers=[...] add a "
+                "LightPollutionLayer yourself"
+            )
         layers = [*layers, *extra_layers]
         atmosphere_layer = next((la for la in layers if la.name == "atmosphere"), None)
         solar_scale = atmosphere_layer.params.solar_scale if atmosphere_layer is not None else 1.0
         self.graph = FrameGraph(layers, ctx=ctx, solar_scale=solar_scale)
+        self.graph.set_display(night_vision=night_vision, overlays=overlays)
+
+    # ------------------------------------------------------------------ display
+
+    @property
+    def night_vision(self) -> bool:
+        """Whether images show night vision (``sky.night_vision = True`` turns it on)."""
+        return self.graph.night_vision
+
+    @night_vision.setter
+    def night_vision(self, on: bool) -> None:
+        self.graph.set_display(night_vision=on)
+
+    @property
+    def overlays(self) -> tuple[str, ...]:
+        """The overlays drawn over images (``sky.overlays = "lines,grid"``)."""
+        return self.graph.overlays
+
+    @overlays.setter
+    def overlays(self, names) -> None:
+        self.graph.set_display(overlays=names)
 
     # ------------------------------------------------------------------ the sky at other times
 
