@@ -1,0 +1,120 @@
+"""Twinkling: the intensity scintillation of stars seen by the naked eye, float64 NumPy.
+
+Amplitude
+---------
+Young (1967, AJ 72, 747; the form quoted by Dravins et al. 1997, PASP 109, 173)
+gives the relative standard deviation of a star's intensity through an aperture of
+diameter D (cm) integrated over t (s), at air mass X, for an observer at altitude h (m):
+
+    sigma_I = 0.09 D^(-2/3) X^1.75 exp(-h / 8000 m) (2 t)^(-1/2).
+
+For the naked eye we take a dark-adapted pupil D = 0.7 cm and the eye's integration time
+t = 0.1 s: sigma_I = 0.255 at the zenith at sea level. Young's law is a weak-scintillation
+result for apertures larger than the Fresnel zone (~5 cm); for a small aperture at large
+air masses the scintillation saturates (Dravins et al. 1997 describe this regime: the
+intensity statistics approach those of fully developed speckle, whose relative standard
+deviation is 1). Young's value therefore grows without bound towards the horizon
+(X^1.75: 17x at X = 5) while the real one levels off; we cap it smoothly at
+``SATURATED_SIGMA`` = 1, sigma = s / sqrt(1 + (s / 1)^2), which keeps the amplitude
+increasing with air mass (zenith < horizon) and equal to Young's where it is small
+(within 3 % below s = 0.25).
+
+The air mass is Kasten & Young's (1989, Applied Optics 28, 4735) formula of the apparent
+altitude, finite at the horizon (X = 38).
+
+Time dependence
+---------------
+Each star's log-intensity is a smooth, seeded random function of time: a sum of K
+sinusoids with random frequencies in [0.5, 4] Hz (several changes a second, like the eye
+sees) and random phases, of unit variance, so nearly Gaussian (central limit). The factor
+is exp(s g(t)) / E[exp(s g)], with s^2 = ln(1 + sigma_I^2) (the lognormal whose relative
+standard deviation is sigma_I) and E[exp(s g)] = prod_k I0(s a_k), the exact time mean of
+the exponential of a sum of incommensurate sinusoids of amplitudes a_k: the mean factor
+over time is 1, so twinkling conserves each star's light on average. The same seed and
+time give the same factors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from skydome.errors import ParameterError
+
+#: Dark-adapted pupil diameter, cm.
+EYE_APERTURE_CM = 0.7
+#: The eye's integration time, s.
+EYE_INTEGRATION_S = 0.1
+#: Relative standard deviation of fully saturated scintillation (exponential statistics).
+SATURATED_SIGMA = 1.0
+#: Sinusoids per star.
+TERMS = 12
+#: Frequencies of the sinusoids, Hz.
+FREQUENCY_RANGE_HZ = (0.5, 4.0)
+
+
+def airmass_kasten_young(apparent_altitude_rad) -> np.ndarray:
+    """Relative air mass X at an apparent altitude (rad), Kasten & Young (1989):
+    X = 1 / (sin h + 0.50572 (h_deg + 6.07995)^-1.6364); the horizon's value below it, and
+    at least 1 (the fit gives 0.9997 at the zenith)."""
+    h = np.degrees(np.maximum(np.asarray(apparent_altitude_rad, dtype=np.float64), 0.0))
+    x = 1.0 / (np.sin(np.radians(h)) + 0.50572 * (h + 6.07995) ** -1.6364)
+    return np.maximum(x, 1.0)
+
+
+def young_sigma(
+    airmass,
+    *,
+    aperture_cm: float = EYE_APERTURE_CM,
+    exposure_s: float = EYE_INTEGRATION_S,
+    altitude_m: float = 0.0,
+) -> np.ndarray:
+    """Young's (1967) relative standard deviation of a star's intensity (uncapped)."""
+    x = np.asarray(airmass, dtype=np.float64)
+    if np.any(~(x >= 1.0)):
+        raise ParameterError(f"air mass must be >= 1, got {np.min(x)!r}")
+    if not aperture_cm > 0 or not exposure_s > 0:
+        raise ParameterError(
+            f"aperture ({aperture_cm!r} cm) and exposure ({exposure_s!r} s) must be positive"
+        )
+    return (
+        0.09
+        * aperture_cm ** (-2.0 / 3.0)
+        * x**1.75
+        * np.exp(-float(altitude_m) / 8000.0)
+        * (2.0 * exposure_s) ** -0.5
+    )
+
+
+def scintillation_sigma(apparent_altitude_rad, altitude_m: float = 0.0) -> np.ndarray:
+    """Naked-eye relative standard deviation of intensity at apparent altitudes (rad):
+    Young's law for the eye, capped smoothly at SATURATED_SIGMA."""
+    s = young_sigma(airmass_kasten_young(apparent_altitude_rad), altitude_m=altitude_m)
+    return s / np.sqrt(1.0 + (s / SATURATED_SIGMA) ** 2)
+
+
+class Scintillation:
+    """Seeded twinkling factors for ``n`` stars (see the module docstring)."""
+
+    def __init__(self, n: int, seed: int = 0):
+        if int(n) < 0:
+            raise ParameterError(f"number of stars must be >= 0, got {n!r}")
+        rng = np.random.default_rng(int(seed))
+        self.n = int(n)
+        lo, hi = FREQUENCY_RANGE_HZ
+        self.frequency_hz = rng.uniform(lo, hi, (self.n, TERMS))
+        self.phase = rng.uniform(0.0, 2.0 * np.pi, (self.n, TERMS))
+        self.amplitude = np.sqrt(2.0 / TERMS)  # unit variance of the sum
+
+    def gaussian(self, t_s: float, index=slice(None)) -> np.ndarray:
+        """The unit-variance process g(t) of the stars ``index`` at time ``t_s`` (s)."""
+        arg = 2.0 * np.pi * self.frequency_hz[index] * float(t_s) + self.phase[index]
+        return self.amplitude * np.cos(arg).sum(axis=-1)
+
+    def factors(self, t_s: float, sigma, index=slice(None)) -> np.ndarray:
+        """Intensity factors (time mean exactly 1) of the stars ``index`` at time ``t_s``
+        (s, any origin) for relative standard deviations ``sigma`` (one per star)."""
+        s2 = np.log1p(np.asarray(sigma, dtype=np.float64) ** 2)
+        s = np.sqrt(s2)
+        g = self.gaussian(t_s, index)
+        log_mean = TERMS * np.log(np.i0(s * self.amplitude))
+        return np.exp(s * g - log_mean)

@@ -1,0 +1,229 @@
+"""The stars layer: the packaged Hipparcos catalogue as point sources beyond the atmosphere.
+
+Positions: the geocentric apparent places of date (``skydome.astro.stars``: space motion,
+annual parallax, light deflection, annual aberration, precession and nutation), recomputed
+when the time moves by more than ``APPARENT_PLACE_REFRESH_DAYS`` of TT (in an hour the
+places move by < 0.02": aberration's change with the Earth's velocity, 20.5" x 2 pi / 8766 h,
+and precession, 50"/yr); every update rotates them to East-North-Up with the local apparent
+sidereal time (one 3x3 matrix), adds the diurnal aberration (<= 0.32") and refracts them
+with the scene's weather (``refraction_saemundsson``, the observer's pressure and
+temperature, as ``Observer.sky`` does for the Sun and the Moon). Stars more than 1 deg below
+the camera's horizon (the dip at its altitude) are dropped: the atmosphere's ground hides
+them anyway.
+
+Light: each star's illuminance outside the atmosphere, E = 10^(-0.4 (V + 14.18)) lx
+(``skydome.astro.stars.star_illuminance_lux``), in the colour of a black body at the
+catalogue's effective temperature through the frame's spectral basis (``basis.colour`` of
+the Planck spectrum relative to the solar one, the sky's spectral pipeline), drawn by
+:class:`~skydome.celestial.point_sources.PointSources` (flux-conserving PSF) and hidden
+behind the Moon's disk. The atmosphere layer applies each pixel's transmittance; this layer
+applies no extinction. Light of stars fainter than the catalogue (Hp > 8) is the Milky Way
+layer's, not this one's.
+
+Twinkling (``twinkle=True``): :mod:`skydome.celestial.scintillation`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from skydome.astro import frames
+from skydome.astro import stars as catalogue
+from skydome.celestial.point_sources import PointSources
+from skydome.celestial.scintillation import Scintillation, scintillation_sigma
+from skydome.errors import ParameterError
+from skydome.scene.layer import DrawContext, Layer, SpectralBasis
+from skydome.scene.state import EARTH_RADIUS_KM, SkyState
+
+#: Recompute the apparent places of date when the time has moved by more than this (TT).
+APPARENT_PLACE_REFRESH_DAYS = 1.0 / 24.0
+#: Stars this far below the camera's geometric horizon are still drawn (deg).
+BELOW_HORIZON_MARGIN_DEG = 1.0
+# Planck's radiation constants: c2 = h c / k = 1.438776877e-2 m K (CODATA 2018).
+_C2_NM_K = 1.438776877e7
+_J2000 = 2451545.0
+
+
+def planck_relative(wavelengths_nm, temperature_k) -> np.ndarray:
+    """Black-body spectral radiance up to a constant, lambda^-5 / (exp(c2 / lambda T) - 1),
+    shape (len(wavelengths), len(temperatures)); c2 from CODATA 2018."""
+    wl = np.asarray(wavelengths_nm, dtype=np.float64)[:, None]
+    t = np.asarray(temperature_k, dtype=np.float64)[None, :]
+    return wl**-5.0 / np.expm1(_C2_NM_K / (wl * t))
+
+
+def black_body_colours(basis: SpectralBasis, temperature_k) -> np.ndarray:
+    """(N, 4) output channels per unit luminance of black bodies at ``temperature_k``:
+    ``basis.colour(planck / solar_irradiance)`` for every temperature at once (the same
+    arithmetic as SpectralBasis.colour, vectorized)."""
+    from skydome.atmosphere.precompute import conversion_matrix
+    from skydome.spectra import SRGB_LUMINANCE
+    from skydome.spectra.tables import solar_irradiance
+
+    wl = basis.wavelengths_nm
+    f = planck_relative(wl, temperature_k) / solar_irradiance(wl)[:, None]  # (W, N)
+    f /= f.max(axis=0, keepdims=True)  # any scale: the colour is per unit luminance
+    y = SRGB_LUMINANCE @ (conversion_matrix(wl, "rgbs") @ f)[:3]
+    return (basis.to_output @ f / y).T
+
+
+def horizon_dip_rad(altitude_m: float) -> float:
+    """Geometric dip of the horizon (rad) for an eye ``altitude_m`` above a spherical Earth."""
+    h = max(float(altitude_m), 0.0) * 1e-3
+    return math.acos(EARTH_RADIUS_KM / (EARTH_RADIUS_KM + h))
+
+
+class StarsLayer(Layer):
+    """The catalogue's stars (37,622 with Hp <= 8; see the module docstring).
+
+    Args:
+        mag_limit: draw the stars with V <= mag_limit (None: the whole catalogue).
+        psf_sigma_px: the point-spread function's sigma in frame pixels.
+        seeing_fwhm_arcsec: a seeing disk added in quadrature (FWHM, arcsec).
+        twinkle: scintillation growing with air mass (naked eye).
+        seed: the twinkling's random seed.
+    """
+
+    name = "stars"
+    stage = "space"
+
+    def __init__(
+        self,
+        *,
+        mag_limit: float | None = None,
+        psf_sigma_px: float = 0.8,
+        seeing_fwhm_arcsec: float = 0.0,
+        twinkle: bool = False,
+        seed: int = 0,
+        enabled: bool = True,
+    ):
+        super().__init__(enabled=enabled)
+        cat = catalogue.catalog()
+        if mag_limit is None:
+            self._index = np.arange(cat.n)
+        else:
+            if not -2.0 <= float(mag_limit) <= 30.0:
+                raise ParameterError(f"mag_limit = {mag_limit!r} must lie in [-2, 30] (V mag)")
+            self._index = np.flatnonzero(cat.vmag <= float(mag_limit))
+        self.mag_limit = None if mag_limit is None else float(mag_limit)
+        if not 0.05 <= float(psf_sigma_px) <= 32.0:
+            raise ParameterError(f"psf_sigma_px = {psf_sigma_px!r} must lie in [0.05, 32] pixels")
+        if not 0.0 <= float(seeing_fwhm_arcsec) <= 3600.0:
+            raise ParameterError(
+                f"seeing_fwhm_arcsec = {seeing_fwhm_arcsec!r} must lie in [0, 3600] arcsec"
+            )
+        self.psf_sigma_px = float(psf_sigma_px)
+        self.seeing_fwhm_arcsec = float(seeing_fwhm_arcsec)
+        self.twinkle = bool(twinkle)
+        self.seed = int(seed)
+        self.vmag = np.asarray(cat.vmag[self._index], dtype=np.float64)
+        self.teff_k = np.asarray(cat.teff_k[self._index], dtype=np.float64)
+        self.hip = np.asarray(cat.hip[self._index])
+        self.lux = catalogue.star_illuminance_lux(self.vmag)
+        self._scint = Scintillation(len(self._index), self.seed) if self.twinkle else None
+        self._places_jd: float | None = None
+        self._places: np.ndarray | None = None  # (N, 3) apparent, true equator of date
+        self._points: PointSources | None = None
+        self._colours: tuple | None = None  # (basis, (N, 4))
+        self._drawn: tuple | None = None  # (key, directions, channels)
+        self._serial = 0
+        self._state_key = None
+        self.directions: np.ndarray | None = None  # (N, 3) apparent ENU of the last update
+        self.altitude_rad: np.ndarray | None = None  # apparent altitudes
+        self.factors: np.ndarray | None = None  # twinkling intensity factors
+        self._moon = None
+        self._n_drawn = 0
+
+    # ------------------------------------------------------------------ update
+
+    def apparent_enu(self, state: SkyState) -> tuple[np.ndarray, np.ndarray]:
+        """Apparent (refracted) unit ENU directions and apparent altitudes (rad) of the
+        layer's stars for a state with an observer and a time (see the module docstring)."""
+        from skydome.astro.time import gast
+
+        obs, t = state.observer, state.time
+        jd_tt = float(t.jd_tt)
+        if self._places_jd is None or abs(jd_tt - self._places_jd) > APPARENT_PLACE_REFRESH_DAYS:
+            self._places = catalogue.apparent_unit_vectors(jd_tt, self._index)
+            self._places_jd = jd_tt
+        lat = math.radians(float(obs.latitude))
+        lon = math.radians(float(obs.longitude))
+        lst = float(gast(float(t.jd_ut1), jd_tt)) + lon
+        enu = self._places @ frames.equatorial_to_enu_matrix(lst, lat).T
+        # Diurnal aberration: the observer moves east at omega x (distance from the axis).
+        r = frames.geodetic_to_geocentric_km(lat, lon, float(obs.elevation_m))
+        speed = float(np.hypot(r[0], r[1])) / frames.AU_KM * frames.EARTH_OMEGA * 86400.0
+        enu = frames.aberrate(enu, np.array([speed, 0.0, 0.0]))
+        alt0, az = frames.enu_to_horizontal(enu)
+        refr = frames.refraction_saemundsson(
+            np.degrees(alt0), state.pressure_hPa, state.temperature_C
+        )  # arcmin
+        alt = alt0 + np.radians(refr / 60.0)
+        return frames.horizontal_to_enu(alt, az), alt
+
+    def update(self, state: SkyState) -> None:
+        key = id(state)
+        if key == self._state_key:
+            return
+        self._state_key = key
+        self._serial += 1
+        self._drawn = None
+        if state.observer is None or state.time is None:  # the abstract mode: no night sky
+            self.directions = self.altitude_rad = self.factors = None
+            self._moon = None
+            return
+        self.directions, self.altitude_rad = self.apparent_enu(state)
+        if self._scint is not None:
+            sigma = scintillation_sigma(self.altitude_rad, float(state.observer.elevation_m))
+            t_s = (float(state.time.jd_utc) - _J2000) * 86400.0
+            self.factors = self._scint.factors(t_s, sigma)
+        else:
+            self.factors = None
+        moon = state.moon
+        self._moon = None if moon is None else (moon.direction, moon.angular_radius_rad)
+
+    # ------------------------------------------------------------------ draw
+
+    def colours(self, basis: SpectralBasis) -> np.ndarray:
+        """(N, 4) channels per unit luminance of the layer's stars in ``basis`` (cached)."""
+        if self._colours is None or self._colours[0] is not basis:
+            self._colours = (basis, black_body_colours(basis, self.teff_k))
+        return self._colours[1]
+
+    def draw(self, frame: DrawContext) -> None:
+        if self.directions is None:
+            return
+        lowest = -(horizon_dip_rad(frame.altitude_m) + math.radians(BELOW_HORIZON_MARGIN_DEG))
+        key = (self._serial, id(frame.basis), lowest)
+        if self._drawn is None or self._drawn[0] != key:
+            keep = self.altitude_rad > lowest
+            lux = self.lux if self.factors is None else self.lux * self.factors
+            channels = self.colours(frame.basis)[keep] * lux[keep, None]
+            self._drawn = (key, self.directions[keep], channels)
+        _, directions, channels = self._drawn
+        self._n_drawn = len(directions)
+        if self._points is None:
+            self._points = PointSources(frame.ctx)
+        self._points.draw(
+            frame,
+            directions,
+            channels,
+            psf_sigma_px=self.psf_sigma_px,
+            seeing_fwhm_arcsec=self.seeing_fwhm_arcsec,
+            occluder=None if self._moon is None else [self._moon],
+        )
+
+    def info(self) -> dict:
+        faintest = float(self.vmag.max()) if self.vmag.size else float("nan")
+        return {
+            "stars_drawn": int(self._n_drawn if self.directions is not None else 0),
+            "stars_mag_limit": faintest if self.mag_limit is None else self.mag_limit,
+        }
+
+    def release(self) -> None:
+        super().release()
+        if self._points is not None:
+            self._points.release()
+            self._points = None
