@@ -92,6 +92,18 @@ def scintillation_sigma(apparent_altitude_rad, altitude_m: float = 0.0) -> np.nd
     return s / np.sqrt(1.0 + (s / SATURATED_SIGMA) ** 2)
 
 
+def bessel_i0(x) -> np.ndarray:
+    """Modified Bessel function I0 for |x| <= 3.75: Abramowitz & Stegun (1964) 9.8.1,
+    relative error < 1.6e-7 (np.i0 is ~50x slower; here |x| <= 0.34)."""
+    t2 = (np.asarray(x, dtype=np.float64) / 3.75) ** 2
+    if np.any(t2 > 1.0):
+        raise ParameterError("bessel_i0 is for |x| <= 3.75")
+    return 1.0 + t2 * (
+        3.5156229
+        + t2 * (3.0899424 + t2 * (1.2067492 + t2 * (0.2659732 + t2 * (0.0360768 + t2 * 0.0045813))))
+    )
+
+
 class Scintillation:
     """Seeded twinkling factors for ``n`` stars (see the module docstring)."""
 
@@ -107,7 +119,9 @@ class Scintillation:
 
     def gaussian(self, t_s: float, index=slice(None)) -> np.ndarray:
         """The unit-variance process g(t) of the stars ``index`` at time ``t_s`` (s)."""
-        arg = 2.0 * np.pi * self.frequency_hz[index] * float(t_s) + self.phase[index]
+        # Whole cycles dropped first: cos of 1e10 rad costs ~10x (argument reduction).
+        cycles = np.mod(self.frequency_hz[index] * float(t_s), 1.0)
+        arg = 2.0 * np.pi * cycles + self.phase[index]
         return self.amplitude * np.cos(arg).sum(axis=-1)
 
     def factors(self, t_s: float, sigma, index=slice(None)) -> np.ndarray:
@@ -116,5 +130,5 @@ class Scintillation:
         s2 = np.log1p(np.asarray(sigma, dtype=np.float64) ** 2)
         s = np.sqrt(s2)
         g = self.gaussian(t_s, index)
-        log_mean = TERMS * np.log(np.i0(s * self.amplitude))
+        log_mean = TERMS * np.log(bessel_i0(s * self.amplitude))
         return np.exp(s * g - log_mean)
