@@ -92,6 +92,9 @@ HORIZON_OPACITY = 0.95
 OUTLINE_OPACITY = 0.8
 #: Gap (px) between an object and its label's box.
 LABEL_GAP_PX = 4.0
+#: Where a label would overlap one placed before it, it may move up or down by these many
+#: times its height (in this order), else it is left out.
+LABEL_SHIFTS = (0.0, 1.2, -1.2, 2.4, -2.4)
 
 _DATA_FILE = "constellations.json"
 _FORMAT_VERSION = 1
@@ -309,8 +312,8 @@ def _cube_face(d: np.ndarray) -> np.ndarray:
 
 def split_at_cube_edges(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Pieces (a, b) (N, 3) cut where they cross from one cube face to another (the
-    cubemap camera's faces): each crossing found by bisection along the great circle to
-    1e-9 rad, the two parts ending 1e-7 of the piece's parameter either side of it."""
+    cubemap camera's faces): each crossing found by bisection along the great circle
+    (2^-40 of the piece), the two parts ending 2e-6 rad either side of it."""
     for _ in range(3):  # a short piece crosses at most two edges (near a corner)
         fa, fb = _cube_face(a), _cube_face(b)
         cross = np.flatnonzero(fa != fb)
@@ -329,7 +332,10 @@ def split_at_cube_edges(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.nd
             same = _cube_face(point(mid)) == fa[cross]
             lo = np.where(same, mid, lo)
             hi = np.where(same, hi, mid)
-        p_lo, p_hi = point(np.maximum(lo - 1e-7, 0.0)), point(np.minimum(hi + 1e-7, 1.0))
+        # Ends 2e-6 rad either side of the edge: clear of it in float32 (6e-8 rad steps).
+        ang = np.arccos(np.clip(np.sum(aa * bb, axis=-1), -1.0, 1.0))
+        margin = np.minimum(2e-6 / np.maximum(ang, 1e-9), 0.01)
+        p_lo, p_hi = point(np.maximum(lo - margin, 0.0)), point(np.minimum(hi + margin, 1.0))
         keep = np.ones(len(a), bool)
         keep[cross] = False
         a = np.concatenate([a[keep], aa, p_hi])
@@ -805,6 +811,16 @@ class Overlays:
                 )
                 comp_vao.render(moderngl.TRIANGLES, vertices=3)
 
+    @staticmethod
+    def _above_horizon(camera, box, w: int, h: int) -> bool:
+        """True where the corners of a label's box (frame px) all see the sky above the
+        horizon (render.projection.pixel_directions): a label never hangs below it."""
+        from skydome.render.projection import pixel_directions
+
+        x0, y0, x1, y1 = box
+        d, ok = pixel_directions(camera, [x0, x1, x0, x1], [y0, y0, y1, y1], w, h)
+        return bool(np.all(ok) and np.all(d[:, 2] >= 0.0))
+
     def _placed_labels(self, camera, w: int, h: int) -> list:
         """The labels to draw: those the camera sees, in order of priority (the horizon's
         marks, the planets and the Moon, the stars, the constellations by rank), each left
@@ -835,11 +851,12 @@ class Overlays:
                 shifts = [0.0]
             else:
                 box = np.floor(p + np.asarray(lab.offset) - np.asarray(lab.align) * size + 0.5)
-                # A constellation's name may move up or down by a line or two to make room.
-                shifts = [0.0] if lab.kind != "lines" else [0.0, 1.2, -1.2, 2.4, -2.4]
+                shifts = LABEL_SHIFTS
             for shift in shifts:
                 dy = math.floor(shift * bh + 0.5)
                 b = (box[0] - 1, box[1] + dy - 1, box[0] + bw + 1, box[1] + dy + bh + 1)
+                if lab.mode == 0 and not self._above_horizon(camera, b, w, h):
+                    continue
                 if not any(
                     b[0] < q[2] and q[0] < b[2] and b[1] < q[3] and q[1] < b[3] for q in boxes
                 ):
