@@ -353,3 +353,13 @@ def test_atlas_outline_is_wider_than_the_glyphs():
     tile = atlas.image[rows - y - bh : rows - y, x : x + bw]
     fill, ring = tile[..., 0].astype(int), tile[..., 1].astype(int)
     assert np.all(ring >= fill) and (ring > 0).sum() > 1.5 * (fill > 0).sum()
+
+
+def test_letters_the_font_lacks_become_their_base_letters():
+    """Pillow's Aileron has no o-diaeresis: Bootes is written without it, not with a box."""
+    font, _ = ov._font(14)
+    assert ov._displayable("Boötes", font) in ("Boötes", "Bootes")
+    missing = np.asarray(font.getmask("\uffff"))
+    shown = ov._displayable("Boötes", font)
+    assert all(not np.array_equal(np.asarray(font.getmask(c)), missing) for c in shown)
+    assert ov._displayable("Sirius", font) == "Sirius"

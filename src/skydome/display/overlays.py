@@ -355,6 +355,23 @@ def _font(font_px: int):
         return ImageFont.load_default(), False
 
 
+def _displayable(text: str, font) -> str:
+    """``text`` with each character the font lacks (drawn as its "missing glyph" box)
+    replaced by its base letter (Unicode NFKD without the accents): Pillow's built-in
+    Aileron has a limited character set, e.g. no "o" with diaeresis for Bootes."""
+    import unicodedata
+
+    missing = np.asarray(font.getmask("\uffff"))
+    out = []
+    for ch in text:
+        if ch.isascii() or not np.array_equal(np.asarray(font.getmask(ch)), missing):
+            out.append(ch)
+        else:
+            base = unicodedata.normalize("NFKD", ch)
+            out.append("".join(c for c in base if not unicodedata.combining(c)) or "?")
+    return "".join(out)
+
+
 @dataclass
 class _Atlas:
     """Label bitmaps packed in one image: R = glyph coverage, G = glyphs + outline."""
@@ -371,7 +388,8 @@ def build_atlas(texts: Iterable[str], font_px: int, width: int = 1024) -> _Atlas
     font, freetype = _font(font_px)
     stroke = max(1, round(font_px / 7))
     bitmaps = {}
-    for text in dict.fromkeys(texts):
+    for key in dict.fromkeys(texts):
+        text = _displayable(key, font)
         if freetype:
             l, t, r, b = font.getbbox(text, stroke_width=stroke)
         else:
@@ -387,7 +405,7 @@ def build_atlas(texts: Iterable[str], font_px: int, width: int = 1024) -> _Atlas
             )
         else:
             ring = fill.filter(ImageFilter.MaxFilter(2 * stroke + 1))
-        bitmaps[text] = np.stack([np.asarray(fill), np.maximum(np.asarray(ring), fill)], -1)
+        bitmaps[key] = np.stack([np.asarray(fill), np.maximum(np.asarray(ring), fill)], -1)
     pad = 1
     width = max([width] + [bm.shape[1] + 2 * pad for bm in bitmaps.values()])
     x = y = row_h = 0
