@@ -40,7 +40,7 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=9)
     ap.add_argument("--no-timelapse", action="store_true")
     args = ap.parse_args()
-    sky = Sky(PLACE, TIME)
+    sky = Sky(PLACE, TIME, night=False)  # the Sun and the Moon (bench_night.py: the night)
     ctx = sky.graph.ctx
     print(f"# device: {gl_info(ctx).describe()}")
     # Both disks in view: look between them.

@@ -1,6 +1,6 @@
 """Render the README gallery into docs/gallery/ (small PNGs, auto exposure, filmic).
 
-Usage: python tools/make_gallery.py [--model single] [--size 480x270] [--scene]
+Usage: python tools/make_gallery.py [--model single] [--size 480x270] [--scene] [--night]
 """
 
 from __future__ import annotations
@@ -49,11 +49,15 @@ def main() -> None:
     ap.add_argument("--size", default="480x270")
     ap.add_argument("--only", default="", help="comma-separated view names")
     ap.add_argument("--scene", action="store_true", help="only the place-and-time views")
+    ap.add_argument("--night", action="store_true", help="only the night-sky views")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     OUT.mkdir(parents=True, exist_ok=True)
-    if args.scene:
-        scene_views(w, h)
+    if args.scene or args.night:
+        if args.scene:
+            scene_views(w, h)
+        if args.night:
+            night_views(w, h)
         return
     names = [n for n in VIEWS if not args.only or n in args.only.split(",")]
     for name in names:
@@ -82,6 +86,7 @@ def main() -> None:
             light_shafts(w, h)
             real_earth(w, h)
             scene_views(w, h)
+            night_views(w, h)
 
 
 def side_by_side(w: int, h: int) -> None:
@@ -260,6 +265,60 @@ def scene_views(w: int, h: int) -> None:
         tiles.append(frame.image)
     save("scene-day-strip", np.concatenate([np.concatenate(tiles[:4], axis=1), np.concatenate(tiles[4:], axis=1)]),
          "Valletta 2018-03-01, looking south, 01:30 to 22:30 UTC every 3 h")  # fmt: skip
+
+
+def night_views(w: int, h: int) -> None:
+    """The night sky (issue 11): a moonless night at a dark site with the Milky Way, the same
+    sky under Bortle 8 at the same exposure, night vision off and on, twilight with Venus,
+    the stars turning over four hours, and the overlays."""
+    import numpy as np
+
+    from skydome.scene import Sky
+
+    def save(name: str, image, note: str) -> None:
+        path = OUT / f"{name}.png"
+        atomic_write(path, lambda tmp: write_png(tmp, image, {"views": note}))
+        print(f"{path.relative_to(OUT.parents[1])}")
+
+    def shot(sky, cam, width, height, ev=None):
+        # Auto exposure sets the log-average to mid-grey, as a photograph of the night would;
+        # 1.5 EV less keeps a night looking like one.
+        exposure = "auto" if ev is None else ev
+        kw = {"compensation_ev": -1.5} if ev is None else {}
+        return sky.render(cam, width, height, exposure=exposure, tonemap="filmic", **kw).image
+
+    # Paranal, 2024-07-05 04:00 UTC: a moonless midnight, the galactic centre 80 deg up.
+    paranal = ("Paranal", "2024-07-05T04:00Z")
+    dark = Sky(*paranal)
+    fish = FisheyeCamera()
+    south = PerspectiveCamera(fov_deg=100, yaw_deg=200, pitch_deg=35)
+    save("night-milky-way", np.concatenate([shot(dark, fish, h, h), shot(dark, south, w, h)], axis=1),
+         "Paranal 2024-07-05 04:00 UTC, moonless: all-sky fisheye and looking south-southwest (auto exposure)")  # fmt: skip
+    city = Sky(*paranal, light_pollution=8)
+    save("night-bortle8", np.concatenate([shot(dark, south, w, h), shot(city, south, w, h)], axis=1),
+         "the same sky at a dark site and under Bortle 8 (18.2 mag/arcsec^2), each at its own auto exposure")  # fmt: skip
+    dark.night_vision = True
+    seen = shot(dark, south, w, h)
+    dark.night_vision = False
+    save("night-vision", np.concatenate([shot(dark, south, w, h), seen], axis=1),
+         "night vision off and on (mesopic colour loss, blue shift, acuity blur, noise)")  # fmt: skip
+    # Valletta, 2020-04-28 18:45 UTC: Venus at magnitude -4.7, 26 deg up in the dusk.
+    dusk = Sky("Valletta", "2020-04-28T18:45Z")
+    save("night-twilight-venus", shot(dusk, PerspectiveCamera(fov_deg=80, yaw_deg=285, pitch_deg=15), w, h),
+         "Valletta 2020-04-28 18:45 UTC: Venus in the evening twilight")  # fmt: skip
+    # Valletta, 2018-01-16 (new Moon): looking north every 80 minutes, the sky turns about
+    # Polaris (36 deg up) by 20 deg each step.
+    north = PerspectiveCamera(fov_deg=100, yaw_deg=0, pitch_deg=36)
+    winter = Sky("Valletta", "2018-01-16T19:00Z")
+    steps = [winter.at(f"2018-01-16T{19 + k * 4 // 3:02d}:{(k * 20) % 60:02d}Z") for k in range(4)]
+    ev = steps[0].render(north, w // 2, h // 2, exposure="auto", compensation_ev=-1.5)
+    ev = ev.info["exposure_ev100"]
+    tiles = [shot(sky, north, w // 2, h // 2, ev=ev) for sky in steps]
+    save("night-stars-turning", np.concatenate(tiles, axis=1),
+         f"Valletta 2018-01-16, looking north at 19:00, 20:20, 21:40 and 23:00 UTC (EV100 {ev:.1f})")  # fmt: skip
+    orion = Sky("Valletta", "2018-01-16T20:00Z", overlays="lines,labels,grid")
+    save("night-overlays", shot(orion, PerspectiveCamera(fov_deg=90, yaw_deg=170, pitch_deg=40), w, h),
+         "Valletta 2018-01-16 20:00 UTC looking south: constellation lines, labels and the alt/az grid")  # fmt: skip
 
 
 if __name__ == "__main__":

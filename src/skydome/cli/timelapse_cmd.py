@@ -163,8 +163,7 @@ def register(app: typer.Typer) -> None:
 
         console = Console(soft_wrap=True)
         from skydome.atmosphere.layer import AtmosphereLayer
-        from skydome.celestial.moon import MoonLayer
-        from skydome.celestial.sun import SunLayer
+        from skydome.scene.sky import default_layers
 
         with precompute_progress(console) as report:
             # Small frames: sky-view tables of a quarter of the texels, re-aimed every frame
@@ -174,7 +173,8 @@ def register(app: typer.Typer) -> None:
                 sky_view_size=(128, 128) if max(width, height) <= 1280 else None,
                 progress=report,
             )
-            sky = Sky(observer, t0, layers=[SunLayer(), MoonLayer(), air])
+            # The night sky too: the stars turn, the Milky Way rises.
+            sky = Sky(observer, t0, layers=default_layers(air))
         graph = sky.graph
         view = look or ("south" if float(observer.latitude) >= 0 else "north")
 
