@@ -37,8 +37,9 @@ def abstract_sky():
 
 @pytest.fixture(scope="module")
 def valletta():
-    # 2018-03-01 19:00 UTC: a full Moon 28 deg up in the east, the Sun 26 deg down.
-    return Sky(VALLETTA, "2018-03-01T19:00Z")
+    # 2018-03-01 19:00 UTC: a full Moon 28 deg up in the east, the Sun 26 deg down. The Sun,
+    # the Moon and the air only: the stars and the night glow are tests/test_night_sky.py's.
+    return Sky(VALLETTA, "2018-03-01T19:00Z", night=False)
 
 
 def test_sky_is_the_precomputed_renderer_where_nothing_lies_behind(abstract_sky):
@@ -113,16 +114,20 @@ def test_draw_into_a_framebuffer_equals_render(ctx, abstract_sky):
         tex.release()
 
 
-def test_at_reuses_the_tables_and_equals_a_fresh_sky(valletta):
-    renderer = valletta.layer("atmosphere").renderer
-    later = valletta.at("2018-03-01T23:00Z")
+@pytest.mark.parametrize("night", [False, True])
+def test_at_reuses_the_tables_and_equals_a_fresh_sky(valletta, night):
+    # With the night layers too: what they cache by date (the stars' apparent places) must
+    # follow the new time.
+    base = valletta if not night else Sky(VALLETTA, "2018-03-01T19:00Z")
+    renderer = base.layer("atmosphere").renderer
+    later = base.at("2018-03-01T23:00Z")
     assert later.layer("atmosphere").renderer is renderer  # no new tables
-    fresh = Sky(VALLETTA, "2018-03-01T23:00Z")
+    fresh = Sky(VALLETTA, "2018-03-01T23:00Z", night=night)
     cam = later.camera("moon", fov_deg=60)
     a = later.render(cam, 96, 64, exposure=None).data
     b = fresh.render(cam, 96, 64, exposure=None).data
     np.testing.assert_allclose(a, b, rtol=1e-6, atol=1e-9)
-    assert later.state.moon.elevation_deg != valletta.state.moon.elevation_deg
+    assert later.state.moon.elevation_deg != base.state.moon.elevation_deg
 
 
 def test_moonlit_sky_is_blue_and_scaled_by_the_irradiance_ratio(valletta):
