@@ -42,6 +42,7 @@ class AtmosphereLayer(Layer):
 
     name = "atmosphere"
     stage = "volume"
+    merges_smooth = True  # its composite reads the reduced smooth light (common/behind.glsl)
 
     def __init__(
         self,
@@ -167,6 +168,10 @@ class AtmosphereLayer(Layer):
             behind.update(self._view_transmittance_uniforms(radius_km))
             textures["u_view_transmittance"] = self._view_transmittance(radius_km, plan)
         extra = (*plan.extra, "COMPOSITE_BEHIND")
+        if frame.behind_smooth is not None:  # the smooth space layers' light, reduced
+            extra = (*extra, "BEHIND_SMOOTH")
+            textures["u_behind_smooth"] = frame.behind_smooth
+            behind["u_smooth_map"] = frame.smooth_map
         fpass = r._pass(frame.camera, extra, plan.shader)
         # Above the atmosphere the ground is shaded in a second pass (see render/base.py);
         # from inside it, the sky-view tables hold the ground and the disk is the Sun layer's.

@@ -2,8 +2,11 @@
 
 For each tile of a frame (one tile up to TILE_SIZE on a side):
 
-1. **space**: the layers of light from beyond the atmosphere (Sun, Moon, later stars) add
-   their radiance, unattenuated, into target A;
+1. **space**: the layers of light from beyond the atmosphere (Sun, Moon, stars, planets)
+   add their radiance, unattenuated, into target A; the smooth ones (airglow, zodiacal
+   light, the Milky Way: ``Layer.smooth_deg``) into a target of 1/f the resolution when
+   the camera's pixels are f times finer than their detail (f <= MAX_SMOOTH_FACTOR), read
+   bilinearly by the first volume layer (or added by the graph);
 2. **volume**: each volume layer (the atmosphere, later clouds) reads the light behind it
    and writes ``behind * transmittance + in-scattered`` into the other target (ping-pong);
 3. **post** (whole frames): the GPU exposure pass, then the display passes: night vision
@@ -18,6 +21,7 @@ For each tile of a frame (one tile up to TILE_SIZE on a side):
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -25,9 +29,32 @@ import numpy as np
 from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
 from skydome.errors import ParameterError
 from skydome.render.base import TILE_SIZE, frame_tiles, input_texture
-from skydome.render.cameras import Camera, DirectionsCamera
+from skydome.render.cameras import (
+    Camera,
+    DirectionsCamera,
+    EquirectCamera,
+    FisheyeCamera,
+    PerspectiveCamera,
+)
 from skydome.render.frame import Frame
 from skydome.scene.layer import STAGES, DrawContext, Layer, SpectralBasis
+
+#: The largest reduction of the smooth space layers' resolution (per axis).
+MAX_SMOOTH_FACTOR = 4
+
+
+def smooth_factor(camera: Camera, frame_size: tuple[int, int], smooth_deg: float) -> int:
+    """How many times coarser (per axis) light with no detail below ``smooth_deg`` may be
+    drawn than the frame: the number of the frame's pixels (at its centre, where a
+    perspective or equirect pixel is largest) that fit in ``smooth_deg``, 1 to
+    MAX_SMOOTH_FACTOR. 1 for cube maps (faces that touch in the sky lie apart in the strip)
+    and direction maps."""
+    if not isinstance(camera, (PerspectiveCamera, FisheyeCamera, EquirectCamera)):
+        return 1
+    from skydome.render.projection import centre_pixel_angle
+
+    pixel_deg = math.degrees(centre_pixel_angle(camera, *frame_size))
+    return int(min(max(math.floor(smooth_deg / pixel_deg), 1), MAX_SMOOTH_FACTOR))
 
 
 class FrameGraph:
@@ -68,6 +95,7 @@ class FrameGraph:
         self._exposure = None
         self._night_vision = None
         self._overlays = None
+        self._smooth_pass = None
         #: Display settings (see :meth:`set_display`).
         self.night_vision = False
         self.night_vision_seed = 0
@@ -139,21 +167,83 @@ class FrameGraph:
 
         current = 0
         fbos[current].clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=(0, 0, tw, th))
+        space = self.active("space")
+        # The smooth layers that this camera's pixels oversample, drawn together at the
+        # smallest reduction any of them allows; the others at full resolution.
+        factors = {
+            la.name: smooth_factor(camera, frame_size, la.smooth_deg)
+            for la in space
+            if la.smooth_deg is not None
+        }
+        smooth_layers = [la for la in space if factors.get(la.name, 1) > 1]
+        f = min((factors[la.name] for la in smooth_layers), default=1)
         ctx.enable(ctx.BLEND)
         ctx.blend_func = ctx.ONE, ctx.ONE
         try:
-            for layer in self.active("space"):
-                layer.draw(context(fbos[current]))
+            for layer in space:
+                if layer not in smooth_layers:
+                    layer.draw(context(fbos[current]))
+            smooth = self._draw_smooth(smooth_layers, f, camera, frame_size, tile, altitude_m)
+            volume = self.active("volume")
+            if smooth is not None and not (volume and volume[0].merges_smooth):
+                self._add_smooth(fbos[current], (tw, th), *smooth)
+                smooth = None
         finally:
             ctx.disable(ctx.BLEND)
             ctx.blend_func = ctx.ONE, ctx.ZERO
-        for layer in self.active("volume"):
+        for i, layer in enumerate(volume):
             # A volume layer writes every pixel of its target (its light and what it lets
             # through from behind): no clear.
             nxt = 1 - current
-            layer.draw(context(fbos[nxt], behind=texs[current]))
+            frame = context(fbos[nxt], behind=texs[current])
+            if i == 0 and smooth is not None:
+                frame.behind_smooth, frame.smooth_map = smooth
+            layer.draw(frame)
             current = nxt
         return texs[current]
+
+    def _draw_smooth(self, layers, f: int, camera, frame_size, tile, altitude_m):
+        """Draw the smooth space layers at 1/f of the resolution, with a margin of one
+        texel around the tile (so bilinear reads at its edges see their neighbours);
+        returns (texture, smooth_map) for common/behind.glsl, or None."""
+        if not layers:
+            return None
+        w, h = frame_size
+        x0, y0, tw, th = tile
+        sw, sh = math.ceil(tw / f) + 2, math.ceil(th / f) + 2
+        key = ("smooth", sw, sh)
+        if key not in self._targets:
+            tex = self.ctx.texture((sw, sh), 4, dtype="f4")
+            tex.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
+            tex.repeat_x = tex.repeat_y = False
+            self._targets[key] = ([tex], [self.ctx.framebuffer(color_attachments=[tex])], None)
+        (tex,), (fbo,), _ = self._targets[key]
+        fbo.clear(0.0, 0.0, 0.0, 0.0, viewport=(0, 0, sw, sh))
+        fbo.viewport = (0, 0, sw, sh)
+        # The reduced frame: u_resolution exactly 1/f of the frame's, so a reduced pixel's
+        # centre sees the direction of the frame's point f times its coordinates.
+        uniforms = {
+            **camera.uniforms(w, h),
+            "u_resolution": (w / f, h / f),
+            "u_tile_offset": (x0 / f - 1.0, y0 / f - 1.0),
+        }
+        reduced = DrawContext(
+            self.ctx, camera, (math.ceil(w / f), math.ceil(h / f)),
+            (x0 // f - 1, y0 // f - 1, sw, sh), fbo, uniforms, {}, altitude_m, self.basis,
+        )  # fmt: skip
+        for layer in layers:
+            layer.draw(reduced)
+        # A tile pixel p (gl_FragCoord) lies at p / f + 1 texels in the reduced target.
+        return tex, (1.0 / (f * sw), 1.0 / (f * sh), 1.0 / sw, 1.0 / sh)
+
+    def _add_smooth(self, fbo, size, texture, smooth_map) -> None:
+        """Add the reduced smooth light to ``fbo`` (blending ONE, ONE is on)."""
+        from skydome.gpu import FullscreenPass
+
+        if self._smooth_pass is None:
+            self._smooth_pass = FullscreenPass(self.ctx, "scene/add_smooth.glsl")
+        fbo.viewport = (0, 0, *size)
+        self._smooth_pass.draw(fbo, {"u_smooth_map": smooth_map}, {"u_behind_smooth": texture})
 
     def frame_texture(self, state, camera: Camera, width: int, height: int, *, altitude_m: float):
         """Draw a whole frame (one tile: at most TILE_SIZE on a side) and return the float
@@ -377,12 +467,20 @@ class FrameGraph:
         """Free the targets, the post passes and every layer's GPU resources."""
         for texs, fbos, depth in self._targets.values():
             for obj in (*fbos, *texs, depth):
-                obj.release()
+                if obj is not None:
+                    obj.release()
         self._targets.clear()
         self._staging.clear()
-        for obj in (self._post, self._exposure, self._night_vision, self._overlays):
+        for obj in (
+            self._post,
+            self._exposure,
+            self._night_vision,
+            self._overlays,
+            self._smooth_pass,
+        ):
             if obj is not None:
                 obj.release()
         self._post = self._exposure = self._night_vision = self._overlays = None
+        self._smooth_pass = None
         for layer in self.layers:
             layer.release()

@@ -85,6 +85,9 @@ class DrawContext:
     ``uniforms``: the camera's and the tile's (``u_resolution``, ``u_tile_offset``, ...);
     ``textures``: per-pixel inputs of this tile (``u_direction_map`` for a
     DirectionsCamera); ``altitude_m``: the camera's height above the ground.
+    ``behind_smooth``: for the first volume layer when it ``merges_smooth``, the smooth
+    space layers' light at a reduced resolution (read it with ``common/behind.glsl``'s
+    ``light_behind`` compiled with BEHIND_SMOOTH, uniform ``u_smooth_map``), else None.
     """
 
     ctx: object
@@ -97,6 +100,8 @@ class DrawContext:
     altitude_m: float
     basis: SpectralBasis
     behind: object = None
+    behind_smooth: object = None
+    smooth_map: tuple = (0.0, 0.0, 0.0, 0.0)
 
 
 class Layer:
@@ -108,6 +113,13 @@ class Layer:
 
     name: ClassVar[str] = ""
     stage: ClassVar[str] = "space"
+    #: A space layer whose light has no detail finer than this angle (deg) may be drawn by
+    #: the graph at a reduced resolution and upsampled (diffuse glows, the Milky Way's map);
+    #: None: always at full resolution (sharp sources: disks, stars).
+    smooth_deg: ClassVar[float | None] = None
+    #: A volume layer that reads ``frame.behind_smooth`` itself (through
+    #: ``common/behind.glsl``); otherwise the graph adds that light before it draws.
+    merges_smooth: ClassVar[bool] = False
 
     def __init__(self, *, enabled: bool = True):
         self.enabled = bool(enabled)

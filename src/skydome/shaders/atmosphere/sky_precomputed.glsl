@@ -26,7 +26,7 @@ layout(location = 1) out vec4 frag_transmittance;
 #endif
 layout(location = 0) out vec4 frag;
 #ifdef COMPOSITE_BEHIND
-uniform sampler2D u_behind;        // radiance from beyond the atmosphere along each ray, cd/m^2
+#include "common/behind.glsl"
 const bool DRAW_DISK = false;
 #else
 const bool DRAW_DISK = true;
@@ -112,7 +112,7 @@ void main() {
     bool surface = needs_surface(u_camera_position, dir);
 #ifdef COMPOSITE_BEHIND
     // The ground hides what lies beyond; column is 0 where the ray misses the atmosphere.
-    if (!surface) frag += texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0) * behind_transmittance(column);
+    if (!surface) frag += light_behind(gl_FragCoord.xy) * behind_transmittance(column);
 #endif
     gl_FragDepth = surface ? 0.5 : 1.0;
 #endif

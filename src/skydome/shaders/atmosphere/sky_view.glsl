@@ -32,7 +32,7 @@ uniform sampler2D u_light2_single_mie;
 #endif
 layout(location = 0) out vec4 frag;
 #ifdef COMPOSITE_BEHIND
-uniform sampler2D u_behind;  // radiance from beyond the atmosphere along each ray, cd/m^2
+#include "common/behind.glsl"
 #include "atmosphere/view_transmittance.glsl"
 #endif
 #ifdef HAS_SHADOW_MAP
@@ -135,7 +135,7 @@ void main() {
     // What lies beyond, seen through the air (hidden by the ground and a user's scene): one
     // fetch from the table of this altitude's view transmittance.
     if (!scene && !hits_ground)
-        frag += texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0) * view_transmittance(dir.z);
+        frag += light_behind(gl_FragCoord.xy) * view_transmittance(dir.z);
 #else
     gl_FragDepth = !scene && !hits_ground && sees_disk(dir, u_sun_direction) ? 0.5 : 1.0;
 #endif
