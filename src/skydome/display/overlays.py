@@ -47,6 +47,7 @@ import numpy as np
 
 from skydome.astro import frames
 from skydome.errors import ParameterError, check_range
+from skydome.gpu.passes import set_uniforms
 from skydome.render.cameras import Camera, CubemapCamera
 from skydome.render.projection import has_projection
 
@@ -447,18 +448,6 @@ class _Label:
     priority: int
 
 
-def _set_uniforms(program, uniforms: dict) -> None:
-    for name, value in uniforms.items():
-        member = program.get(name, None)
-        if member is None:
-            continue
-        if isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
-            n = member.array_length * member.dimension
-            member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
-        else:
-            member.value = value
-
-
 def _check_colour(kind: str, value) -> tuple[float, float, float]:
     c = np.asarray(value, dtype=float).ravel()
     if c.size != 3 or not np.all((c >= 0) & (c <= 1)):
@@ -748,7 +737,7 @@ class Overlays:
 
         vao, prog = self._fullscreen("post/overlay_grid.glsl", camera.model)
         c = np.asarray(self.colours["grid"])
-        _set_uniforms(
+        set_uniforms(
             prog,
             {
                 **uniforms,
@@ -806,7 +795,7 @@ class Overlays:
                     "u_min_z": 0.0,
                 }
                 for copy in range(copies):
-                    _set_uniforms(prog, {**base, "u_copy": copy})
+                    set_uniforms(prog, {**base, "u_copy": copy})
                     vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=len(pieces))
                 ctx.blend_equation = moderngl.FUNC_ADD
                 ctx.blend_func = (
@@ -818,7 +807,7 @@ class Overlays:
                 fbo.viewport = (x0, y0, tw, th)
                 fbo.use()
                 tex.use(location=0)
-                _set_uniforms(
+                set_uniforms(
                     comp,
                     {
                         "u_coverage": 0,
@@ -930,7 +919,7 @@ class Overlays:
         fbo.use()
         copies = 2 if camera.model == 2 else 1
         for copy in range(copies):
-            _set_uniforms(
+            set_uniforms(
                 prog,
                 {
                     **uniforms,

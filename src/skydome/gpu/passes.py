@@ -8,6 +8,22 @@ import numpy as np
 from skydome.gpu.shaders import build_program
 
 
+def set_uniforms(program, uniforms: dict[str, object]) -> None:
+    """Set a program's uniforms by name; names the shader lacks (or the compiler removed)
+    and vertex attributes are skipped, so passes can share one uniform dictionary.
+    Vectors, matrices and arrays of floats go as raw float32 bytes in declared order (the
+    compiler may shorten an array to the elements the shader can reach)."""
+    for name, value in uniforms.items():
+        member = program.get(name, None)
+        if member is None or isinstance(member, moderngl.Attribute):
+            continue
+        if isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
+            n = member.array_length * member.dimension
+            member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
+        else:
+            member.value = value
+
+
 class FullscreenPass:
     """A fragment shader drawn over a whole framebuffer (or over layers of a layered one).
 
@@ -31,17 +47,7 @@ class FullscreenPass:
         self.layered = layered
 
     def set_uniforms(self, uniforms: dict[str, object]) -> None:
-        for name, value in uniforms.items():
-            member = self.program.get(name, None)
-            if member is None:
-                continue
-            if isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
-                # Vectors, matrices and arrays of floats: raw float32 bytes, in declared order.
-                # The compiler may shorten an array to the elements the shader can reach.
-                n = member.array_length * member.dimension
-                member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
-            else:
-                member.value = value
+        set_uniforms(self.program, uniforms)
 
     def draw(
         self,
