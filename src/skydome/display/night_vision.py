@@ -25,10 +25,14 @@ default; the frame graph's post stage runs it before the tone map.
    from a hash of the pixel, the seed and the frame time.
 
 The frame's adaptation field: its photopic log-average luminance (a number, or a
-:class:`skydome.display.gpu_exposure.GpuExposure` read on the GPU), and its S/P ratio, the
-ratio of the log-average scotopic and photopic luminances, measured by the pass on
-the GPU from the frame itself (``post/night_log_luminance.glsl``). The float64 twin of the
-whole pass is :func:`skydome.reference.night_vision.night_vision_reference`.
+:class:`skydome.display.gpu_exposure.GpuExposure` that measured the frame), and its S/P ratio,
+the ratio of the log-average scotopic and photopic luminances, measured by the pass on the GPU
+from the frame itself (``post/night_log_luminance.glsl``). The two 1 x 1 mip levels are read
+back (16 bytes each, once per frame) and m, the blur width and the passes to run are chosen
+on the CPU in float64: nothing at m = 1, no blur under 0.5 px, no noise when it is off, the
+scotopic channel alone at m = 0, a reduced-resolution copy for a blur of several pixels
+(:func:`blur_plan`). The float64 twin of the whole pass is
+:func:`skydome.reference.night_vision.night_vision_reference`.
 """
 
 from __future__ import annotations
@@ -78,10 +82,20 @@ BLUE_GREY = _xy_to_linear_srgb_unit_luminance(*BLUE_GREY_XY)
 #: sigma of the Gaussian whose modulation transfer exp(-2 pi^2 sigma^2 f^2) is 1/2 at f = R:
 #: sigma = sqrt(ln 2 / 2) / (pi R) (R in cycles/deg, sigma in deg).
 HALF_TRANSFER_SIGMA_CYCLES = math.sqrt(math.log(2.0) / 2.0) / math.pi
-#: Below this blur width (pixels) the blur pass copies the frame (brief: "~0.5 px").
+#: Below this blur width (pixels) no blur is run (brief: "~0.5 px").
 MIN_SIGMA_PX = 0.5
-#: Taps on each side at most (3 sigma up to sigma = 64 px); a wider blur is truncated.
-MAX_BLUR_RADIUS = 192
+#: Taps on each side at most, at whichever resolution the blur runs (3 sigma up to
+#: sigma = 2.67 px there); the resolution is halved until the blur is that narrow
+#: (:func:`blur_plan`), so only a blur wider than the frame's smallest level is truncated.
+MAX_BLUR_RADIUS = 8
+#: A blur runs on the level 2^-k of a pyramid when its width there stays at least this (level
+#: pixels): narrower, the sampled Gaussian is too coarse to stand for the blur.
+PYRAMID_MIN_SIGMA = 1.0
+#: Pyramid weights of one halving (per axis): the linear B-spline sampled at half-texel
+#: offsets, [1, 3, 3, 1] / 8. It keeps the centroid of a point exactly, whatever its phase in
+#: the 2 x 2 block, and adds a variance of 0.75 px^2 of the finer level (so a star is never
+#: moved by the reduction, only widened, by an amount the Gaussian then leaves out).
+DOWNSAMPLE_WEIGHTS = (0.125, 0.375, 0.375, 0.125)
 
 # -- Noise ----------------------------------------------------------------------------------
 #: Photon-count law of the noise: relative standard deviation 1 / sqrt(N), N = NOISE_QUANTA *
@@ -182,6 +196,51 @@ def blur_sigma_px(luminance_cd_m2: float, pixel_angle_rad: float) -> float:
     return blur_sigma_deg(luminance_cd_m2) / math.degrees(px)
 
 
+def gaussian_weights(sigma_px: float) -> np.ndarray:
+    """Normalised weights of the taps 0..r of a symmetric Gaussian of ``sigma_px`` (px, > 0),
+    r = min(ceil(3 sigma), MAX_BLUR_RADIUS): w_0 + 2 (w_1 + ... + w_r) = 1."""
+    s = check_range("sigma_px", sigma_px, 1e-6, 1e6, "px")
+    r = min(math.ceil(3.0 * s), MAX_BLUR_RADIUS)
+    i = np.arange(0, r + 1, dtype=np.float64)
+    w = np.exp(-0.5 * i * i / (s * s))
+    return w / (w[0] + 2.0 * w[1:].sum())
+
+
+def pyramid_variance_px2(level: int) -> float:
+    """Variance (px^2 of the full frame, per axis) that reducing ``level`` times by
+    DOWNSAMPLE_WEIGHTS and enlarging back by one bilinear look-up adds to a blur.
+
+    Each halving at level l adds 0.75 px^2 of that level, 0.75 4^l of the frame; the bilinear
+    enlargement by f = 2^level is a tent of half-width f sampled at half-pixel offsets, of
+    variance (f^2 + 1/2) / 6 (0.75 for f = 2). Exact for any phase of a point in the blocks,
+    away from the frame's edges (checked against the float64 twin in the tests)."""
+    if level <= 0:
+        return 0.0
+    f2 = 4.0**level
+    return 0.25 * (f2 - 1.0) + (f2 + 0.5) / 6.0
+
+
+def blur_plan(sigma_px: float, size: tuple[int, int]) -> tuple[int, float]:
+    """Where the acuity blur of ``sigma_px`` (px of the full frame) runs: (k, s), a Gaussian of
+    s px on the level 2^-k of the pyramid, s^2 4^k + pyramid_variance_px2(k) = sigma^2 (the
+    total variance is the one asked for). k is the coarsest level on which s stays at least
+    PYRAMID_MIN_SIGMA and whose smaller side keeps at least 2 px; (0, 0) below MIN_SIGMA_PX
+    (no blur)."""
+    if not sigma_px >= MIN_SIGMA_PX:
+        return 0, 0.0
+    level, s = 0, float(sigma_px)
+    smallest = min(int(v) for v in size)
+    while True:
+        k = level + 1
+        if -(-smallest // 2**k) < 2:
+            break
+        var = sigma_px * sigma_px - pyramid_variance_px2(k)
+        if var <= 0.0 or var / 4.0**k < PYRAMID_MIN_SIGMA**2:
+            break
+        level, s = k, math.sqrt(var / 4.0**k)
+    return level, s
+
+
 def noise_amplitude(scotopic_cd_m2, m: float):
     """Relative standard deviation of the temporal noise of a pixel of scotopic luminance
     ``scotopic_cd_m2`` at adaptation coefficient m: ``(1 - m) min(cap, 1 / sqrt(Q L_s))``
@@ -194,19 +253,15 @@ def noise_amplitude(scotopic_cd_m2, m: float):
 
 
 def shader_defines() -> dict[str, object]:
-    """The NV_* constants of ``post/night_adaptation.glsl`` and the passes."""
+    """The NV_* constants of the passes under ``shaders/post/`` (noise law)."""
     return {
-        "NV_DELTA": float(DEFAULT_DELTA),
-        "NV_MES2_A": float(MES2_A),
-        "NV_MES2_B": float(MES2_B),
-        "NV_V_PRIME_555": float(V_PRIME_555),
-        "NV_MES2_ITERATIONS": MES2_ITERATIONS,
-        "NV_PHOTOPIC_LIMIT": float(PHOTOPIC_LIMIT_CD_M2),
-        "NV_MIN_SIGMA_PX": float(MIN_SIGMA_PX),
-        "NV_MAX_RADIUS": MAX_BLUR_RADIUS,
         "NV_NOISE_QUANTA": float(NOISE_QUANTA),
         "NV_NOISE_CAP": float(NOISE_CAP),
     }
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)
 
 
 class NightVision:
@@ -218,8 +273,16 @@ class NightVision:
         noise: add the temporal noise of scotopic vision.
         acuity: blur for the loss of acuity.
 
-    :meth:`apply` returns an RGBA32F texture owned by the pass (one pair per frame size,
-    reused): valid until the next :meth:`apply` of the same size or :meth:`release`.
+    :meth:`apply` returns an RGBA32F texture owned by the pass (one set per frame size,
+    reused): valid until the next :meth:`apply` of the same size or :meth:`release`; in
+    photopic vision (m = 1), where the pass changes nothing, it returns the input texture.
+
+    The adaptation state (two numbers: the photopic log-average and the S/P ratio, each the
+    1 x 1 level of a mipmapped grid) is read back once per frame, and the passes are chosen on
+    the CPU from it: none at m = 1; one pass (blend and noise) without blur; for a blur at
+    m = 0 (scotopic: only the scotopic channel is seen) the scotopic channel alone, four
+    pixels to a texel; for a wide blur a reduced-resolution copy (:func:`blur_plan`).
+    :attr:`last_state` holds what the last :meth:`apply` used.
 
     Below 5 cd/m^2 the output's luminance is each pixel's mesopic luminance, not its photopic
     one: a moonlit sky (S/P about 2.5) comes out about twice as luminous. An exposure taken
@@ -235,8 +298,9 @@ class NightVision:
         self.seed = int(seed)
         self.noise = bool(noise)
         self.acuity = bool(acuity)
-        self._programs: dict[tuple[str, bool], object] = {}
-        self._targets: dict[tuple[int, int], list] = {}
+        self.last_state: dict[str, float] = {}
+        self._programs: dict[tuple, FullscreenPass] = {}
+        self._targets: dict[tuple, tuple] = {}
         w, h = GRID
         self._measure = FullscreenPass(
             ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h}
@@ -246,24 +310,43 @@ class NightVision:
         self._grid_fbo = ctx.framebuffer(color_attachments=[self._grid])
         self._grid_level = int(math.log2(max(GRID)))
 
-    def _program(self, name: str, from_texture: bool):
-        key = (name, from_texture)
+    def _program(self, name: str, **defines) -> FullscreenPass:
+        key = (name, tuple(sorted(defines.items())))
         if key not in self._programs:
-            defines = shader_defines()
-            if from_texture:
-                defines["ADAPTATION_FROM_TEXTURE"] = 1
-            self._programs[key] = FullscreenPass(self.ctx, name, defines)
+            self._programs[key] = FullscreenPass(self.ctx, name, {**shader_defines(), **defines})
         return self._programs[key]
 
-    def _pair(self, size: tuple[int, int]) -> list:
-        if size not in self._targets:
-            pair = []
-            for _ in range(2):
-                tex = self.ctx.texture(size, 4, dtype="f4")
-                tex.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
-                pair.append((tex, self.ctx.framebuffer(color_attachments=[tex])))
-            self._targets[size] = pair
-        return self._targets[size]
+    def _target(self, role: str, size: tuple[int, int]):
+        """An RGBA32F target (bilinear, clamped to its edges) for one role and size."""
+        key = (role, size)
+        if key not in self._targets:
+            tex = self.ctx.texture(size, 4, dtype="f4")
+            tex.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
+            tex.repeat_x = tex.repeat_y = False
+            self._targets[key] = (tex, self.ctx.framebuffer(color_attachments=[tex]))
+        return self._targets[key]
+
+    def measure_sp_ratio(self, hdr_texture) -> float:
+        """The frame's S/P ratio: log-average scotopic over log-average photopic luminance on
+        the 256 x 128 grid of ``post/night_log_luminance.glsl`` (mipmapped on the GPU, the
+        1 x 1 level read back): as :func:`skydome.reference.night_vision.frame_sp_ratio`."""
+        self._grid_fbo.viewport = (0, 0, *GRID)
+        self._measure.draw(
+            self._grid_fbo,
+            {
+                "u_luminance_weights": tuple(float(x) for x in SRGB_LUMINANCE),
+                "u_delta": DEFAULT_DELTA,
+            },
+            {"u_hdr": hdr_texture},
+        )
+        self._grid.build_mipmaps(0, self._grid_level)
+        top = np.frombuffer(self._grid.read(level=self._grid_level), dtype=np.float32)
+        log_p, log_s, weight = (float(v) for v in top[:3])
+        if not weight > 0.0:
+            return 1.0
+        lp = max(math.exp(log_p / weight) - DEFAULT_DELTA, DEFAULT_DELTA)
+        ls = max(math.exp(log_s / weight) - DEFAULT_DELTA, DEFAULT_DELTA)
+        return ls / lp
 
     def apply(
         self,
@@ -281,12 +364,13 @@ class NightVision:
             size: (width, height) in pixels.
             pixel_angle_rad: angular size of one pixel at the frame's centre, rad (> 0).
             adaptation: photopic adaptation luminance (cd/m^2, > 0), or a GpuExposure that
-                has measured the frame (its log-average luminance is read on the GPU).
+                has measured the frame (its log-average luminance, one texel, is read back).
             time_s: frame time, s: drives the noise (same seed and time, same image).
 
         Returns:
-            An RGBA32F texture of the same size, owned by the pass: R, G, B the displayed
-            (photopic-equivalent) luminance in cd/m^2, A the input's scotopic channel.
+            An RGBA32F texture of the same size: R, G, B the displayed (photopic-equivalent)
+            luminance in cd/m^2, A the input's scotopic channel (blurred with the rest);
+            ``hdr_texture`` itself at m = 1 (photopic: nothing to change).
         """
         w, h = (int(v) for v in size)
         if w <= 0 or h <= 0:
@@ -295,62 +379,127 @@ class NightVision:
             raise ParameterError(f"size = {size!r} does not match the texture's {hdr_texture.size}")
         px = check_range("pixel_angle_rad", pixel_angle_rad, 1e-9, math.pi, "rad")
         t = check_range("time_s", time_s, -1e9, 1e9, "s")
+        if _is_number(adaptation):
+            lp = check_range("adaptation", adaptation, 1e-12, 1e12, "cd/m^2")
+        elif hasattr(adaptation, "read") and hasattr(adaptation, "texture"):
+            lp = float(adaptation.read())
+        else:
+            raise ParameterError(
+                f"adaptation must be a luminance in cd/m^2 or a GpuExposure, got "
+                f"{type(adaptation).__name__}"
+            )
+        sp = self.measure_sp_ratio(hdr_texture)
+        m, lmes = mesopic_coefficient(lp, lp * sp)
+        sigma = blur_sigma_px(lp, px) if self.acuity and m < 1.0 else 0.0
+        level, s = blur_plan(sigma, (w, h))
+        self.last_state = {
+            "lp": lp,
+            "sp": sp,
+            "ls": lp * sp,
+            "m": m,
+            "lmes": lmes,
+            "sigma_px": sigma,
+            "level": level,
+            "level_sigma_px": s,
+        }
+        if m >= 1.0:
+            return hdr_texture
+
         uniforms: dict[str, object] = {
-            "u_nv_log_luminance_level": float(self._grid_level),
+            "u_wp": photopic_share(m),
+            "u_noise_scale": 1.0 - m,
             "u_blue_grey": tuple(float(c) for c in BLUE_GREY),
-            "u_pixel_angle_deg": math.degrees(px),
             "u_seed": self.seed,
             "u_time": float(np.float32(t)),
         }
-        textures_extra: dict[str, object] = {"u_nv_log_luminance": self._grid}
-        from_texture = not isinstance(adaptation, (int, float, np.floating, np.integer))
-        if from_texture:
-            if not (hasattr(adaptation, "texture") and hasattr(adaptation, "uniforms")):
-                raise ParameterError(
-                    f"adaptation must be a luminance in cd/m^2 or a GpuExposure, got "
-                    f"{type(adaptation).__name__}"
-                )
-            uniforms.update(adaptation.uniforms())
-            textures_extra["u_log_luminance"] = adaptation.texture
-        else:
-            uniforms["u_adaptation"] = check_range("adaptation", adaptation, 1e-12, 1e12, "cd/m^2")
-
-        # The frame's S/P ratio, on the GPU (no read-back).
-        self._grid_fbo.viewport = (0, 0, *GRID)
-        self._measure.draw(
-            self._grid_fbo,
-            {
-                "u_luminance_weights": tuple(float(x) for x in SRGB_LUMINANCE),
-                "u_delta": DEFAULT_DELTA,
-            },
-            {"u_hdr": hdr_texture},
-        )
-        self._grid.build_mipmaps(0, self._grid_level)
-
-        (tex_a, fbo_a), (tex_b, fbo_b) = self._pair((w, h))
-        steps: list[tuple[str, dict]] = [("post/night_vision.glsl", {})]
-        if self.acuity:
-            steps.append(("post/acuity_blur.glsl", {"u_direction": (1.0, 0.0)}))
-            steps.append(("post/acuity_blur.glsl", {"u_direction": (0.0, 1.0)}))
-        if self.noise:
-            steps.append(("post/night_noise.glsl", {}))
+        final = {"NV_NOISE": int(self.noise), "NV_SCOTOPIC_ONLY": int(m <= 0.0)}
         source = hdr_texture
-        targets = [(tex_a, fbo_a), (tex_b, fbo_b)]
-        for i, (name, extra) in enumerate(steps):
-            tex, fbo = targets[i % 2]
-            fbo.viewport = (0, 0, w, h)
-            self._program(name, from_texture).draw(
-                fbo, {**uniforms, **extra}, {"u_hdr": source, **textures_extra}
-            )
-            source = tex
-        return source
+        if s > 0.0:
+            weights = tuple(float(x) for x in gaussian_weights(s))
+            radius = len(weights) - 1
+            uniforms["u_weights"] = weights
+            if level == 0 and m <= 0.0:
+                # Scotopic: blur the scotopic channel only, four pixels to a texel.
+                packed = (-(-w // 4), h)
+                tex_x, fbo_x = self._target("packed_x", packed)
+                tex_y, fbo_y = self._target("packed_y", packed)
+                self._run(
+                    "post/night_scotopic_blur.glsl",
+                    fbo_x,
+                    packed,
+                    uniforms,
+                    hdr_texture,
+                    NV_RADIUS=radius,
+                )
+                self._run(
+                    "post/acuity_blur.glsl",
+                    fbo_y,
+                    packed,
+                    uniforms,
+                    tex_x,
+                    NV_RADIUS=radius,
+                    NV_AXIS=1,
+                )
+                source, final["NV_SOURCE"] = tex_y, 1
+            elif level == 0:
+                # Across; the final pass takes the taps down.
+                tex_x, fbo_x = self._target("full_x", (w, h))
+                self._run(
+                    "post/acuity_blur.glsl",
+                    fbo_x,
+                    (w, h),
+                    uniforms,
+                    hdr_texture,
+                    NV_RADIUS=radius,
+                    NV_AXIS=0,
+                )
+                source, final["NV_SOURCE"], final["NV_VRADIUS"] = tex_x, 0, radius
+            else:
+                # Reduced k times, blurred across and down there, enlarged by the final pass.
+                src, lw, lh = hdr_texture, w, h
+                for k in range(1, level + 1):
+                    lw, lh = -(-lw // 2), -(-lh // 2)
+                    tex_k, fbo_k = self._target(f"level{k}", (lw, lh))
+                    self._run("post/night_downsample.glsl", fbo_k, (lw, lh), uniforms, src)
+                    src = tex_k
+                tmp, fbo_tmp = self._target(f"level{level}_x", (lw, lh))
+                fbo_k = self._target(f"level{level}", (lw, lh))[1]
+                self._run(
+                    "post/acuity_blur.glsl",
+                    fbo_tmp,
+                    (lw, lh),
+                    uniforms,
+                    src,
+                    NV_RADIUS=radius,
+                    NV_AXIS=0,
+                )
+                self._run(
+                    "post/acuity_blur.glsl",
+                    fbo_k,
+                    (lw, lh),
+                    uniforms,
+                    tmp,
+                    NV_RADIUS=radius,
+                    NV_AXIS=1,
+                )
+                f = float(2**level)
+                uniforms["u_uv_scale"] = (1.0 / (f * lw), 1.0 / (f * lh))
+                source, final["NV_SOURCE"] = src, 2
+        else:
+            final["NV_SOURCE"] = 0
+        out_tex, out_fbo = self._target("out", (w, h))
+        self._run("post/night_vision.glsl", out_fbo, (w, h), uniforms, source, **final)
+        return out_tex
+
+    def _run(self, name, fbo, size, uniforms, source, **defines) -> None:
+        fbo.viewport = (0, 0, *size)
+        self._program(name, **defines).draw(fbo, uniforms, {"u_src": source})
 
     def release(self) -> None:
         """Free the programs, targets and the measurement grid."""
-        for pair in self._targets.values():
-            for tex, fbo in pair:
-                fbo.release()
-                tex.release()
+        for tex, fbo in self._targets.values():
+            fbo.release()
+            tex.release()
         self._targets.clear()
         for prog in self._programs.values():
             prog.release()

@@ -1,11 +1,14 @@
 """Float64 NumPy twin of the night-vision display pass (skydome.display.night_vision).
 
-Step by step what ``shaders/post/night_log_luminance.glsl``, ``night_vision.glsl``,
-``acuity_blur.glsl`` and ``night_noise.glsl`` do, in float64, on a NumPy frame (H, W, 4),
-row 0 at the top (as ``Frame.data``): the S/P ratio of the frame on the exposure grid, the
-CIE 191:2010 coefficient m, the mesopic blend, the separable Gaussian blur (same taps, same
-truncation, clamped edges) and the hashed noise (the same PCG hash on uint32, so the noise
-pattern is the shader's). For tests only.
+Step by step what the passes under ``shaders/post/`` (``night_log_luminance.glsl``,
+``night_vision.glsl``, ``acuity_blur.glsl``, ``night_scotopic_blur.glsl``,
+``night_downsample.glsl``, ``night_noise.glsl``) compute, in float64, on a NumPy frame
+(H, W, 4), row 0 at the top (as ``Frame.data``): the S/P ratio of the frame on the exposure
+grid, the CIE 191:2010 coefficient m, the mesopic blend, the separable Gaussian blur (same
+taps, same truncation, clamped edges; on the same level of the same pyramid for a wide blur,
+:func:`skydome.display.night_vision.blur_plan`) and the hashed noise (the same PCG hash on
+uint32, so the noise pattern is the shader's). :func:`gaussian_blur` is the exact blur the
+pyramid stands for. For tests only.
 """
 
 from __future__ import annotations
@@ -17,10 +20,12 @@ import numpy as np
 from skydome.display.exposure import DEFAULT_DELTA
 from skydome.display.night_vision import (
     BLUE_GREY,
+    DOWNSAMPLE_WEIGHTS,
     GRID,
-    MAX_BLUR_RADIUS,
     MIN_SIGMA_PX,
+    blur_plan,
     blur_sigma_deg,
+    gaussian_weights,
     mesopic_coefficient,
     noise_amplitude,
     photopic_share,
@@ -62,29 +67,82 @@ def mesopic_blend(frame: np.ndarray, m: float) -> np.ndarray:
 
 def gaussian_taps(sigma_px: float) -> np.ndarray:
     """Normalised weights of taps -r..r, r = min(ceil(3 sigma), MAX_BLUR_RADIUS)."""
-    r = min(math.ceil(3.0 * sigma_px), MAX_BLUR_RADIUS)
+    half = gaussian_weights(sigma_px)
+    return np.concatenate([half[:0:-1], half])
+
+
+def _blur_axis(a: np.ndarray, w: np.ndarray, axis: int) -> np.ndarray:
+    r = (len(w) - 1) // 2
+    n = a.shape[axis]
+    idx = np.arange(n)
+    out = np.zeros_like(a)
+    for k, wk in zip(range(-r, r + 1), w, strict=True):
+        out += wk * np.take(a, np.clip(idx + k, 0, n - 1), axis=axis)
+    return out
+
+
+def gaussian_blur(frame: np.ndarray, sigma_px: float, radius: int | None = None) -> np.ndarray:
+    """The separable Gaussian blur of ``sigma_px`` at full resolution, taps to ``radius``
+    (default 3 sigma, uncapped), weights normalised, edges clamped."""
+    a = np.asarray(frame, dtype=np.float64)
+    r = math.ceil(3.0 * sigma_px) if radius is None else int(radius)
     i = np.arange(-r, r + 1, dtype=np.float64)
     w = np.exp(-0.5 * i * i / (sigma_px * sigma_px))
-    return w / w.sum()
+    w /= w.sum()
+    return _blur_axis(_blur_axis(a, w, 1), w, 0)
+
+
+def downsample(gl: np.ndarray) -> np.ndarray:
+    """One halving of ``post/night_downsample.glsl`` on GL rows (row 0 at the bottom): texel j
+    from texels 2j - 1 .. 2j + 2 by [1, 3, 3, 1] / 8 per axis, edges clamped."""
+    a = np.asarray(gl, dtype=np.float64)
+    for axis in (0, 1):
+        n = a.shape[axis]
+        m = -(-n // 2)
+        j = np.arange(m)
+        out = 0.0
+        for off, wk in zip(range(-1, 3), DOWNSAMPLE_WEIGHTS, strict=True):
+            out = out + wk * np.take(a, np.clip(2 * j + off, 0, n - 1), axis=axis)
+        a = out
+    return a
+
+
+def upsample(gl: np.ndarray, level: int, shape: tuple[int, int]) -> np.ndarray:
+    """The bilinear look-up of ``post/night_vision.glsl`` (source 2) on GL rows: full-frame
+    pixel x reads the level at texel coordinate (x + 0.5) / 2^k - 0.5, edges clamped."""
+    a = np.asarray(gl, dtype=np.float64)
+    f = 2.0**level
+    for axis, n in enumerate(shape):
+        m = a.shape[axis]
+        t = (np.arange(n) + 0.5) / f - 0.5
+        j0 = np.floor(t).astype(int)
+        fr = t - j0
+        lo = np.take(a, np.clip(j0, 0, m - 1), axis=axis)
+        hi = np.take(a, np.clip(j0 + 1, 0, m - 1), axis=axis)
+        wshape = [1] * a.ndim
+        wshape[axis] = n
+        fr = fr.reshape(wshape)
+        a = (1.0 - fr) * lo + fr * hi
+    return a
 
 
 def acuity_blur(frame: np.ndarray, sigma_px: float) -> np.ndarray:
-    """Step 2: separable Gaussian blur, edges clamped (no blur below MIN_SIGMA_PX)."""
+    """Step 2: the acuity blur as the pass runs it (no blur below MIN_SIGMA_PX): a separable
+    Gaussian, edges clamped, at full resolution or on the level of the pyramid that
+    :func:`skydome.display.night_vision.blur_plan` chooses (halved, blurred, enlarged)."""
     a = np.asarray(frame, dtype=np.float64)
     if not sigma_px >= MIN_SIGMA_PX:
         return a.copy()
-    w = gaussian_taps(sigma_px)
-    r = (len(w) - 1) // 2
-    h_, w_ = a.shape[:2]
-    out = np.zeros_like(a)
-    cols = np.arange(w_)
-    for k, wk in zip(range(-r, r + 1), w, strict=True):
-        out += wk * a[:, np.clip(cols + k, 0, w_ - 1)]
-    res = np.zeros_like(a)
-    rows = np.arange(h_)
-    for k, wk in zip(range(-r, r + 1), w, strict=True):
-        res += wk * out[np.clip(rows + k, 0, h_ - 1)]
-    return res
+    h, w = a.shape[:2]
+    level, s = blur_plan(sigma_px, (w, h))
+    taps = gaussian_taps(s)
+    if level == 0:
+        return _blur_axis(_blur_axis(a, taps, 1), taps, 0)
+    gl = a[::-1]
+    for _ in range(level):
+        gl = downsample(gl)
+    gl = _blur_axis(_blur_axis(gl, taps, 1), taps, 0)
+    return upsample(gl, level, (h, w))[::-1].copy()
 
 
 def _pcg(v: np.ndarray) -> np.ndarray:
