@@ -252,6 +252,20 @@ def noise_amplitude(scotopic_cd_m2, m: float):
     return float(a) if np.ndim(a) == 0 else a
 
 
+def _pcg_hash(v: int) -> int:
+    """PCG hash (O'Neill 2014, the RXS-M-XS output of a one-step LCG) of a uint32, as in
+    ``post/night_noise.glsl``."""
+    state = (v * 747796405 + 2891336453) & 0xFFFFFFFF
+    word = (((state >> ((state >> 28) + 4)) ^ state) * 277803737) & 0xFFFFFFFF
+    return (word >> 22) ^ word
+
+
+def noise_base(seed: int, time_s: float) -> int:
+    """The per-frame part of the noise hash: pcg(pcg(seed) ^ bits of float32(time_s))."""
+    bits = int(np.array([time_s], dtype=np.float32).view(np.uint32)[0])
+    return _pcg_hash(_pcg_hash(int(seed) & 0xFFFFFFFF) ^ bits)
+
+
 def shader_defines() -> dict[str, object]:
     """The NV_* constants of the passes under ``shaders/post/`` (noise law)."""
     return {
@@ -409,8 +423,7 @@ class NightVision:
             "u_wp": photopic_share(m),
             "u_noise_scale": 1.0 - m,
             "u_blue_grey": tuple(float(c) for c in BLUE_GREY),
-            "u_seed": self.seed,
-            "u_time": float(np.float32(t)),
+            "u_noise_base": noise_base(self.seed, t),
         }
         final = {"NV_NOISE": int(self.noise), "NV_SCOTOPIC_ONLY": int(m <= 0.0)}
         source = hdr_texture

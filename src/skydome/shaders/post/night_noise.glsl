@@ -7,9 +7,10 @@
 // 1 / sqrt(NV_NOISE_QUANTA * L_s)): the photon-count (de Vries-Rose) law, relative noise
 // 1 / sqrt(N) with N proportional to the pixel's scotopic luminance L_s, capped so that
 // 1 + a n >= 0. n is a hash (PCG, O'Neill 2014) of the pixel, the seed and the bits of the
-// frame time: the same seed and time give the same image.
-uniform uint u_seed;
-uniform float u_time;               // s
+// frame time: the same seed and time give the same image. The part of the hash that depends
+// on the seed and the time only, pcg(pcg(seed) ^ bits(time)), is the same for every pixel and
+// comes from the CPU (skydome.display.night_vision.noise_base), with the same hash.
+uniform uint u_noise_base;
 uniform float u_noise_scale;        // 1 - m
 
 uint pcg_hash(uint v) {
@@ -23,7 +24,7 @@ float night_noise(ivec2 p, float ls) {
     ls = max(ls, 0.0);
     float amp = u_noise_scale * (ls > 0.0 ? min(NV_NOISE_CAP, inversesqrt(NV_NOISE_QUANTA * ls))
                                           : NV_NOISE_CAP);
-    uint h = pcg_hash(pcg_hash(pcg_hash(u_seed) ^ floatBitsToUint(u_time)) + uint(p.y));
+    uint h = pcg_hash(u_noise_base + uint(p.y));
     uint h1 = pcg_hash(h + uint(p.x));
     uint h2 = pcg_hash(h1 ^ 0x9e3779b9u);
     int k = int((h1 >> 8u) + (h2 >> 8u)) - 16777216;   // exact: |k| < 2^24
