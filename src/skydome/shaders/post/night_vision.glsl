@@ -11,7 +11,7 @@
 // The source (NV_SOURCE): 0 the frame or its blur across, with NV_VRADIUS > 0 taps down taken
 // here (weights u_weights, as post/acuity_blur.glsl); 1 the packed scotopic blur of
 // post/night_scotopic_blur.glsl (pixel x in component x mod 4 of texel x / 4); 2 a level 2^-k
-// of the pyramid, enlarged by one bilinear look-up (u_uv_scale = 1 / (2^k size_k)).
+// of the pyramid, enlarged bilinearly (u_uv_scale = 1 / (2^k size_k)).
 #include "post/night_noise.glsl"
 
 #ifndef NV_VRADIUS
@@ -44,7 +44,17 @@ void main() {
     vec4 t = texelFetch(u_src, ivec2(p.x >> 2, p.y), 0);
     vec4 c = vec4(0.0, 0.0, 0.0, t[p.x & 3]);
 #else
-    vec4 c = texture(u_src, gl_FragCoord.xy * u_uv_scale);
+    // Bilinear by hand (four fetches, float weights): hardware filtering may keep only 8 bits
+    // of the fraction.
+    ivec2 last = textureSize(u_src, 0) - 1;
+    vec2 t = gl_FragCoord.xy * u_uv_scale * vec2(last + 1) - 0.5;
+    vec2 j = floor(t);
+    vec2 fr = t - j;
+    ivec2 j0 = clamp(ivec2(j), ivec2(0), last);
+    ivec2 j1 = clamp(ivec2(j) + 1, ivec2(0), last);
+    vec4 c = mix(mix(texelFetch(u_src, j0, 0), texelFetch(u_src, ivec2(j1.x, j0.y), 0), fr.x),
+                 mix(texelFetch(u_src, ivec2(j0.x, j1.y), 0), texelFetch(u_src, j1, 0), fr.x),
+                 fr.y);
 #endif
 #if NV_SCOTOPIC_ONLY
     vec3 rgb = c.a * u_blue_grey;
