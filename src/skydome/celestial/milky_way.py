@@ -32,7 +32,8 @@ equinox of date: precession (IAU 2006) and nutation (IAU 1980), skydome.astro.fr
 chain the star catalogue uses (frame bias < 0.02" neglected). -> ENU with the local apparent
 sidereal time (skydome.astro.time.gast + east longitude). Annual aberration (<= 20.5") is left
 out: the map's pixels are 0.18 deg. The shader gets one mat3 (ENU -> galactic) per update
-and looks up each pixel's airless direction.
+and looks up each pixel's airless direction (refraction from a table over the sine of the
+apparent elevation, skydome.night.zodiacal.airless_offset_table).
 """
 
 from __future__ import annotations
@@ -233,6 +234,9 @@ class MilkyWayLayer(Layer):
         self._np_cache: tuple[int, np.ndarray] | None = None
         self._colour = None
         self._info: dict = {}
+        self._refraction = 0.0
+        self._offsets = None
+        self._log2_texels_per_rad = 0.0
 
     def prepare(self, graph) -> None:
         super().prepare(graph)
@@ -243,6 +247,7 @@ class MilkyWayLayer(Layer):
         self._texture.build_mipmaps()
         self._texture.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
         self._texture.repeat_x, self._texture.repeat_y = True, False
+        self._log2_texels_per_rad = math.log2(w / (2.0 * math.pi))
 
     def update(self, state: SkyState) -> None:
         key = (id(state), id(self.graph.basis), self.scale)
@@ -274,8 +279,8 @@ class MilkyWayLayer(Layer):
             # GLSL mat3 is column-major: the columns of gal_from_enu one after the other.
             "u_enu_to_galactic": tuple(float(v) for v in gal_from_enu.T.ravel()),
             "u_colour": tuple(float(v) for v in self._colour[1] * (S10_CD_M2 * self.scale)),
-            "u_refraction_scale": refraction_scale(state),
         }
+        self._refraction = refraction_scale(state)
         gc = enu_from_gal[:, 0]
         self._info = {
             "milky_way_centre_elevation_deg": math.degrees(math.asin(max(-1.0, min(1.0, gc[2])))),
@@ -285,12 +290,38 @@ class MilkyWayLayer(Layer):
     def draw(self, frame: DrawContext) -> None:
         if self._uniforms is None or self.scale == 0.0:
             return
+        from skydome.night.zodiacal import REFRACTION_TABLE_SIZE
+
+        n = REFRACTION_TABLE_SIZE
+        uniforms = {
+            **self._uniforms,
+            "u_offset_map": (0.5 * (n - 1) / n, 0.5),  # node i of n at (i + 0.5) / n
+            "u_log2_texels_per_rad": self._log2_texels_per_rad,
+        }
         fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
         fpass.draw(
             frame.fbo,
-            {**self._uniforms, **frame.uniforms},
-            {**frame.textures, "u_milky_way": self._texture},
+            {**uniforms, **frame.uniforms},
+            {
+                **frame.textures,
+                "u_milky_way": self._texture,
+                "u_airless_offset": self._offset_texture(frame.ctx),
+            },
         )
+
+    def _offset_texture(self, ctx):
+        """The refraction table (night.zodiacal.airless_offset_table) for the weather."""
+        if self._offsets is None or self._offsets[0] != self._refraction:
+            from skydome.night.zodiacal import airless_offset_table
+
+            if self._offsets is not None:
+                self._offsets[1].release()
+            table = np.ascontiguousarray(airless_offset_table(self._refraction))
+            tex = ctx.texture((len(table), 1), 1, table.tobytes(), dtype="f4")
+            tex.filter = (ctx.LINEAR, ctx.LINEAR)
+            tex.repeat_x = tex.repeat_y = False
+            self._offsets = (self._refraction, tex)
+        return self._offsets[1]
 
     def info(self) -> dict:
         return dict(self._info)
@@ -300,3 +331,6 @@ class MilkyWayLayer(Layer):
         if self._texture is not None:
             self._texture.release()
             self._texture = None
+        if self._offsets is not None:
+            self._offsets[1].release()
+            self._offsets = None

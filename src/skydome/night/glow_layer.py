@@ -46,6 +46,16 @@ def _reddened_luminance_ratio(elongation_deg: float) -> float:
     return float(sun @ zl.reddening(g, elongation_deg) / sun.sum())
 
 
+def _linear_texture(ctx, data: np.ndarray):
+    """A float32 texture of ``data`` (rows, columns, channels), filtered bilinearly and
+    clamped at its edges."""
+    data = np.ascontiguousarray(data, dtype="f4")
+    tex = ctx.texture((data.shape[1], data.shape[0]), data.shape[2], data.tobytes(), dtype="f4")
+    tex.filter = (ctx.LINEAR, ctx.LINEAR)
+    tex.repeat_x = tex.repeat_y = False
+    return tex
+
+
 def _vec4(v) -> tuple[float, float, float, float]:
     return tuple(float(x) for x in np.asarray(v, dtype=np.float64).ravel()[:4])
 
@@ -137,18 +147,21 @@ class ZodiacalLightLayer(Layer):
         self._key = None
         self._colours = None
         self._refraction = 1.0
+        self._offsets = None
 
     def prepare(self, graph) -> None:
         super().prepare(graph)
         if self._texture is None:
-            lum = zl.zodiacal_luminance(
-                np.asarray(zl.DLON_NODES_DEG, float)[:, None],
-                np.asarray(zl.BETA_NODES_DEG, float)[None, :],
-            )
-            # Texel (i, j) = (dlon node i, beta node j): rows of the upload are beta.
-            data = np.ascontiguousarray(lum.T, dtype="f4")
-            self._texture = graph.ctx.texture(data.shape[::-1], 1, data.tobytes(), dtype="f4")
-            self._texture.filter = (graph.ctx.NEAREST, graph.ctx.NEAREST)
+            self._texture = _linear_texture(graph.ctx, zl.zodiacal_grid())
+
+    def _offset_texture(self, ctx):
+        """The refraction table (zodiacal.airless_offset_table) for the current weather."""
+        if self._offsets is None or self._offsets[0] != self._refraction:
+            if self._offsets is not None:
+                self._offsets[1].release()
+            table = zl.airless_offset_table(self._refraction)
+            self._offsets = (self._refraction, _linear_texture(ctx, table[None, :, None]))
+        return self._offsets[1]
 
     def colours(self, basis: SpectralBasis) -> tuple[np.ndarray, np.ndarray]:
         """Channels per cd/m^2 of solar-type light of equal 500 nm radiance, reddened as at
@@ -178,19 +191,25 @@ class ZodiacalLightLayer(Layer):
         if self._matrix is None:
             return
         near, far = self.colours(frame.basis)
+        nu, nv = zl.GRID_SHAPE
+        n = zl.REFRACTION_TABLE_SIZE
         uniforms = {
-            "u_dlon_nodes": [float(v) for v in zl.DLON_NODES_DEG],
-            "u_beta_nodes": [float(v) for v in zl.BETA_NODES_DEG],
+            # Node i of n at texture coordinate (i + 0.5) / n.
+            "u_grid_map": ((nu - 1) / nu, (nv - 1) / nv, 0.5 / nu, 0.5 / nv),
+            "u_offset_map": (0.5 * (n - 1) / n, 0.5),
             "u_enu_to_helioecliptic": self._matrix.T.ravel().tolist(),  # column-major
             "u_colour_near": _vec4(self.scale * near),
-            "u_colour_far": _vec4(self.scale * far),
-            "u_refraction_scale": self._refraction,
+            "u_colour_far_minus_near": _vec4(self.scale * (far - near)),
         }
         fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
         fpass.draw(
             frame.fbo,
             {**uniforms, **frame.uniforms},
-            {**frame.textures, "u_zodiacal_table": self._texture},
+            {
+                **frame.textures,
+                "u_zodiacal_grid": self._texture,
+                "u_airless_offset": self._offset_texture(frame.ctx),
+            },
         )
 
     def release(self) -> None:
@@ -198,6 +217,9 @@ class ZodiacalLightLayer(Layer):
         if self._texture is not None:
             self._texture.release()
             self._texture = None
+        if self._offsets is not None:
+            self._offsets[1].release()
+            self._offsets = None
 
 
 class LightPollutionLayer(Layer):

@@ -181,3 +181,125 @@ def elongation_deg(dlon_deg, beta_deg) -> np.ndarray:
     """Angular distance from the Sun (deg) of helioecliptic coordinates (deg)."""
     c = np.cos(np.radians(dlon_deg)) * np.cos(np.radians(beta_deg))
     return np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+# ---------------------------------------------------------------------- GPU tables
+
+#: Texels (nu, nv) of the zodiacal grid over the pseudo-angles (u, v) of
+#: :func:`grid_coordinates`: a cell spans 0.23 to 0.46 deg of helioecliptic longitude and
+#: of latitude.
+GRID_SHAPE = (501, 251)
+
+
+def grid_coordinates(h) -> tuple[np.ndarray, np.ndarray]:
+    """The shader's table coordinates (u, v) in [0, 1] of helioecliptic vectors ``h``
+    (..., 3; any length): "diamond" pseudo-angles, monotonic in |lambda - lambda_sun| and
+    |beta| and made without inverse trigonometric functions: u = (1 - x / (|x| + |y|)) / 2
+    (0 towards the Sun, 1/2 at 90 deg, 1 at the antisolar point), v = |z| / (rho + |z|)
+    (0 on the ecliptic, 1 at its poles), rho = |(x, y)|. A step of one degree moves u by
+    1/230 to 1/115 and v by 1/115 to 1/57."""
+    h = np.asarray(h, dtype=np.float64)
+    x, y, z = h[..., 0], np.abs(h[..., 1]), np.abs(h[..., 2])
+    u = 0.5 - 0.5 * x / np.maximum(np.abs(x) + y, 1e-300)
+    rho = np.hypot(x, y)
+    return u, z / (rho + z)
+
+
+def grid_angles_deg(u, v) -> tuple[np.ndarray, np.ndarray]:
+    """(|lambda - lambda_sun|, |beta|) in degrees of pseudo-angles (u, v): the inverse of
+    :func:`grid_coordinates`."""
+    t = 1.0 - 2.0 * np.asarray(u, dtype=np.float64)  # x / (|x| + y)
+    dlon = np.degrees(np.arctan2(np.where(t >= 0.0, 1.0 - t, 1.0 + t), t))
+    v = np.asarray(v, dtype=np.float64)
+    return dlon, np.degrees(np.arctan2(v, 1.0 - v))
+
+
+def reddening_weight(dlon_deg, beta_deg) -> np.ndarray:
+    """The weight of the far (elongation >= 90 deg) colour against the near (<= 30 deg) one:
+    (elongation - 30 deg) / 60 deg clamped to [0, 1] (Leinert et al. 1998 sec. 8.1)."""
+    e0, e1 = REDDENING_ELONGATION_DEG
+    return np.clip((elongation_deg(dlon_deg, beta_deg) - e0) / (e1 - e0), 0.0, 1.0)
+
+
+@lru_cache(maxsize=1)
+def zodiacal_grid() -> np.ndarray:
+    """The table the shader reads, (GRID_SHAPE[1], GRID_SHAPE[0], 2) float64 over (v, u) at
+    the nodes u = i / (nu - 1), v = j / (nv - 1): (L, L w), L the node-bilinear luminance of
+    :func:`zodiacal_luminance` (cd/m^2 of solar-type light) and w the
+    :func:`reddening_weight`, so that one bilinear fetch gives the light's two colour terms."""
+    nu, nv = GRID_SHAPE
+    u, v = np.meshgrid(np.linspace(0.0, 1.0, nu), np.linspace(0.0, 1.0, nv))
+    dlon, beta = grid_angles_deg(u, v)
+    lum = zodiacal_luminance(dlon, beta)
+    out = np.stack([lum, lum * reddening_weight(dlon, beta)], axis=-1)
+    out.setflags(write=False)
+    return out
+
+
+def zodiacal_grid_value(h) -> np.ndarray:
+    """Float64 twin of the shader's lookup: (L, L w) of helioecliptic vectors ``h`` (..., 3),
+    bilinear in the grid's pseudo-angles between its nodes."""
+    g = zodiacal_grid()
+    nv, nu = g.shape[:2]
+    u, v = grid_coordinates(h)
+    x, y = u * (nu - 1), v * (nv - 1)
+    i = np.clip(np.floor(x).astype(int), 0, nu - 2)
+    j = np.clip(np.floor(y).astype(int), 0, nv - 2)
+    fx, fy = (x - i)[..., None], (y - j)[..., None]
+    return (1 - fy) * ((1 - fx) * g[j, i] + fx * g[j, i + 1]) + fy * (
+        (1 - fx) * g[j + 1, i] + fx * g[j + 1, i + 1]
+    )
+
+
+#: Nodes of the refraction table over the sine of the apparent elevation, -1 to 1.
+REFRACTION_TABLE_SIZE = 4096
+
+
+def airless_offset(z, refraction_scale: float = 1.0) -> np.ndarray:
+    """Float64 twin of ``airless_direction`` in ``shaders/common/refraction.glsl`` (Bennett
+    1982 then two Saemundsson 1986 steps, Meeus eq. 16.3-16.4, with their cut-offs at -1 and
+    -1.9 deg), written as one number per sine ``z`` of the apparent elevation: the airless
+    direction of a unit apparent one ``d`` is parallel to ``d + k (z d - up)`` with
+    k = tan(R) / cos(h), R the refraction (rad). ``refraction_scale`` is the weather's
+    factor (P / 1010 hPa)(283 K / T); 0 gives k = 0."""
+    z = np.clip(np.asarray(z, dtype=np.float64), -1.0, 1.0)
+    c = np.sqrt(np.maximum(1.0 - z * z, 0.0))
+    h = np.degrees(np.arctan2(z, c))
+    s = float(refraction_scale)
+
+    def law(x, a, b, d, cut):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = s * np.radians(a / 60.0) / np.tan(np.radians(x + b / (x + d)))
+        return np.where(x < cut, 0.0, r)
+
+    r = law(h, 1.0, 7.31, 4.4, -1.0)
+    r = law(h - np.degrees(r), 1.02, 10.3, 5.11, -1.9)
+    r = law(h - np.degrees(r), 1.02, 10.3, 5.11, -1.9)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.where(c > 0.0, np.tan(r) / c, 0.0)
+    return k
+
+
+@lru_cache(maxsize=8)
+def airless_offset_table(refraction_scale: float) -> np.ndarray:
+    """:func:`airless_offset` at REFRACTION_TABLE_SIZE nodes z = -1 + 2 i / (n - 1), float32
+    (read-only), for the smooth layers' shaders (the Milky Way's too): one linear fetch by
+    the pixel's z instead of the refraction's trigonometry (the node at the zenith, where
+    ``z d - up`` vanishes, takes its neighbour's value)."""
+    n = REFRACTION_TABLE_SIZE
+    z = np.linspace(-1.0, 1.0, n)
+    k = airless_offset(z, refraction_scale)
+    k[-1] = k[-2]
+    out = k.astype(np.float32)
+    out.setflags(write=False)
+    return out
+
+
+def airless_offset_lookup(z, refraction_scale: float = 1.0) -> np.ndarray:
+    """Float64 twin of the shaders' fetch: :func:`airless_offset_table` interpolated linearly
+    in z between its nodes."""
+    t = airless_offset_table(float(refraction_scale)).astype(np.float64)
+    x = (np.clip(np.asarray(z, dtype=np.float64), -1.0, 1.0) + 1.0) * 0.5 * (len(t) - 1)
+    i = np.clip(np.floor(x).astype(int), 0, len(t) - 2)
+    f = x - i
+    return (1.0 - f) * t[i] + f * t[i + 1]
