@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from skydome import Sky
-from skydome.celestial.point_sources import FWHM_PER_SIGMA, PointSources
+from skydome.celestial.point_sources import FWHM_PER_SIGMA, PSF_EXTENT_SIGMA, PointSources
 from skydome.errors import ParameterError
 from skydome.render.cameras import (
     CubemapCamera,
@@ -131,7 +131,8 @@ def test_cubemap_flux_across_a_face_edge():
 def test_pixel_weights_are_the_gaussian_integrals():
     # The shader's erf is Abramowitz & Stegun 7.1.26 (|error| <= 1.5e-7): each pixel's share
     # of the light equals the float64 integral of the Gaussian over the pixel divided by its
-    # integral over the quad (math.erf), within 2e-6 of the total.
+    # integral over the quad (math.erf), within 2e-6 of the total. The quad: whole pixels
+    # from the source's pixel out to ceil(3 sigma) (PSF_EXTENT_SIGMA), and nothing beyond.
     sigma = 1.7
     w, h = 720, 360
     source = direction_from_angles(0.3, 123.4)  # near the equator: square pixels
@@ -140,7 +141,8 @@ def test_pixel_weights_are_the_gaussian_integrals():
     share = data[..., 1] * omega
     x, y, _ = project(cam, source, w, h)
     cx, cy = float(x), float(y)
-    half = math.ceil(4 * sigma)
+    assert PSF_EXTENT_SIGMA == 3.0
+    half = math.ceil(PSF_EXTENT_SIGMA * sigma)
 
     def cdf(u):
         return 0.5 * (1.0 + math.erf(u / (sigma * math.sqrt(2.0))))
@@ -182,9 +184,12 @@ def test_centroid_is_the_projected_position():
 
 
 def test_seeing_adds_in_quadrature():
-    # Image variance = sigma_psf^2 + (seeing sigma in pixels)^2 + 1/12 (the pixel's own
-    # width, for a pixel-integrated Gaussian); 2 % (the 4-sigma truncation takes 0.3 % of the
-    # variance; the equirect scale is 0.088 deg/px at 4096 x 2048, 0.37 % across the disk).
+    # The image's variance along x and y is that of the Gaussian of sigma^2 = sigma_psf^2 +
+    # (the seeing's sigma in pixels)^2, integrated over whole pixels (which adds ~1/12) and
+    # truncated to the quad (ceil(3 sigma) pixels beyond the source's pixel: 1 % less
+    # variance here), computed here in float64 with math.erf: 0.05 % (the radiance, not the
+    # flux, is weighted: cos(elevation) changes by 1e-4 across the disk at the equator; the
+    # seeing's scale comes from finite differences of the projection).
     w, h = 4096, 2048
     px_rad = 2 * math.pi / w
     seeing_arcsec = 3.0 * px_rad * 648000 / math.pi * FWHM_PER_SIGMA  # 3 px sigma
@@ -192,13 +197,23 @@ def test_seeing_adds_in_quadrature():
     data, _, _, _, (gx, gy) = render(
         EquirectCamera(), w, h, source, psf_sigma_px=0.8, seeing_fwhm_arcsec=seeing_arcsec
     )
+    x, y, _ = project(EquirectCamera(), source, w, h)
+    s = math.hypot(0.8, 3.0)
+    half = math.ceil(PSF_EXTENT_SIGMA * s)
     f = data[..., 1]
     box = f > 0
     f, gx, gy = f[box], gx[box], gy[box]
-    for g in (gx, gy):
+    for g, c in ((gx, float(x)), (gy, float(y))):
+        edges = np.arange(math.floor(c) - half, math.floor(c) + half + 2, dtype=float)
+        cdf = np.array([0.5 * math.erfc(-(e - c) / (s * math.sqrt(2.0))) for e in edges])
+        p = np.diff(cdf) / (cdf[-1] - cdf[0])
+        centres = edges[:-1] + 0.5
+        expected = (p * (centres - (p * centres).sum()) ** 2).sum()
+        assert expected == pytest.approx(s**2 + 1.0 / 12.0, rel=0.03)  # nearly untruncated
+        assert np.ptp(g) == 2 * half  # the quad, and nothing beyond
         mean = (f * g).sum() / f.sum()
         var = (f * (g - mean) ** 2).sum() / f.sum()
-        assert var == pytest.approx(0.8**2 + 3.0**2 + 1.0 / 12.0, rel=0.02)
+        assert var == pytest.approx(expected, rel=5e-4)  # measured: 2e-5
 
 
 def test_occluders_hide_the_pixels_behind_them():

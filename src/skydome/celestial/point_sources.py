@@ -1,21 +1,36 @@
 """A pass that draws point sources (stars, planets) into a frame, conserving their light.
 
 Each source is an instanced quad (``shaders/celestial/point_sources_vs.glsl``) aligned to
-whole frame pixels and reaching at least 4 sigma from the source's position in every
-direction; the fragment stage (``shaders/celestial/point_sources.glsl``) gives each pixel
-the integral of a Gaussian PSF over that pixel, divided by the PSF's integral over the whole
-quad, so that a source's pixel weights sum to 1 exactly. A pixel's radiance is the source's
-illuminance times its weight over the pixel's own solid angle; the flux of the image
+whole frame pixels and reaching at least ceil(3 sigma) pixels beyond the source's pixel in
+every direction; the fragment stage (``shaders/celestial/point_sources.glsl``) gives each
+pixel the integral of a Gaussian PSF over that pixel, divided by the PSF's integral over the
+whole quad, so that a source's pixel weights sum to 1 exactly. A pixel's radiance is the
+source's illuminance times its weight over the pixel's own solid angle; the flux of the image
 (radiance x pixel solid angle, summed) is therefore the source's illuminance at every
 resolution and field of view (``render.projection.pixel_solid_angle`` gives the solid
 angles the shader uses).
 
-Frames drawn in tiles: each tile draws every quad clipped to its own pixels, so a source on
-a tile border comes out whole. Equirect frames draw a second copy of the sources near the
-seam, shifted by the frame width; cubemap strips draw a source on the extended plane of each
-face near it, each copy writing only its own face's pixels. Light that falls outside the
-frame (off a perspective frame's edge, beyond a fisheye's horizon circle, above an equirect
-frame's top row within 4 sigma of the zenith) is lost, as it would be on a sensor.
+PSF truncation: the quad holds the Gaussian out to >= 3 sigma from the source along x and
+along y (a square box). The light of a 2D Gaussian outside a box of half side 3 sigma is
+1 - erf(3 / sqrt 2)^2 = 0.54 %; the normalisation over the quad puts it back into the core,
+so the flux stays exact and the image's variance is that of the truncated Gaussian (at most
+2.7 % below sigma^2, for a quad edge exactly at 3 sigma; the quad's edges lie 3-4 sigma out
+for sigma = 0.8 px).
+
+The CPU side (float64, ``render.projection``) places every source: its frame position, its
+PSF's sigma in pixels (with the seeing), its quad; it uploads only the quads that touch the
+tile being drawn (a source behind a perspective camera, below a fisheye's horizon or off the
+tile costs nothing on the GPU). Frames drawn in tiles: each tile draws the quads clipped to
+its own pixels, so a source on a tile border comes out whole. Equirect frames add a copy of
+each source near the seam, shifted by the frame width, as one more instance; cubemap strips
+draw a source on the extended plane of each face near it (one instance per face), each copy
+writing only its own face's pixels. Light that falls outside the frame (off a perspective
+frame's edge, beyond a fisheye's horizon circle, above an equirect frame's top row within
+3 sigma of the zenith) is lost, as it would be on a sensor.
+
+Occluding disks (the Moon in front of the stars) cost a per-pixel test only for the quads
+that may touch one: those are drawn by a second program variant (``OCCLUDERS`` 1); the rest
+never compute their pixels' directions.
 
 The PSF's sigma is given in frame pixels (stars look alike at every resolution); a seeing
 disk (FWHM in arcsec) adds in quadrature, turned into pixels with the frame's scale at the
@@ -31,8 +46,13 @@ import numpy as np
 
 from skydome.errors import ParameterError
 from skydome.gpu import build_program
-from skydome.render.cameras import CubemapCamera, EquirectCamera
-from skydome.render.projection import has_projection
+from skydome.render.cameras import (
+    CubemapCamera,
+    EquirectCamera,
+    FisheyeCamera,
+    PerspectiveCamera,
+)
+from skydome.render.projection import has_projection, project
 
 VERTEX_SHADER = "celestial/point_sources_vs.glsl"
 FRAGMENT_SHADER = "celestial/point_sources.glsl"
@@ -40,8 +60,62 @@ FRAGMENT_SHADER = "celestial/point_sources.glsl"
 MAX_OCCLUDERS = 4
 #: FWHM of a Gaussian over its sigma: 2 sqrt(2 ln 2).
 FWHM_PER_SIGMA = 2.0 * math.sqrt(2.0 * math.log(2.0))
+#: The quad reaches ceil(PSF_EXTENT_SIGMA x sigma) pixels beyond the source's pixel.
+PSF_EXTENT_SIGMA = 3.0
+#: Largest PSF sigma in pixels (bounds the quad: a seeing disk near an equirect pole).
+MAX_SIGMA_PX = 64.0
+#: Quads up to this many pixels a side get their weights per column and row from the CPU,
+#: once per quad, instead of per pixel.
+TABLE_SIZE = 8
 _ARCSEC = math.pi / 648_000.0
-_STRIDE = 7  # floats per source: direction (3), channels (4)
+_STEP_RAD = 1e-3  # finite-difference step of the seeing's pixel scale
+# Floats per instance: the quad's corners (4), the source's position and 1 / sigma (4), the
+# column and row weights (8 + 8), the cube face (1), the channels (4).
+_STRIDE = 29
+_FORMAT = "4f 4f 4f 4f 4f 4f 1f 4f/i"
+_ATTRIBUTES = (
+    "in_rect", "in_centre_inv_sigma", "in_wx0", "in_wx1", "in_wy0", "in_wy1", "in_face",
+    "in_channels",
+)  # fmt: skip
+# Program variants, one instance buffer each: (near an occluder, weights from the table,
+# drawn as a point sprite). A sprite (one vertex, one primitive; two triangles cost llvmpipe
+# about 2.5x as much) needs its square whole inside the tile: GL drops a point whose centre
+# leaves the viewport, so quads that reach beyond the tile's edge stay triangles.
+_VARIANTS = (
+    (False, True, True),
+    (False, True, False),
+    (False, False, False),
+    (True, True, False),
+    (True, False, False),
+)
+# Cube faces in camera.glsl's order: the axis, and the face-plane coordinates (p.x, p.y) of a
+# direction q on the plane at unit distance (the inverse of cube_face_direction).
+_CUBE_AXES = np.array(
+    [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64
+)
+
+
+def _cube_plane(q: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray]:
+    x, y, z = q[:, 0], q[:, 1], q[:, 2]
+    return [(-y, z), (y, z), (x, z), (-x, z), (-x, y), (x, y)][face]
+
+
+def _pixel_weights(lo, hi, centre, sigma) -> np.ndarray:
+    """(N, TABLE_SIZE) shares of a Gaussian's light on the whole pixels from ``lo`` to
+    ``hi`` (a quad's columns or rows, at most TABLE_SIZE) for centres ``centre`` and sigmas
+    ``sigma`` (pixels), float64: the integral over each pixel over the integral over the
+    quad (0 beyond ``hi``), each row summing to 1. The normal tails by Abramowitz & Stegun
+    (1964) 7.1.26 (the shader's erfc_pos: |error| <= 1.5e-7 in erf)."""
+    edges = np.minimum(lo[:, None] + np.arange(TABLE_SIZE + 1.0), hi[:, None])
+    u = (edges - centre[:, None]) * (1.0 / sigma)[:, None]
+    x = np.abs(u) * math.sqrt(0.5)
+    t = 1.0 / (1.0 + 0.3275911 * x)
+    poly = t * (0.254829592 + t * (-0.284496736 + t * (1.421413741
+           + t * (-1.453152027 + t * 1.061405429))))  # fmt: skip
+    q = 0.5 * poly * np.exp(-x * x)  # 1 - Phi(|u|)
+    cdf = np.where(u >= 0.0, 1.0 - q, q)  # Phi(u): in float64 the tails keep their digits
+    w = np.diff(cdf, axis=1)
+    return w / w.sum(axis=1, keepdims=True)
 
 
 def _set_uniforms(program, uniforms: dict) -> None:
@@ -57,46 +131,145 @@ def _set_uniforms(program, uniforms: dict) -> None:
             member.value = value
 
 
+def _max_rad_per_px(camera, w: float, h: float) -> float:
+    """An upper bound on the angle (rad) one pixel spans anywhere in the frame."""
+    if isinstance(camera, PerspectiveCamera):
+        return 2.0 * math.tan(math.radians(camera.fov_deg) / 2.0) / w  # at the centre
+    if isinstance(camera, FisheyeCamera):
+        return math.pi / min(w, h)  # radially; across, sin(z) / z times that
+    if isinstance(camera, EquirectCamera):
+        return max(2.0 * math.pi / w, math.pi / h)
+    return 2.0 / h  # a cube face's centre (its extended plane: smaller beyond)
+
+
 class PointSources:
     """Draws point sources into a frame graph's tile (see the module docstring).
 
     One instance may serve several layers; its GPU objects are kept between draws (one
-    program per camera model, one growing instance buffer) until :meth:`release`.
+    program per camera model and occluder variant, two growing instance buffers) until
+    :meth:`release`.
     """
 
     def __init__(self, ctx):
         self.ctx = ctx
-        self._programs: dict[int, tuple] = {}  # camera model -> (program, vao)
-        self._buffer = None
-        self._capacity = 0
+        self._programs: dict[tuple, object] = {}  # (camera model, variant) -> program
+        self._buffers: list = [None] * len(_VARIANTS)
+        self._capacity = [0] * len(_VARIANTS)
+        self._vaos: dict[tuple, object] = {}  # (camera model, variant) -> vao
+        self.instances_drawn = 0  # quads uploaded by the last draw (all variants)
 
     # ------------------------------------------------------------------ resources
 
-    def _ensure_buffer(self, n: int) -> None:
-        if n <= self._capacity:
-            return
-        capacity = max(1024, 1 << int(math.ceil(math.log2(n))))
-        for _, vao in self._programs.values():
-            vao.release()
-        if self._buffer is not None:
-            self._buffer.release()
-        self._buffer = self.ctx.buffer(reserve=capacity * _STRIDE * 4, dynamic=True)
-        self._capacity = capacity
-        self._programs = {
-            model: (prog, self._vertex_array(prog)) for model, (prog, _) in self._programs.items()
-        }
+    def _program(self, model: int, slot: int):
+        key = (model, slot)
+        if key not in self._programs:
+            occluded, tabled, sprite = _VARIANTS[slot]
+            defines = {
+                "CAMERA_MODEL": model,
+                "MAX_OCCLUDERS": MAX_OCCLUDERS,
+                "OCCLUDERS": int(occluded),
+                "WEIGHT_TABLE": int(tabled),
+                "SPRITE": int(sprite),
+            }
+            self._programs[key] = build_program(
+                self.ctx, FRAGMENT_SHADER, defines, vertex=VERTEX_SHADER
+            )
+        return self._programs[key]
 
-    def _vertex_array(self, program):
-        return self.ctx.vertex_array(
-            program, [(self._buffer, "3f 4f/i", "in_direction", "in_channels")]
-        )
+    def _upload(self, slot: int, data: np.ndarray) -> None:
+        n = len(data)
+        if n > self._capacity[slot]:
+            capacity = max(1024, 1 << int(math.ceil(math.log2(n))))
+            for key in [k for k in self._vaos if k[1] == slot]:
+                self._vaos.pop(key).release()
+            if self._buffers[slot] is not None:
+                self._buffers[slot].release()
+            self._buffers[slot] = self.ctx.buffer(reserve=capacity * _STRIDE * 4, dynamic=True)
+            self._capacity[slot] = capacity
+        self._buffers[slot].write(np.ascontiguousarray(data, dtype=np.float32).tobytes())
 
-    def _program(self, model: int):
-        if model not in self._programs:
-            defines = {"CAMERA_MODEL": model, "MAX_OCCLUDERS": MAX_OCCLUDERS}
-            prog = build_program(self.ctx, FRAGMENT_SHADER, defines, vertex=VERTEX_SHADER)
-            self._programs[model] = (prog, self._vertex_array(prog))
-        return self._programs[model]
+    def _vao(self, model: int, slot: int):
+        key = (model, slot)
+        if key not in self._vaos:
+            program = self._program(model, slot)
+            # The attributes a variant does not use are skipped (padding in the format).
+            fmt, names = [], []
+            for part, name in zip(_FORMAT.split(), _ATTRIBUTES, strict=True):
+                used = name in program
+                fmt.append(part if used else f"{4 * int(part[0])}x" + part[2:])
+                names += [name] if used else []
+            if _VARIANTS[slot][2]:  # sprites: one vertex each, not instanced
+                fmt[-1] = fmt[-1].replace("/i", "")
+            self._vaos[key] = self.ctx.vertex_array(
+                program, [(self._buffers[slot], " ".join(fmt), *names)]
+            )
+        return self._vaos[key]
+
+    # ------------------------------------------------------------------ placing
+
+    @staticmethod
+    def _positions(camera, d: np.ndarray, w: int, h: int):
+        """Frame positions of every copy of the sources: (source index, x, y, face, seen);
+        face -1 writes any pixel; for a cubemap one copy per face plane near the source."""
+        n = len(d)
+        if not isinstance(camera, CubemapCamera):
+            x, y, seen = project(camera, d, w, h)
+            return np.arange(n), x, y, np.full(n, -1.0), seen
+        idx, xs, ys, faces = [], [], [], []
+        side = float(h)
+        for f in range(6):
+            m = d @ _CUBE_AXES[f]
+            near = np.flatnonzero(m >= 0.5)  # within 60 deg of the face's axis
+            px, py = _cube_plane(d[near] / m[near, None], f)
+            idx.append(near)
+            xs.append(f * side + (px + 1.0) * 0.5 * side)
+            ys.append((py + 1.0) * 0.5 * side)
+            faces.append(np.full(len(near), float(f)))
+        idx = np.concatenate(idx)
+        return idx, np.concatenate(xs), np.concatenate(ys), np.concatenate(faces), None
+
+    @staticmethod
+    def _project_copy(camera, d: np.ndarray, faces: np.ndarray, w: int, h: int):
+        """Frame positions of directions ``d`` on the planes of ``faces`` (cubemap) or by
+        the camera's own mapping."""
+        if not isinstance(camera, CubemapCamera):
+            x, y, _ = project(camera, d, w, h)
+            return x, y
+        side = float(h)
+        x, y = np.empty(len(d)), np.empty(len(d))
+        for f in range(6):
+            sel = faces == f
+            m = d[sel] @ _CUBE_AXES[f]
+            px, py = _cube_plane(d[sel] / m[:, None], f)
+            x[sel] = f * side + (px + 1.0) * 0.5 * side
+            y[sel] = (py + 1.0) * 0.5 * side
+        return x, y
+
+    def _sigmas(self, camera, d, faces, x, y, w, h, sigma_px, seeing_sigma_rad):
+        """(N, 2) PSF sigma along x and y (pixels): the PSF's own, and the seeing's angle
+        through the mapping's pixel scale at the source along two tangent directions."""
+        sigma = np.full((len(d), 2), sigma_px)
+        if seeing_sigma_rad > 0.0 and len(d):
+            ref = np.where(np.abs(d[:, 2:3]) < 0.9, [[0.0, 0.0, 1.0]], [[1.0, 0.0, 0.0]])
+            t1 = np.cross(ref, d)
+            t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+            t2 = np.cross(d, t1)
+            jac = np.zeros((len(d), 2))
+            for t in (t1, t2):
+                q = d + _STEP_RAD * t
+                qx, qy = self._project_copy(
+                    camera, q / np.linalg.norm(q, axis=1)[:, None], faces, w, h
+                )
+                dx, dy = qx - x, qy - y
+                if isinstance(camera, EquirectCamera):
+                    dx -= w * np.round(dx / w)  # across the seam the difference jumps by w
+                jac[:, 0] += dx * dx
+                jac[:, 1] += dy * dy
+            # Marginal variances of an isotropic Gaussian of sigma s mapped by J = [d1 d2]/H:
+            # (J J^T)_xx s^2 and (J J^T)_yy s^2 (the correlation is dropped: the quad's PSF
+            # is separable; the weights still sum to 1).
+            sigma = np.sqrt(sigma * sigma + jac / _STEP_RAD**2 * seeing_sigma_rad**2)
+        return np.clip(sigma, 1e-3, MAX_SIGMA_PX)
 
     # ------------------------------------------------------------------ drawing
 
@@ -113,7 +286,7 @@ class PointSources:
         """Add the sources' light to ``frame`` (a ``scene.layer.DrawContext``).
 
         Args:
-            frame: the tile to draw into (its camera, uniforms, tile and framebuffer).
+            frame: the tile to draw into (its camera, frame size, tile and framebuffer).
             directions: (N, 3) apparent (refracted) unit ENU directions.
             channels: (N, 4) each source's illuminance in the frame's output channels
                 (lux-equivalent: for ``rgbs``, the colour per unit luminance from
@@ -144,40 +317,119 @@ class PointSources:
             )
         if not (np.all(np.isfinite(d)) and np.all(np.isfinite(c))):
             raise ParameterError("point-source directions and channels must be finite")
+        length = np.sqrt(np.einsum("ij,ij->i", d, d))
+        if not np.all(length > 0.0):
+            raise ParameterError("point-source directions must be non-zero vectors")
+        d = d / length[:, None]
         disks = self._occluders(occluder)
         camera = frame.camera
-        n = d.shape[0]
-        if n == 0 or not has_projection(camera):
+        self.instances_drawn = 0
+        if d.shape[0] == 0 or not has_projection(camera):
             return
-        self._ensure_buffer(n)
-        data = np.empty((n, _STRIDE), np.float32)
-        data[:, :3] = d
-        data[:, 3:] = c
-        self._buffer.write(data.tobytes())
-        program, vao = self._program(camera.model)
+        w, h = frame.frame_size
         x0, y0, tw, th = frame.tile
+        seeing_sigma_rad = seeing * _ARCSEC / FWHM_PER_SIGMA
+        # Every copy's frame position (float64); then a first cull with the largest quad the
+        # PSF can have (its own sigma, or MAX_SIGMA_PX with a seeing disk), so that the
+        # rest of the work is done for the sources near the tile only.
+        idx, x, y, faces, seen = self._positions(camera, d, w, h)
+        bound = math.ceil(PSF_EXTENT_SIGMA * (sigma if seeing_sigma_rad == 0.0 else MAX_SIGMA_PX))
+        if isinstance(camera, EquirectCamera):
+            # The seam: a quad that may cross x = 0 or x = w gets a copy one frame width
+            # over (copies whose quad stays clear of the frame are culled with the rest).
+            left = x - bound - 1.0 < 0.0
+            right = ~left & (x + bound + 1.0 > w)
+            extra = np.flatnonzero(left | right)
+            idx, y = np.concatenate([idx, idx[extra]]), np.concatenate([y, y[extra]])
+            x = np.concatenate([x, x[extra] + np.where(left[extra], float(w), -float(w))])
+            faces = np.concatenate([faces, faces[extra]])
+            if seen is not None:
+                seen = np.concatenate([seen, seen[extra]])
+        cx, cy = np.floor(x), np.floor(y)
+        near = (cx + (1.0 + bound) > x0) & (cx - bound < x0 + tw)
+        near &= (cy + (1.0 + bound) > y0) & (cy - bound < y0 + th)
+        if seen is not None:  # behind a perspective camera, below a fisheye's horizon
+            near &= seen
+        near = np.flatnonzero(near)
+        near = near[np.any(c[idx[near]] != 0.0, axis=1)]  # sources with no light
+        idx, x, y, faces, cx, cy = (a[near] for a in (idx, x, y, faces, cx, cy))
+        du = d[idx]
+        sig = self._sigmas(camera, du, faces, x, y, w, h, sigma, seeing_sigma_rad)
+        half = np.ceil(PSF_EXTENT_SIGMA * sig)
+        # The quad: whole frame pixels from the source's pixel +- half.
+        cell = np.stack([cx, cy], axis=1)
+        lo, hi = cell - half, cell + 1.0 + half
+        keep = (hi[:, 0] > x0) & (lo[:, 0] < x0 + tw) & (hi[:, 1] > y0) & (lo[:, 1] < y0 + th)
+        if isinstance(camera, CubemapCamera):
+            # A face's copy draws only if its quad reaches the face's own pixels.
+            f0 = faces * h
+            keep &= (x + half[:, 0] + 1.0 >= f0) & (x - half[:, 0] - 1.0 <= f0 + h)
+        keep = np.flatnonzero(keep)
+        if keep.size == 0:
+            return
+        offset = np.array([x0, y0], dtype=np.float64)
+        lo, hi, sig = lo[keep] - offset, hi[keep] - offset, sig[keep]
+        centre = np.stack([x[keep], y[keep]], axis=1) - offset
+        data = np.zeros((keep.size, _STRIDE), np.float64)
+        data[:, 0:2], data[:, 2:4] = lo, hi
+        data[:, 4:6], data[:, 6:8] = centre, 1.0 / sig
+        data[:, 24] = faces[keep]
+        data[:, 25:29] = c[idx[keep]]
+        # Quads of at most TABLE_SIZE pixels a side: their pixels' weights along x and y,
+        # computed here once per column and row instead of once per pixel.
+        table = np.all(hi - lo <= TABLE_SIZE, axis=1)
+        wts = _pixel_weights(
+            lo[table].T.ravel(), hi[table].T.ravel(), centre[table].T.ravel(), sig[table].T.ravel()
+        )
+        data[table, 8:16], data[table, 16:24] = wts[: wts.shape[0] // 2], wts[wts.shape[0] // 2 :]
+        # Quads that may touch an occluder: within its radius plus the quad's half diagonal.
+        near = np.zeros(keep.size, bool)
+        if len(disks):
+            reach = (half[keep].max(axis=1) + 1.0) * math.sqrt(2.0) * _max_rad_per_px(camera, w, h)
+            dk = du[keep]
+            for u, cos_r in zip(disks[:, :3], disks[:, 3], strict=True):
+                r = math.acos(min(max(cos_r, -1.0), 1.0))
+                near |= dk @ u > np.cos(np.minimum(r + reach, math.pi))
         occ = np.zeros((MAX_OCCLUDERS, 4))
         occ[: len(disks)] = disks
         uniforms = {
             **frame.uniforms,
             "u_tile_size": (float(tw), float(th)),
-            "u_psf_sigma_px": sigma,
-            "u_seeing_sigma_rad": seeing * _ARCSEC / FWHM_PER_SIGMA,
             "u_occluders": occ.ravel().tolist(),
             "u_num_occluders": len(disks),
         }
-        _set_uniforms(program, uniforms)
+        # Sprites: the square of side S = the quad's larger side around the source's pixel
+        # (the table's weights are 0 beyond the quad), whole inside the tile.
+        side = (hi - lo).max(axis=1)
+        sq_lo = (lo + hi - side[:, None]) * 0.5
+        sprite = table & np.all(sq_lo >= 0.0, axis=1)
+        sprite &= (sq_lo[:, 0] + side <= tw) & (sq_lo[:, 1] + side <= th)
         frame.fbo.use()
-        if isinstance(camera, CubemapCamera):
-            copies = range(6)  # each face's extended plane
-        elif isinstance(camera, EquirectCamera):
-            copies = range(2)  # the sources themselves, then those near the seam shifted
-        else:
-            copies = range(1)
-        for copy in copies:
-            if "u_copy" in program:
-                program["u_copy"].value = copy
-            vao.render(moderngl.TRIANGLES, vertices=6, instances=n)
+        for slot, (occluded, tabled, as_sprite) in enumerate(_VARIANTS):
+            sel = (near == occluded) & (table == tabled) & (sprite == as_sprite)
+            if not np.any(sel):
+                continue
+            part, sizes = data[sel], side[sel]
+            if as_sprite:
+                order = np.argsort(sizes, kind="stable")
+                part, sizes = part[order], sizes[order]
+            self._upload(slot, part)
+            vao = self._vao(camera.model, slot)
+            _set_uniforms(vao.program, uniforms)
+            if as_sprite:
+                # One draw per sprite size (glPointSize), the ranges of the sorted buffer.
+                sizes_u, first = np.unique(sizes, return_index=True)
+                ends = np.append(first[1:], len(sizes))
+                old_size = self.ctx.point_size
+                try:
+                    for size, a, b in zip(sizes_u, first, ends, strict=True):
+                        self.ctx.point_size = float(size)
+                        vao.render(moderngl.POINTS, vertices=int(b - a), first=int(a))
+                finally:
+                    self.ctx.point_size = old_size
+            else:
+                vao.render(moderngl.TRIANGLES, vertices=6, instances=len(part))
+            self.instances_drawn += len(part)
 
     @staticmethod
     def _occluders(occluder) -> np.ndarray:
@@ -204,12 +456,15 @@ class PointSources:
         return out
 
     def release(self) -> None:
-        """Free the programs and the instance buffer."""
-        for prog, vao in self._programs.values():
+        """Free the programs and the instance buffers."""
+        for vao in self._vaos.values():
             vao.release()
+        self._vaos.clear()
+        for prog in self._programs.values():
             prog.release()
         self._programs.clear()
-        if self._buffer is not None:
-            self._buffer.release()
-        self._buffer = None
-        self._capacity = 0
+        for buf in self._buffers:
+            if buf is not None:
+                buf.release()
+        self._buffers = [None] * len(_VARIANTS)
+        self._capacity = [0] * len(_VARIANTS)
