@@ -22,6 +22,7 @@ from skydome.night import (
 )
 from skydome.night import airglow as ag
 from skydome.night import zodiacal as zl
+from skydome.render import refraction as rf
 from skydome.render.cameras import DirectionsCamera, FisheyeCamera, direction_from_angles
 from skydome.spectra import SRGB_LUMINANCE
 
@@ -273,15 +274,15 @@ def test_refraction_table_against_the_inverse_saemundsson_law():
     for h in np.concatenate([np.linspace(-0.9, 5.0, 40), np.linspace(5.0, 89.5, 40)]):
         z, c = math.sin(math.radians(h)), math.cos(math.radians(h))
         d = np.array([c, 0.0, z])
-        for k in (zl.airless_offset(z), zl.airless_offset_lookup(z)):
+        for k in (rf.airless_offset(z), rf.airless_offset_lookup(z)):
             v = d + k * (z * d - up)
             h_true = math.degrees(math.atan2(v[2], v[0]))
             assert abs(h_true - true_elevation_deg(h)) * 3600.0 < 3.0, h
     z = np.sin(np.radians(np.linspace(-0.95, 89.99, 20_001)))
     c = np.sqrt(1.0 - z * z)
-    shift = np.arctan(zl.airless_offset(z) * c) - np.arctan(zl.airless_offset_lookup(z) * c)
+    shift = np.arctan(rf.airless_offset(z) * c) - np.arctan(rf.airless_offset_lookup(z) * c)
     assert np.degrees(np.abs(shift)).max() * 3600.0 < 0.2
-    assert np.all(zl.airless_offset(z, 0.0) == 0.0)  # no air, no refraction
+    assert np.all(rf.airless_offset(z, 0.0) == 0.0)  # no air, no refraction
 
 
 def test_rendered_zodiacal_light_with_refraction():

@@ -33,7 +33,7 @@ chain the star catalogue uses (frame bias < 0.02" neglected). -> ENU with the lo
 sidereal time (skydome.astro.time.gast + east longitude). Annual aberration (<= 20.5") is left
 out: the map's pixels are 0.18 deg. The shader gets one mat3 (ENU -> galactic) per update
 and looks up each pixel's airless direction (refraction from a table over the sine of the
-apparent elevation, skydome.night.zodiacal.airless_offset_table).
+apparent elevation, skydome.render.refraction).
 """
 
 from __future__ import annotations
@@ -47,6 +47,7 @@ from importlib import resources
 import numpy as np
 
 from skydome.errors import ParameterError, SkydomeError
+from skydome.render.refraction import RefractionTable
 from skydome.scene.layer import DrawContext, Layer
 from skydome.scene.state import SkyState, refraction_scale
 
@@ -219,6 +220,9 @@ class MilkyWayLayer(Layer):
     (1 = the calibrated map; 0 to 100)."""
 
     name = "milky_way"
+    #: No detail below a texel of the 2048-px map (0.176 deg): the frame graph may draw it
+    #: at 1/f the resolution when the camera's pixels are f times finer (scene.graph).
+    smooth_deg = 0.18
     stage = "space"
     shader = "celestial/milky_way.glsl"
 
@@ -235,7 +239,7 @@ class MilkyWayLayer(Layer):
         self._colour = None
         self._info: dict = {}
         self._refraction = 0.0
-        self._offsets = None
+        self._refraction_table = RefractionTable()
         self._log2_texels_per_rad = 0.0
 
     def prepare(self, graph) -> None:
@@ -290,12 +294,9 @@ class MilkyWayLayer(Layer):
     def draw(self, frame: DrawContext) -> None:
         if self._uniforms is None or self.scale == 0.0:
             return
-        from skydome.night.zodiacal import REFRACTION_TABLE_SIZE
-
-        n = REFRACTION_TABLE_SIZE
         uniforms = {
             **self._uniforms,
-            "u_offset_map": (0.5 * (n - 1) / n, 0.5),  # node i of n at (i + 0.5) / n
+            **self._refraction_table.uniforms(),
             "u_log2_texels_per_rad": self._log2_texels_per_rad,
         }
         fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
@@ -305,23 +306,9 @@ class MilkyWayLayer(Layer):
             {
                 **frame.textures,
                 "u_milky_way": self._texture,
-                "u_airless_offset": self._offset_texture(frame.ctx),
+                "u_airless_offset": self._refraction_table.texture(frame.ctx, self._refraction),
             },
         )
-
-    def _offset_texture(self, ctx):
-        """The refraction table (night.zodiacal.airless_offset_table) for the weather."""
-        if self._offsets is None or self._offsets[0] != self._refraction:
-            from skydome.night.zodiacal import airless_offset_table
-
-            if self._offsets is not None:
-                self._offsets[1].release()
-            table = np.ascontiguousarray(airless_offset_table(self._refraction))
-            tex = ctx.texture((len(table), 1), 1, table.tobytes(), dtype="f4")
-            tex.filter = (ctx.LINEAR, ctx.LINEAR)
-            tex.repeat_x = tex.repeat_y = False
-            self._offsets = (self._refraction, tex)
-        return self._offsets[1]
 
     def info(self) -> dict:
         return dict(self._info)
@@ -331,6 +318,4 @@ class MilkyWayLayer(Layer):
         if self._texture is not None:
             self._texture.release()
             self._texture = None
-        if self._offsets is not None:
-            self._offsets[1].release()
-            self._offsets = None
+        self._refraction_table.release()

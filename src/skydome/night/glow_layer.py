@@ -22,6 +22,7 @@ import numpy as np
 from skydome.night import airglow as ag
 from skydome.night import light_pollution as lp
 from skydome.night import zodiacal as zl
+from skydome.render.refraction import RefractionTable
 from skydome.scene.layer import DrawContext, Layer, SpectralBasis
 from skydome.scene.state import SkyState, refraction_scale
 
@@ -68,6 +69,8 @@ class AirglowLayer(Layer):
 
     name = "airglow"
     stage = "space"
+    #: The van Rhijn brightening varies over degrees (scene.graph may draw it reduced).
+    smooth_deg = 2.0
     shader = "night/airglow.glsl"
 
     def __init__(
@@ -135,6 +138,8 @@ class ZodiacalLightLayer(Layer):
 
     name = "zodiacal_light"
     stage = "space"
+    #: Leinert's table has nodes 5-15 deg apart (scene.graph may draw it reduced).
+    smooth_deg = 1.0
     shader = "night/zodiacal_light.glsl"
 
     def __init__(self, *, scale: float = 1.0, enabled: bool = True):
@@ -147,21 +152,12 @@ class ZodiacalLightLayer(Layer):
         self._key = None
         self._colours = None
         self._refraction = 1.0
-        self._offsets = None
+        self._refraction_table = RefractionTable()
 
     def prepare(self, graph) -> None:
         super().prepare(graph)
         if self._texture is None:
             self._texture = _linear_texture(graph.ctx, zl.zodiacal_grid())
-
-    def _offset_texture(self, ctx):
-        """The refraction table (zodiacal.airless_offset_table) for the current weather."""
-        if self._offsets is None or self._offsets[0] != self._refraction:
-            if self._offsets is not None:
-                self._offsets[1].release()
-            table = zl.airless_offset_table(self._refraction)
-            self._offsets = (self._refraction, _linear_texture(ctx, table[None, :, None]))
-        return self._offsets[1]
 
     def colours(self, basis: SpectralBasis) -> tuple[np.ndarray, np.ndarray]:
         """Channels per cd/m^2 of solar-type light of equal 500 nm radiance, reddened as at
@@ -192,11 +188,10 @@ class ZodiacalLightLayer(Layer):
             return
         near, far = self.colours(frame.basis)
         nu, nv = zl.GRID_SHAPE
-        n = zl.REFRACTION_TABLE_SIZE
         uniforms = {
             # Node i of n at texture coordinate (i + 0.5) / n.
             "u_grid_map": ((nu - 1) / nu, (nv - 1) / nv, 0.5 / nu, 0.5 / nv),
-            "u_offset_map": (0.5 * (n - 1) / n, 0.5),
+            **self._refraction_table.uniforms(),
             "u_enu_to_helioecliptic": self._matrix.T.ravel().tolist(),  # column-major
             "u_colour_near": _vec4(self.scale * near),
             "u_colour_far_minus_near": _vec4(self.scale * (far - near)),
@@ -208,7 +203,7 @@ class ZodiacalLightLayer(Layer):
             {
                 **frame.textures,
                 "u_zodiacal_grid": self._texture,
-                "u_airless_offset": self._offset_texture(frame.ctx),
+                "u_airless_offset": self._refraction_table.texture(frame.ctx, self._refraction),
             },
         )
 
@@ -217,9 +212,7 @@ class ZodiacalLightLayer(Layer):
         if self._texture is not None:
             self._texture.release()
             self._texture = None
-        if self._offsets is not None:
-            self._offsets[1].release()
-            self._offsets = None
+        self._refraction_table.release()
 
 
 class LightPollutionLayer(Layer):

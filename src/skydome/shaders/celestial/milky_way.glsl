@@ -1,9 +1,8 @@
 // Milky Way layer (space stage): the Galaxy's diffuse light beyond the atmosphere, looked up
 // in a galactic equirectangular map (skydome.celestial.milky_way: S10, the catalogue's stars
 // removed; column s = (180 deg - l) / 360 deg, row t = (90 deg - b) / 180 deg, top first).
-// Each pixel's airless direction, d + k(z) (z d - up) from the refraction table
-// (skydome.night.zodiacal.airless_offset_table, the float64 twin of common/refraction.glsl's
-// airless_direction; unnormalised: the angles are atan ratios), is turned into galactic
+// Each pixel's airless direction, from the refraction table (common/airless_table.glsl;
+// unnormalised: the angles are atan ratios), is turned into galactic
 // coordinates by one matrix made on the CPU per update (galactic -> ICRS -> of date -> ENU,
 // transposed). The map is sampled with mipmaps (linear within and between levels, wrapping in
 // l, clamped at the poles) at a level made here, not by the texture unit: log2 of the angle
@@ -15,11 +14,10 @@
 // neighbours: it reads the base level. Output: luminance x the light's colour (u_colour =
 // output channels per S10), drawn added; the atmosphere layer applies the transmittance.
 #include "common/camera.glsl"
+#include "common/airless_table.glsl"
 
 uniform mat3 u_enu_to_galactic;
 uniform sampler2D u_milky_way;        // S10
-uniform sampler2D u_airless_offset;   // R: k(z) at z = -1 + 2 i / (n - 1)
-uniform vec2 u_offset_map;            // z -> the offset table's coordinate: z * x + y
 uniform float u_log2_texels_per_rad;  // log2(map width / 2 pi)
 uniform vec4 u_colour;                // output channels per S10 of the Milky Way's light
 out vec4 frag;
@@ -28,9 +26,7 @@ void main() {
     frag = vec4(0.0);
     vec3 dir;
     if (!camera_ray(gl_FragCoord.xy, dir)) return;
-    float k = textureLod(u_airless_offset, vec2(dir.z * u_offset_map.x + u_offset_map.y, 0.5),
-                         0.0).r;
-    vec3 g = u_enu_to_galactic * (dir + k * (dir.z * dir - vec3(0.0, 0.0, 1.0)));
+    vec3 g = u_enu_to_galactic * airless_from_table(dir);
     float lon = atan(g.y, g.x);
     float lat = atan(g.z, length(g.xy));  // not asin: Mesa's asin is off by up to 81"
     vec2 st = vec2(fract(0.5 - lon / (2.0 * PI)), 0.5 - lat / PI);

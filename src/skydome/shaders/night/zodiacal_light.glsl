@@ -6,15 +6,13 @@
 // of its components, monotonic in |lambda - lambda_sun| and |beta|, no inverse trigonometry),
 // holding (L, L w): one hardware bilinear fetch gives the luminance L of solar-type light and
 // its far-colour share w. The pixel's airless direction comes from the refraction table
-// (zodiacal.airless_offset_table, the float64 twin of common/refraction.glsl's
-// airless_direction): d + k(z) (z d - up), unnormalised (the pseudo-angles are ratios).
+// (common/airless_table.glsl), unnormalised (the pseudo-angles are ratios).
 // Output: (R, G, B, scotopic) cd/m^2 (or a spectral basis's 4 wavelengths); drawn added.
 #include "common/camera.glsl"
+#include "common/airless_table.glsl"
 
 uniform sampler2D u_zodiacal_grid;       // RG: L (cd/m^2 of solar-type light), L w
-uniform sampler2D u_airless_offset;      // R: k(z) at z = -1 + 2 i / (n - 1)
 uniform vec4 u_grid_map;                 // (u, v) -> texture coordinates: (u, v) * xy + zw
-uniform vec2 u_offset_map;               // z -> the offset table's coordinate: z * x + y
 uniform mat3 u_enu_to_helioecliptic;     // x: the Sun's ecliptic longitude, z: ecliptic pole
 uniform vec4 u_colour_near;              // channels per cd/m^2 at elongation <= 30 deg
 uniform vec4 u_colour_far_minus_near;    // (at elongation >= 90 deg) - near
@@ -24,9 +22,7 @@ void main() {
     frag = vec4(0.0);
     vec3 dir;
     if (!camera_ray(gl_FragCoord.xy, dir)) return;
-    float k = textureLod(u_airless_offset, vec2(dir.z * u_offset_map.x + u_offset_map.y, 0.5),
-                         0.0).r;
-    vec3 h = u_enu_to_helioecliptic * (dir + k * (dir.z * dir - vec3(0.0, 0.0, 1.0)));
+    vec3 h = u_enu_to_helioecliptic * airless_from_table(dir);
     vec3 a = abs(h);
     float rho = length(h.xy);
     // max(): at the ecliptic poles x = y = 0 (every u there reads the same brightness).
