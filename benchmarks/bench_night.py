@@ -41,10 +41,12 @@ def main() -> None:
     print(f"# device: {gl_info(ctx).describe()}")
 
     def frame(on: tuple[str, ...], **kw):
+        kw.setdefault("exposure", -8.0 if "tonemap" in kw else None)
+
         def run():
             for name in NIGHT_LAYERS:
                 sky.layer(name).enabled = name in on
-            sky.render(CAMERA, 1280, 720, exposure=None, **kw)
+            sky.render(CAMERA, 1280, 720, **kw)
             ctx.finish()
 
         return run
