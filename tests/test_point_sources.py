@@ -128,44 +128,75 @@ def test_cubemap_flux_across_a_face_edge():
     np.testing.assert_allclose(got[:, 1], 2.0, rtol=2e-3)
 
 
-def test_pixel_weights_are_the_gaussian_integrals():
-    # The shader's erf is Abramowitz & Stegun 7.1.26 (|error| <= 1.5e-7): each pixel's share
-    # of the light equals the float64 integral of the Gaussian over the pixel divided by its
-    # integral over the quad (math.erf), within 2e-6 of the total. The quad: whole pixels
-    # from the source's pixel out to ceil(3 sigma) (PSF_EXTENT_SIGMA), and nothing beyond.
-    sigma = 1.7
-    w, h = 720, 360
-    source = direction_from_angles(0.3, 123.4)  # near the equator: square pixels
-    cam = EquirectCamera()
-    data, _, omega, _, (gx, gy) = render(cam, w, h, source, [[0, 1.0, 0, 0]], psf_sigma_px=sigma)
-    share = data[..., 1] * omega
-    x, y, _ = project(cam, source, w, h)
-    cx, cy = float(x), float(y)
-    assert PSF_EXTENT_SIGMA == 3.0
+def axis_weights(c: float, sigma: float):
+    """Float64 (math.erf) shares of a Gaussian centred at frame position c (pixels) on the
+    whole pixels of its quad along one axis: the pixels' first edges and the shares."""
     half = math.ceil(PSF_EXTENT_SIGMA * sigma)
 
     def cdf(u):
         return 0.5 * (1.0 + math.erf(u / (sigma * math.sqrt(2.0))))
 
-    def weights(c):
-        lo, hi = math.floor(c) - half, math.floor(c) + 1 + half
-        edges = np.arange(lo, hi + 1)
-        return edges[:-1], np.diff([cdf(e - c) for e in edges]) / (cdf(hi - c) - cdf(lo - c))
+    lo, hi = math.floor(c) - half, math.floor(c) + 1 + half
+    edges = np.arange(lo, hi + 1)
+    return edges[:-1], np.diff([cdf(e - c) for e in edges]) / (cdf(hi - c) - cdf(lo - c))
 
-    ex, wx = weights(cx)
-    ey, wy = weights(cy)
+
+@pytest.mark.parametrize(
+    "sigma,azimuth_deg,w",
+    [
+        (1.7, 123.4, 720),  # a quad wider than 8 px: erf per pixel
+        (0.8, 123.4, 720),  # 7 x 7: weights per column and row, a point sprite
+        (0.8, 0.05, 720),  # on the seam: the copy one frame width over
+        (0.8, 180.02, 4096),  # on the border of the two 2048-pixel tiles: quads
+    ],
+)
+def test_pixel_weights_are_the_gaussian_integrals(sigma, azimuth_deg, w):
+    # The shader's erf is Abramowitz & Stegun 7.1.26 (|error| <= 1.5e-7): each pixel's share
+    # of the light equals the float64 integral of the Gaussian over the pixel divided by its
+    # integral over the quad (math.erf), within 2e-6 of the total. The quad: whole pixels
+    # from the source's pixel out to ceil(3 sigma) (PSF_EXTENT_SIGMA), and nothing beyond.
+    assert PSF_EXTENT_SIGMA == 3.0
+    h = w // 2
+    source = direction_from_angles(0.3, azimuth_deg)  # near the equator: square pixels
+    cam = EquirectCamera()
+    data, _, omega, _, (gx, gy) = render(cam, w, h, source, [[0, 1.0, 0, 0]], psf_sigma_px=sigma)
+    share = data[..., 1] * omega
+    x, y, _ = project(cam, source, w, h)
+    ex, wx = axis_weights(float(x), sigma)
+    ey, wy = axis_weights(float(y), sigma)
     expected = np.zeros_like(share)
     for i, a in zip(ex, wx, strict=True):
         for j, b in zip(ey, wy, strict=True):
-            expected[(gx == i + 0.5) & (gy == j + 0.5)] = a * b
+            expected[(gx == i % w + 0.5) & (gy == j + 0.5)] = a * b
     assert share.sum() == pytest.approx(1.0, abs=1e-5)
     np.testing.assert_allclose(share, expected, atol=2e-6)
 
 
+def test_sources_just_off_the_frame_light_the_pixels_they_reach():
+    # Sources 0.6 and 1.9 px beyond the left edge, 0.4 px beyond the right one and 0.9 px
+    # above the top of a perspective frame (culled on the CPU by their quads, not their
+    # centres; light reaching 2.4 sigma in and more): the
+    # flux inside the frame is the illuminance times the float64 share of the PSF on the
+    # frame's pixels (axis_weights), 1e-4 (float32).
+    cam, w, h = PerspectiveCamera(fov_deg=60, yaw_deg=100, pitch_deg=20), 320, 200
+    positions = [(-0.6, 100.3), (320.4, 50.7), (150.2, 200.9), (-1.9, 20.2)]
+    sources = [pixel_directions(cam, px, py, w, h)[0] for px, py in positions]
+    data, dirs, omega, _, _ = render(cam, w, h, sources)
+    got = fluxes(data, dirs, omega, sources, radius_deg=2.0)[:, 1]
+    for k, (px, py) in enumerate(positions):
+        inside = 1.0
+        for c, n in ((px, w), (py, h)):
+            edges, share = axis_weights(c, 0.8)
+            inside *= share[(edges >= 0) & (edges < n)].sum()
+        assert 0.001 < inside < 0.9
+        assert got[k] == pytest.approx(2.0 * inside, rel=1e-4), (px, py)
+
+
 def test_centroid_is_the_projected_position():
     # A pixel-integrated Gaussian's centroid is its centre (the discretization bias of a
-    # sigma = 0.8 px Gaussian, ~exp(-2 pi^2 sigma^2) = 3e-6 px, and the truncation at 4 sigma
-    # are far below 0.01 px); the position is camera_project's, held to projection.project.
+    # sigma = 0.8 px Gaussian, ~exp(-2 pi^2 sigma^2) = 3e-6 px, and the truncation at the
+    # quad's edges, 3.75-5 sigma out, are far below 0.01 px); the position is the CPU's
+    # float64 placement, held to projection.project.
     cams = [
         (EquirectCamera(), 2048, 1024),
         (PerspectiveCamera(fov_deg=60, yaw_deg=100, pitch_deg=35), 640, 480),

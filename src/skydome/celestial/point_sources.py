@@ -64,19 +64,16 @@ FWHM_PER_SIGMA = 2.0 * math.sqrt(2.0 * math.log(2.0))
 PSF_EXTENT_SIGMA = 3.0
 #: Largest PSF sigma in pixels (bounds the quad: a seeing disk near an equirect pole).
 MAX_SIGMA_PX = 64.0
-#: Quads up to this many pixels a side get their weights per column and row from the CPU,
-#: once per quad, instead of per pixel.
+#: Quads up to this many pixels a side get their weights per column and row from the
+#: vertex stage, once per quad, instead of per pixel.
 TABLE_SIZE = 8
 _ARCSEC = math.pi / 648_000.0
 _STEP_RAD = 1e-3  # finite-difference step of the seeing's pixel scale
-# Floats per instance: the quad's corners (4), the source's position and 1 / sigma (4), the
-# column and row weights (8 + 8), the cube face (1), the channels (4).
-_STRIDE = 29
-_FORMAT = "4f 4f 4f 4f 4f 4f 1f 4f/i"
-_ATTRIBUTES = (
-    "in_rect", "in_centre_inv_sigma", "in_wx0", "in_wx1", "in_wy0", "in_wy1", "in_face",
-    "in_channels",
-)  # fmt: skip
+# Floats per instance: the quad's corners (4), the source's position from the lower-left
+# corner and 1 / sigma (4), the cube face (1), the channels (4).
+_STRIDE = 13
+_FORMAT = "4f 4f 1f 4f/i"
+_ATTRIBUTES = ("in_rect", "in_centre_inv_sigma", "in_face", "in_channels")
 # Program variants, one instance buffer each: (near an occluder, weights from the table,
 # drawn as a point sprite). A sprite (one vertex, one primitive; two triangles cost llvmpipe
 # about 2.5x as much) needs its square whole inside the tile: GL drops a point whose centre
@@ -98,24 +95,6 @@ _CUBE_AXES = np.array(
 def _cube_plane(q: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray]:
     x, y, z = q[:, 0], q[:, 1], q[:, 2]
     return [(-y, z), (y, z), (x, z), (-x, z), (-x, y), (x, y)][face]
-
-
-def _pixel_weights(lo, hi, centre, sigma) -> np.ndarray:
-    """(N, TABLE_SIZE) shares of a Gaussian's light on the whole pixels from ``lo`` to
-    ``hi`` (a quad's columns or rows, at most TABLE_SIZE) for centres ``centre`` and sigmas
-    ``sigma`` (pixels), float64: the integral over each pixel over the integral over the
-    quad (0 beyond ``hi``), each row summing to 1. The normal tails by Abramowitz & Stegun
-    (1964) 7.1.26 (the shader's erfc_pos: |error| <= 1.5e-7 in erf)."""
-    edges = np.minimum(lo[:, None] + np.arange(TABLE_SIZE + 1.0), hi[:, None])
-    u = (edges - centre[:, None]) * (1.0 / sigma)[:, None]
-    x = np.abs(u) * math.sqrt(0.5)
-    t = 1.0 / (1.0 + 0.3275911 * x)
-    poly = t * (0.254829592 + t * (-0.284496736 + t * (1.421413741
-           + t * (-1.453152027 + t * 1.061405429))))  # fmt: skip
-    q = 0.5 * poly * np.exp(-x * x)  # 1 - Phi(|u|)
-    cdf = np.where(u >= 0.0, 1.0 - q, q)  # Phi(u): in float64 the tails keep their digits
-    w = np.diff(cdf, axis=1)
-    return w / w.sum(axis=1, keepdims=True)
 
 
 def _set_uniforms(program, uniforms: dict) -> None:
@@ -206,6 +185,23 @@ class PointSources:
         return self._vaos[key]
 
     # ------------------------------------------------------------------ placing
+
+    @staticmethod
+    def _in_view(camera, d: np.ndarray, w: int, h: int, bound: float) -> np.ndarray:
+        """Indices of the unit directions ``d`` that may light the frame, by one dot product:
+        for a perspective camera, those within the frame's half-diagonal angle plus a quad
+        of ``bound`` pixels (each pixel spans at most the centre's angle); for a fisheye,
+        those above the horizon; every direction for the other models."""
+        if isinstance(camera, PerspectiveCamera):
+            t = math.tan(math.radians(camera.fov_deg) / 2.0)
+            diagonal = math.atan(t * math.hypot(1.0, h / w))
+            margin = (bound + 2.0) * math.sqrt(2.0) * _max_rad_per_px(camera, w, h)
+            cone = diagonal + margin
+            if cone < 0.5 * math.pi:
+                return np.flatnonzero(d @ camera.basis()[:, 2] > math.cos(cone))
+        if isinstance(camera, FisheyeCamera):
+            return np.flatnonzero(d[:, 2] >= 0.0)
+        return np.arange(len(d))
 
     @staticmethod
     def _positions(camera, d: np.ndarray, w: int, h: int):
@@ -332,8 +328,10 @@ class PointSources:
         # Every copy's frame position (float64); then a first cull with the largest quad the
         # PSF can have (its own sigma, or MAX_SIGMA_PX with a seeing disk), so that the
         # rest of the work is done for the sources near the tile only.
-        idx, x, y, faces, seen = self._positions(camera, d, w, h)
         bound = math.ceil(PSF_EXTENT_SIGMA * (sigma if seeing_sigma_rad == 0.0 else MAX_SIGMA_PX))
+        ahead = self._in_view(camera, d, w, h, bound)
+        idx, x, y, faces, seen = self._positions(camera, d[ahead], w, h)
+        idx = ahead[idx]
         if isinstance(camera, EquirectCamera):
             # The seam: a quad that may cross x = 0 or x = w gets a copy one frame width
             # over (copies whose quad stays clear of the frame are culled with the rest).
@@ -351,45 +349,44 @@ class PointSources:
         if seen is not None:  # behind a perspective camera, below a fisheye's horizon
             near &= seen
         near = np.flatnonzero(near)
-        near = near[np.any(c[idx[near]] != 0.0, axis=1)]  # sources with no light
         idx, x, y, faces, cx, cy = (a[near] for a in (idx, x, y, faces, cx, cy))
         du = d[idx]
         sig = self._sigmas(camera, du, faces, x, y, w, h, sigma, seeing_sigma_rad)
-        half = np.ceil(PSF_EXTENT_SIGMA * sig)
-        # The quad: whole frame pixels from the source's pixel +- half.
-        cell = np.stack([cx, cy], axis=1)
-        lo, hi = cell - half, cell + 1.0 + half
-        keep = (hi[:, 0] > x0) & (lo[:, 0] < x0 + tw) & (hi[:, 1] > y0) & (lo[:, 1] < y0 + th)
+        hx, hy = np.ceil(PSF_EXTENT_SIGMA * sig[:, 0]), np.ceil(PSF_EXTENT_SIGMA * sig[:, 1])
+        # The quad, in tile pixels: whole pixels from the source's pixel +- half.
+        cx, cy = cx - x0, cy - y0
+        keep = (cx + hx + 1.0 > 0.0) & (cx - hx < tw) & (cy + hy + 1.0 > 0.0) & (cy - hy < th)
         if isinstance(camera, CubemapCamera):
             # A face's copy draws only if its quad reaches the face's own pixels.
             f0 = faces * h
-            keep &= (x + half[:, 0] + 1.0 >= f0) & (x - half[:, 0] - 1.0 <= f0 + h)
+            keep &= (x + hx + 1.0 >= f0) & (x - hx - 1.0 <= f0 + h)
         keep = np.flatnonzero(keep)
         if keep.size == 0:
             return
-        offset = np.array([x0, y0], dtype=np.float64)
-        lo, hi, sig = lo[keep] - offset, hi[keep] - offset, sig[keep]
-        centre = np.stack([x[keep], y[keep]], axis=1) - offset
-        data = np.zeros((keep.size, _STRIDE), np.float64)
-        data[:, 0:2], data[:, 2:4] = lo, hi
-        data[:, 4:6], data[:, 6:8] = centre, 1.0 / sig
-        data[:, 24] = faces[keep]
-        data[:, 25:29] = c[idx[keep]]
-        # Quads of at most TABLE_SIZE pixels a side: their pixels' weights along x and y,
-        # computed here once per column and row instead of once per pixel.
-        table = np.all(hi - lo <= TABLE_SIZE, axis=1)
-        wts = _pixel_weights(
-            lo[table].T.ravel(), hi[table].T.ravel(), centre[table].T.ravel(), sig[table].T.ravel()
+        cx, cy, hx, hy = cx[keep], cy[keep], hx[keep], hy[keep]
+        data = np.empty((keep.size, _STRIDE), np.float64)
+        data[:, 0], data[:, 1], data[:, 2], data[:, 3] = (
+            cx - hx,
+            cy - hy,
+            cx + hx + 1.0,
+            cy + hy + 1.0,
         )
-        data[table, 8:16], data[table, 16:24] = wts[: wts.shape[0] // 2], wts[wts.shape[0] // 2 :]
+        # The source's position from the quad's corner (small numbers: float32 keeps them to
+        # 1e-6 px, and a seam copy gets the very same weights as the source).
+        data[:, 4], data[:, 5] = x[keep] - x0 - data[:, 0], y[keep] - y0 - data[:, 1]
+        data[:, 6:8] = 1.0 / sig[keep]
+        data[:, 8] = faces[keep]
+        data[:, 9:13] = c[idx[keep]]
+        table = (hx <= (TABLE_SIZE - 1) // 2) & (hy <= (TABLE_SIZE - 1) // 2)
         # Quads that may touch an occluder: within its radius plus the quad's half diagonal.
         near = np.zeros(keep.size, bool)
         if len(disks):
-            reach = (half[keep].max(axis=1) + 1.0) * math.sqrt(2.0) * _max_rad_per_px(camera, w, h)
+            reach = (float(max(hx.max(), hy.max())) + 1.0) * math.sqrt(2.0)
+            reach *= _max_rad_per_px(camera, w, h)
             dk = du[keep]
             for u, cos_r in zip(disks[:, :3], disks[:, 3], strict=True):
-                r = math.acos(min(max(cos_r, -1.0), 1.0))
-                near |= dk @ u > np.cos(np.minimum(r + reach, math.pi))
+                r = math.acos(min(max(float(cos_r), -1.0), 1.0))
+                near |= dk @ u > math.cos(min(r + reach, math.pi))
         occ = np.zeros((MAX_OCCLUDERS, 4))
         occ[: len(disks)] = disks
         uniforms = {
@@ -398,19 +395,19 @@ class PointSources:
             "u_occluders": occ.ravel().tolist(),
             "u_num_occluders": len(disks),
         }
-        # Sprites: the square of side S = the quad's larger side around the source's pixel
-        # (the table's weights are 0 beyond the quad), whole inside the tile.
-        side = (hi - lo).max(axis=1)
-        sq_lo = (lo + hi - side[:, None]) * 0.5
-        sprite = table & np.all(sq_lo >= 0.0, axis=1)
-        sprite &= (sq_lo[:, 0] + side <= tw) & (sq_lo[:, 1] + side <= th)
+        # Sprites: the square of side 2 max(hx, hy) + 1 around the source's pixel (the
+        # table's weights are 0 beyond the quad), whole inside the tile.
+        hs = np.maximum(hx, hy)
+        side = 2.0 * hs + 1.0
+        sprite = table & (cx - hs >= 0.0) & (cy - hs >= 0.0)
+        sprite &= (cx + hs + 1.0 <= tw) & (cy + hs + 1.0 <= th)
         frame.fbo.use()
         for slot, (occluded, tabled, as_sprite) in enumerate(_VARIANTS):
             sel = (near == occluded) & (table == tabled) & (sprite == as_sprite)
             if not np.any(sel):
                 continue
             part, sizes = data[sel], side[sel]
-            if as_sprite:
+            if as_sprite and np.any(sizes != sizes[0]):
                 order = np.argsort(sizes, kind="stable")
                 part, sizes = part[order], sizes[order]
             self._upload(slot, part)
@@ -418,12 +415,11 @@ class PointSources:
             _set_uniforms(vao.program, uniforms)
             if as_sprite:
                 # One draw per sprite size (glPointSize), the ranges of the sorted buffer.
-                sizes_u, first = np.unique(sizes, return_index=True)
-                ends = np.append(first[1:], len(sizes))
+                cuts = np.flatnonzero(np.diff(sizes)) + 1
                 old_size = self.ctx.point_size
                 try:
-                    for size, a, b in zip(sizes_u, first, ends, strict=True):
-                        self.ctx.point_size = float(size)
+                    for a, b in zip(np.r_[0, cuts], np.r_[cuts, len(sizes)], strict=True):
+                        self.ctx.point_size = float(sizes[a])
                         vao.render(moderngl.POINTS, vertices=int(b - a), first=int(a))
                 finally:
                     self.ctx.point_size = old_size

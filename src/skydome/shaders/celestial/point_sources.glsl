@@ -57,14 +57,14 @@ float normal_between(float a, float b) {
 #endif
 STAGE_OUT vec4 v_channels;  // illuminance (WEIGHT_TABLE 0: / the PSF's integral over the quad)
 STAGE_OUT int v_face;       // cubemap: the only face this copy may write (-1: any)
+STAGE_OUT vec2 v_lo;        // the quad's lower-left corner, tile pixels (whole pixels)
 #if WEIGHT_TABLE
-STAGE_OUT vec2 v_lo;        // the quad's lower-left corner, tile pixels
 STAGE_OUT vec4 v_wx0;       // its columns' weights (8, left to right)
 STAGE_OUT vec4 v_wx1;
 STAGE_OUT vec4 v_wy0;       // its rows' weights (8, bottom to top)
 STAGE_OUT vec4 v_wy1;
 #else
-STAGE_OUT vec2 v_centre;     // the source's position, tile pixels
+STAGE_OUT vec2 v_centre;     // the source's position from v_lo, pixels
 STAGE_OUT vec2 v_inv_sigma;  // 1 / the PSF's sigma along x and y, 1 / pixels
 #endif
 
@@ -141,8 +141,9 @@ void main() {
     ivec2 k = ivec2(cell - v_lo);  // the pixel's column and row in the quad
     float weight = entry8(v_wx0, v_wx1, k.x) * entry8(v_wy0, v_wy1, k.y);
 #else
-    vec2 a = (cell - v_centre) * v_inv_sigma;
-    vec2 b = (cell + 1.0 - v_centre) * v_inv_sigma;
+    vec2 k = cell - v_lo;  // whole pixels: exact
+    vec2 a = (k - v_centre) * v_inv_sigma;
+    vec2 b = (k + 1.0 - v_centre) * v_inv_sigma;
     float weight = normal_between(a.x, b.x) * normal_between(a.y, b.y);
 #endif
     frag = v_channels * (weight / omega);

@@ -7,19 +7,16 @@
 // those that touch this tile. Per instance, in tile pixels: the quad's corners (whole
 // pixels); the source's position and 1 / the PSF's sigma along x and y; the only cubemap
 // face the copy may write (-1: any); the illuminance in the 4 output channels.
-// For a quad of at most 8 pixels a side (WEIGHT_TABLE 1) the CPU also gives the PSF's share
-// of each of its columns and rows (each set summing to 1): no per-pixel erf at all. For a
-// larger one, the PSF's integral over the whole quad, whose inverse normalises the pixels'
-// weights, is computed here once per vertex, not per pixel.
+// What does not vary across a quad is computed here, once per vertex (one per sprite), not
+// per pixel: for a quad of at most 8 pixels a side (WEIGHT_TABLE 1), the PSF's share of
+// each of its columns and rows (each set summing to 1), so that its pixels need no erf; for
+// a larger one, the PSF's integral over the whole quad, whose inverse normalises the
+// pixels' weights.
 #define POINT_SOURCES_VERTEX_STAGE  // the PSF functions of the file below, not its main
 #include "celestial/point_sources.glsl"
 
 in vec4 in_rect;              // xy: the quad's lower-left corner, zw: its upper-right one
-in vec4 in_centre_inv_sigma;  // xy: the source's position, zw: 1 / sigma (1 / pixels)
-in vec4 in_wx0;  // the columns' weights, left to right (0 past the quad)
-in vec4 in_wx1;
-in vec4 in_wy0;  // the rows' weights, bottom to top
-in vec4 in_wy1;
+in vec4 in_centre_inv_sigma;  // xy: the source's position from in_rect.xy, zw: 1 / sigma
 in float in_face;
 in vec4 in_channels;
 
@@ -38,20 +35,36 @@ void main() {
 #endif
     vec2 c = in_centre_inv_sigma.xy, inv_sigma = in_centre_inv_sigma.zw;
 #if WEIGHT_TABLE
-    v_wx0 = in_wx0;
-    v_wx1 = in_wx1;
-    v_wy0 = in_wy0;
-    v_wy1 = in_wy1;
+    // The PSF's share of each column and row: the tails at the 9 edges once each, each
+    // pixel's integral from its two edges, normalised by their sum (0 beyond the quad).
+    vec2 n = in_rect.zw - in_rect.xy;
+    float wx[8], wy[8];
+    vec2 u = -c * inv_sigma;
+    vec2 q = vec2(normal_tail(u.x), normal_tail(u.y));
+    vec2 sum = vec2(0.0);
+    for (int k = 0; k < 8; ++k) {
+        vec2 u1 = (float(k + 1) - c) * inv_sigma;
+        vec2 q1 = vec2(normal_tail(u1.x), normal_tail(u1.y));
+        wx[k] = float(k) < n.x ? between_tails(u.x, u1.x, q.x, q1.x) : 0.0;
+        wy[k] = float(k) < n.y ? between_tails(u.y, u1.y, q.y, q1.y) : 0.0;
+        sum += vec2(wx[k], wy[k]);
+        u = u1;
+        q = q1;
+    }
+    v_wx0 = vec4(wx[0], wx[1], wx[2], wx[3]) / sum.x;
+    v_wx1 = vec4(wx[4], wx[5], wx[6], wx[7]) / sum.x;
+    v_wy0 = vec4(wy[0], wy[1], wy[2], wy[3]) / sum.y;
+    v_wy1 = vec4(wy[4], wy[5], wy[6], wy[7]) / sum.y;
     v_channels = in_channels;
-    v_lo = in_rect.xy;
 #else
     // The same arithmetic as the fragment stage's pixel edges, so that the pixels' weights
     // telescope to this integral exactly.
-    vec2 a0 = (in_rect.xy - c) * inv_sigma;
-    vec2 b0 = (in_rect.zw - c) * inv_sigma;
+    vec2 a0 = (vec2(0.0) - c) * inv_sigma;
+    vec2 b0 = (in_rect.zw - in_rect.xy - c) * inv_sigma;
     v_channels = in_channels / (normal_between(a0.x, b0.x) * normal_between(a0.y, b0.y));
     v_centre = c;
     v_inv_sigma = inv_sigma;
 #endif
+    v_lo = in_rect.xy;
     v_face = int(in_face);
 }
