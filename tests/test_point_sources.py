@@ -175,9 +175,8 @@ def test_pixel_weights_are_the_gaussian_integrals(sigma, azimuth_deg, w):
 def test_sources_just_off_the_frame_light_the_pixels_they_reach():
     # Sources 0.6 and 1.9 px beyond the left edge, 0.4 px beyond the right one and 0.9 px
     # above the top of a perspective frame (culled on the CPU by their quads, not their
-    # centres; light reaching 2.4 sigma in and more): the
-    # flux inside the frame is the illuminance times the float64 share of the PSF on the
-    # frame's pixels (axis_weights), 1e-4 (float32).
+    # centres): the flux inside the frame is the illuminance times the float64 share of the
+    # PSF on the frame's pixels (axis_weights), 1e-4 (float32; shares from 0.8 % up).
     cam, w, h = PerspectiveCamera(fov_deg=60, yaw_deg=100, pitch_deg=20), 320, 200
     positions = [(-0.6, 100.3), (320.4, 50.7), (150.2, 200.9), (-1.9, 20.2)]
     sources = [pixel_directions(cam, px, py, w, h)[0] for px, py in positions]

@@ -20,7 +20,8 @@ behind the Moon's disk. The atmosphere layer applies each pixel's transmittance;
 applies no extinction. Light of stars fainter than the catalogue (Hp > 8) is the Milky Way
 layer's, not this one's.
 
-Twinkling (``twinkle=True``): :mod:`skydome.celestial.scintillation`.
+Twinkling (``twinkle=True``): :mod:`skydome.celestial.scintillation`, evaluated when the
+layer draws, for the stars it draws (those above the camera's horizon) only.
 """
 
 from __future__ import annotations
@@ -132,7 +133,8 @@ class StarsLayer(Layer):
         self._state_key = None
         self.directions: np.ndarray | None = None  # (N, 3) apparent ENU of the last update
         self.altitude_rad: np.ndarray | None = None  # apparent altitudes
-        self.factors: np.ndarray | None = None  # twinkling intensity factors
+        self._twinkle_at: tuple | None = None  # (time s since J2000 UTC, observer elevation m)
+        self._factors: np.ndarray | None = None
         self._moon = None
         self._n_drawn = 0
 
@@ -170,19 +172,34 @@ class StarsLayer(Layer):
         self._state_key = key
         self._serial += 1
         self._drawn = None
+        self._factors = self._twinkle_at = None
         if state.observer is None or state.time is None:  # the abstract mode: no night sky
-            self.directions = self.altitude_rad = self.factors = None
+            self.directions = self.altitude_rad = None
             self._moon = None
             return
         self.directions, self.altitude_rad = self.apparent_enu(state)
         if self._scint is not None:
-            sigma = scintillation_sigma(self.altitude_rad, float(state.observer.elevation_m))
+            # The factors themselves are computed when drawn, for the stars drawn only.
             t_s = (float(state.time.jd_utc) - _J2000) * 86400.0
-            self.factors = self._scint.factors(t_s, sigma)
-        else:
-            self.factors = None
+            self._twinkle_at = (t_s, float(state.observer.elevation_m))
         moon = state.moon
         self._moon = None if moon is None else (moon.direction, moon.angular_radius_rad)
+
+    def twinkle_factors(self, index=slice(None)) -> np.ndarray | None:
+        """Twinkling intensity factors of the stars ``index`` (indices into the layer's
+        stars) at the last update's time and altitudes, or None without twinkling."""
+        if self._twinkle_at is None:
+            return None
+        t_s, elevation_m = self._twinkle_at
+        sigma = scintillation_sigma(self.altitude_rad[index], elevation_m)
+        return self._scint.factors(t_s, sigma, index)
+
+    @property
+    def factors(self) -> np.ndarray | None:
+        """Every star's twinkling factor at the last update (None without twinkling)."""
+        if self._factors is None and self._twinkle_at is not None:
+            self._factors = self.twinkle_factors()
+        return self._factors
 
     # ------------------------------------------------------------------ draw
 
@@ -198,9 +215,11 @@ class StarsLayer(Layer):
         lowest = -(horizon_dip_rad(frame.altitude_m) + math.radians(BELOW_HORIZON_MARGIN_DEG))
         key = (self._serial, id(frame.basis), lowest)
         if self._drawn is None or self._drawn[0] != key:
-            keep = self.altitude_rad > lowest
-            lux = self.lux if self.factors is None else self.lux * self.factors
-            channels = self.colours(frame.basis)[keep] * lux[keep, None]
+            keep = np.flatnonzero(self.altitude_rad > lowest)
+            lux = self.lux[keep]
+            if self._twinkle_at is not None:
+                lux = lux * self.twinkle_factors(keep)
+            channels = self.colours(frame.basis)[keep] * lux[:, None]
             self._drawn = (key, self.directions[keep], channels)
         _, directions, channels = self._drawn
         self._n_drawn = len(directions)
