@@ -327,6 +327,34 @@ def test_twinkling_in_the_layer():
         s.graph.release()
 
 
+def test_a_redrawn_frame_reuses_the_placement(stars_sky, monkeypatch):
+    # The same state, camera and frame again: the point pass re-issues its last draws from
+    # the GPU's buffers (no placement) and the frame is bit-identical; another camera in
+    # between, or a new state, places the stars anew.
+    from skydome.celestial.point_sources import PointSources
+
+    cam, other = PerspectiveCamera(fov_deg=60, yaw_deg=180, pitch_deg=30), EquirectCamera()
+    first = stars_sky.render(cam, 320, 200, exposure=None).data
+    placed = []
+    original = PointSources._positions
+
+    def counting(*args):
+        placed.append(1)
+        return original(*args)
+
+    monkeypatch.setattr(PointSources, "_positions", staticmethod(counting))
+    again = stars_sky.render(cam, 320, 200, exposure=None).data
+    assert np.array_equal(first, again) and not placed
+    stars_sky.render(other, 128, 64, exposure=None)
+    assert len(placed) == 1
+    assert np.array_equal(stars_sky.render(cam, 320, 200, exposure=None).data, first)
+    assert len(placed) == 2
+    later = stars_sky.at("2018-01-20T20:10Z")
+    moved = later.render(cam, 320, 200, exposure=None).data
+    assert len(placed) == 3 and not np.array_equal(moved, first)
+    stars_sky.graph.update(stars_sky.state)  # the fixture's graph (shared by later) as it was
+
+
 def test_layer_off_is_bit_identical_and_abstract_mode_draws_nothing():
     cam = EquirectCamera()
     plain = Sky(VALLETTA, WINTER_EVENING, layers=with_air()).render(cam, 256, 128, exposure=None)

@@ -135,7 +135,8 @@ class PointSources:
         self._buffers: list = [None] * len(_VARIANTS)
         self._capacity = [0] * len(_VARIANTS)
         self._vaos: dict[tuple, object] = {}  # (camera model, variant) -> vao
-        self.instances_drawn = 0  # quads uploaded by the last draw (all variants)
+        self.instances_drawn = 0  # quads drawn by the last draw (all variants)
+        self._plan: tuple | None = None  # (cache key, the draws) of the last draw
 
     # ------------------------------------------------------------------ resources
 
@@ -278,6 +279,7 @@ class PointSources:
         psf_sigma_px: float = 0.8,
         seeing_fwhm_arcsec: float = 0.0,
         occluder=None,
+        cache_key=None,
     ) -> None:
         """Add the sources' light to ``frame`` (a ``scene.layer.DrawContext``).
 
@@ -293,6 +295,10 @@ class PointSources:
             occluder: None or a list of up to MAX_OCCLUDERS ``(direction, radius_rad)``
                 disks in front of the sources (apparent unit ENU centre, angular radius in
                 radians) whose pixels get none of the sources' light.
+            cache_key: None, or a value the caller changes whenever it changes
+                ``directions`` or ``channels``: a draw with the previous draw's key, camera,
+                frame, tile and parameters re-issues that draw from the instance buffers
+                already on the GPU (no placement, no upload).
 
         A ``DirectionsCamera`` (no forward mapping from a direction to its pixel) draws
         nothing: the call returns quietly.
@@ -305,6 +311,14 @@ class PointSources:
             raise ParameterError(
                 f"seeing_fwhm_arcsec = {seeing_fwhm_arcsec!r} must lie in [0, 3600] arcsec"
             )
+        disks = self._occluders(occluder)
+        key = None
+        if cache_key is not None and frame is not None:
+            key = (cache_key, frame.camera, tuple(frame.frame_size), tuple(frame.tile))
+            key += (sigma, seeing, disks.tobytes())
+            if self._plan is not None and self._plan[0] == key:
+                self._render(frame, disks, self._plan[1])  # the same sources as last time
+                return
         d = np.asarray(directions, dtype=np.float64)
         c = np.asarray(channels, dtype=np.float64)
         if d.ndim != 2 or d.shape[1] != 3 or c.shape != (d.shape[0], 4):
@@ -317,8 +331,8 @@ class PointSources:
         if not np.all(length > 0.0):
             raise ParameterError("point-source directions must be non-zero vectors")
         d = d / length[:, None]
-        disks = self._occluders(occluder)
         camera = frame.camera
+        self._plan = None
         self.instances_drawn = 0
         if d.shape[0] == 0 or not has_projection(camera):
             return
@@ -362,6 +376,8 @@ class PointSources:
             keep &= (x + hx + 1.0 >= f0) & (x - hx - 1.0 <= f0 + h)
         keep = np.flatnonzero(keep)
         if keep.size == 0:
+            if key is not None:
+                self._plan = (key, [])
             return
         cx, cy, hx, hy = cx[keep], cy[keep], hx[keep], hy[keep]
         data = np.empty((keep.size, _STRIDE), np.float64)
@@ -387,45 +403,62 @@ class PointSources:
             for u, cos_r in zip(disks[:, :3], disks[:, 3], strict=True):
                 r = math.acos(min(max(float(cos_r), -1.0), 1.0))
                 near |= dk @ u > math.cos(min(r + reach, math.pi))
-        occ = np.zeros((MAX_OCCLUDERS, 4))
-        occ[: len(disks)] = disks
-        uniforms = {
-            **frame.uniforms,
-            "u_tile_size": (float(tw), float(th)),
-            "u_occluders": occ.ravel().tolist(),
-            "u_num_occluders": len(disks),
-        }
         # Sprites: the square of side 2 max(hx, hy) + 1 around the source's pixel (the
         # table's weights are 0 beyond the quad), whole inside the tile.
         hs = np.maximum(hx, hy)
         side = 2.0 * hs + 1.0
         sprite = table & (cx - hs >= 0.0) & (cy - hs >= 0.0)
         sprite &= (cx + hs + 1.0 <= tw) & (cy + hs + 1.0 <= th)
-        frame.fbo.use()
+        plan = []  # (slot, number of instances, sprite runs (size, first, count))
         for slot, (occluded, tabled, as_sprite) in enumerate(_VARIANTS):
             sel = (near == occluded) & (table == tabled) & (sprite == as_sprite)
             if not np.any(sel):
                 continue
             part, sizes = data[sel], side[sel]
-            if as_sprite and np.any(sizes != sizes[0]):
-                order = np.argsort(sizes, kind="stable")
-                part, sizes = part[order], sizes[order]
-            self._upload(slot, part)
-            vao = self._vao(camera.model, slot)
-            _set_uniforms(vao.program, uniforms)
+            runs = ()
             if as_sprite:
-                # One draw per sprite size (glPointSize), the ranges of the sorted buffer.
-                cuts = np.flatnonzero(np.diff(sizes)) + 1
+                if np.any(sizes != sizes[0]):
+                    order = np.argsort(sizes, kind="stable")
+                    part, sizes = part[order], sizes[order]
+                # One draw per sprite size (glPointSize), the runs of the sorted buffer.
+                cuts = np.r_[0, np.flatnonzero(np.diff(sizes)) + 1, len(sizes)]
+                runs = tuple(
+                    (float(sizes[a]), int(a), int(b - a))
+                    for a, b in zip(cuts[:-1], cuts[1:], strict=True)
+                )
+            self._upload(slot, part)
+            plan.append((slot, len(part), runs))
+        self._render(frame, disks, plan)
+        if key is not None:
+            self._plan = (key, plan)
+
+    def _render(self, frame, disks: np.ndarray, plan: list) -> None:
+        """Issue the draws of ``plan`` from the instance buffers."""
+        occ = np.zeros((MAX_OCCLUDERS, 4))
+        occ[: len(disks)] = disks
+        _, _, tw, th = frame.tile
+        uniforms = {
+            **frame.uniforms,
+            "u_tile_size": (float(tw), float(th)),
+            "u_occluders": occ.ravel().tolist(),
+            "u_num_occluders": len(disks),
+        }
+        frame.fbo.use()
+        self.instances_drawn = 0
+        for slot, count, runs in plan:
+            vao = self._vao(frame.camera.model, slot)
+            _set_uniforms(vao.program, uniforms)
+            if runs:
                 old_size = self.ctx.point_size
                 try:
-                    for a, b in zip(np.r_[0, cuts], np.r_[cuts, len(sizes)], strict=True):
-                        self.ctx.point_size = float(sizes[a])
-                        vao.render(moderngl.POINTS, vertices=int(b - a), first=int(a))
+                    for size, first, n in runs:
+                        self.ctx.point_size = size
+                        vao.render(moderngl.POINTS, vertices=n, first=first)
                 finally:
                     self.ctx.point_size = old_size
             else:
-                vao.render(moderngl.TRIANGLES, vertices=6, instances=len(part))
-            self.instances_drawn += len(part)
+                vao.render(moderngl.TRIANGLES, vertices=6, instances=count)
+            self.instances_drawn += count
 
     @staticmethod
     def _occluders(occluder) -> np.ndarray:
@@ -464,3 +497,4 @@ class PointSources:
                 buf.release()
         self._buffers = [None] * len(_VARIANTS)
         self._capacity = [0] * len(_VARIANTS)
+        self._plan = None

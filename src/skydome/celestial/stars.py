@@ -232,6 +232,7 @@ class StarsLayer(Layer):
             psf_sigma_px=self.psf_sigma_px,
             seeing_fwhm_arcsec=self.seeing_fwhm_arcsec,
             occluder=None if self._moon is None else [self._moon],
+            cache_key=key,
         )
 
     def info(self) -> dict:
