@@ -28,9 +28,17 @@ writing only its own face's pixels. Light that falls outside the frame (off a pe
 frame's edge, beyond a fisheye's horizon circle, above an equirect frame's top row within
 3 sigma of the zenith) is lost, as it would be on a sensor.
 
-Occluding disks (the Moon in front of the stars) cost a per-pixel test only for the quads
-that may touch one: those are drawn by a second program variant (``OCCLUDERS`` 1); the rest
-never compute their pixels' directions.
+Cost on a CPU rasterizer (llvmpipe), where every pixel of a quad and every primitive
+count: a quad of at most TABLE_SIZE pixels a side (the default sigma of 0.8 px gives 7 x 7)
+gets its 8 column and 8 row weights from the vertex stage, so that its pixels compute no
+erf at all (``WEIGHT_TABLE`` 1), and is drawn as one point sprite where its square lies
+inside the tile (two triangles cost about 2.5 times as much); larger quads integrate the
+PSF per pixel (A&S 7.1.26, from the normal's tails, without branches). A pixel's solid
+angle comes from its frame position in closed form. Occluding disks (the Moon in front of
+the stars) cost a per-pixel test only for the quads that may touch one (``OCCLUDERS`` 1);
+the rest never compute their pixels' directions. With a ``cache_key``, drawing the same
+sources into the same camera, frame and tile again re-issues the last draws from the
+instance buffers already on the GPU.
 
 The PSF's sigma is given in frame pixels (stars look alike at every resolution); a seeing
 disk (FWHM in arcsec) adds in quadrature, turned into pixels with the frame's scale at the
@@ -137,6 +145,10 @@ class PointSources:
         self._vaos: dict[tuple, object] = {}  # (camera model, variant) -> vao
         self.instances_drawn = 0  # quads drawn by the last draw (all variants)
         self._plan: tuple | None = None  # (cache key, the draws) of the last draw
+        try:  # sprites up to the driver's largest point (GL guarantees only 1 px)
+            self._max_point_px = float(ctx.info["GL_POINT_SIZE_RANGE"][1])
+        except (KeyError, TypeError, IndexError, AttributeError):
+            self._max_point_px = 1.0
 
     # ------------------------------------------------------------------ resources
 
@@ -408,7 +420,7 @@ class PointSources:
         hs = np.maximum(hx, hy)
         side = 2.0 * hs + 1.0
         sprite = table & (cx - hs >= 0.0) & (cy - hs >= 0.0)
-        sprite &= (cx + hs + 1.0 <= tw) & (cy + hs + 1.0 <= th)
+        sprite &= (cx + hs + 1.0 <= tw) & (cy + hs + 1.0 <= th) & (side <= self._max_point_px)
         plan = []  # (slot, number of instances, sprite runs (size, first, count))
         for slot, (occluded, tabled, as_sprite) in enumerate(_VARIANTS):
             sel = (near == occluded) & (table == tabled) & (sprite == as_sprite)
@@ -452,7 +464,9 @@ class PointSources:
                 old_size = self.ctx.point_size
                 try:
                     for size, first, n in runs:
+                        # glPointSize, and gl_PointSize in case GL_PROGRAM_POINT_SIZE is on.
                         self.ctx.point_size = size
+                        vao.program["u_point_size"].value = size
                         vao.render(moderngl.POINTS, vertices=n, first=first)
                 finally:
                     self.ctx.point_size = old_size

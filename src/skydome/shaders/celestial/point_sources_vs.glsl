@@ -21,12 +21,14 @@ in float in_face;
 in vec4 in_channels;
 
 uniform vec2 u_tile_size;  // pixels of the tile drawn (the viewport)
+uniform float u_point_size;  // SPRITE: the sprite's side, pixels (odd)
 
 void main() {
 #if SPRITE
-    // A point sprite at the centre of the source's pixel (the quad's centre), glPointSize
-    // set by the CPU to the quad's larger side (odd): it covers that many whole pixels.
+    // A point sprite at the centre of the source's pixel (the quad's centre), its size set
+    // by the CPU to the quad's larger side (odd): it covers that many whole pixels.
     gl_Position = vec4((in_rect.xy + in_rect.zw) * 0.5 / u_tile_size * 2.0 - 1.0, 0.0, 1.0);
+    gl_PointSize = u_point_size;  // used if GL_PROGRAM_POINT_SIZE is enabled
 #else
     int corner = gl_VertexID % 6;
     vec2 offsets[6] = vec2[6](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
