@@ -1,9 +1,12 @@
 // Point sources (stars, planets), fragment stage: each pixel of a source's quad (see
 // celestial/point_sources_vs.glsl) gets the fraction of the source's light that a Gaussian
 // PSF puts on it: the PSF's integral over the pixel (products of differences of the normal
-// distribution function along x and y) over its integral over the whole quad (computed once
-// per quad by the vertex stage, which includes this file for the PSF functions only), so
-// that the weights of a quad sum to 1 exactly (the differences telescope). The radiance is
+// distribution function along x and y) over its integral over the whole quad, so that the
+// weights of a quad sum to 1 exactly (the differences telescope). The vertex stage (which
+// includes this file for the PSF functions only) computes what is the same across a quad:
+// with WEIGHT_TABLE 1 (quads of <= 8 pixels a side) the weights of its 8 columns and 8 rows
+// themselves, picked here by the pixel's column and row; else the integral over the quad,
+// the pixel's own integral being computed here. The radiance is
 // the illuminance times the weight over the pixel's own solid angle: the summed flux
 // (radiance x solid angle) is the source's illuminance at any resolution and field of view.
 // The solid angle comes from the pixel's frame position in closed form (the same values as
