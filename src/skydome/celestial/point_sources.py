@@ -54,6 +54,7 @@ import numpy as np
 
 from skydome.errors import ParameterError
 from skydome.gpu import build_program
+from skydome.gpu.passes import set_uniforms
 from skydome.render.cameras import (
     CubemapCamera,
     EquirectCamera,
@@ -103,19 +104,6 @@ _CUBE_AXES = np.array(
 def _cube_plane(q: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray]:
     x, y, z = q[:, 0], q[:, 1], q[:, 2]
     return [(-y, z), (y, z), (x, z), (-x, z), (-x, y), (x, y)][face]
-
-
-def _set_uniforms(program, uniforms: dict) -> None:
-    """Uniforms by name (unknown or optimised-out names ignored), as FullscreenPass does."""
-    for name, value in uniforms.items():
-        member = program.get(name, None)
-        if member is None or isinstance(member, moderngl.Attribute):
-            continue
-        if isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
-            n = member.array_length * member.dimension
-            member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
-        else:
-            member.value = value
 
 
 def _max_rad_per_px(camera, w: float, h: float) -> float:
@@ -459,7 +447,7 @@ class PointSources:
         self.instances_drawn = 0
         for slot, count, runs in plan:
             vao = self._vao(frame.camera.model, slot)
-            _set_uniforms(vao.program, uniforms)
+            set_uniforms(vao.program, uniforms)
             if runs:
                 old_size = self.ctx.point_size
                 try:
