@@ -39,14 +39,12 @@ apparent elevation, skydome.render.refraction).
 from __future__ import annotations
 
 import functools
-import io
-import json
 import math
-from importlib import resources
 
 import numpy as np
 
-from skydome.errors import ParameterError, SkydomeError
+from skydome.errors import ParameterError
+from skydome.io.packaged import read_packaged_npz
 from skydome.render.refraction import RefractionTable
 from skydome.scene.layer import DrawContext, Layer
 from skydome.scene.state import SkyState, refraction_scale
@@ -81,21 +79,9 @@ _FORMAT_VERSION = 1
 
 @functools.cache
 def _map_and_meta() -> tuple[np.ndarray, dict]:
-    try:
-        raw = resources.files("skydome.data").joinpath(_MAP_FILE).read_bytes()
-        with np.load(io.BytesIO(raw), allow_pickle=False) as z:
-            q = z["s10_u16"]
-            meta = json.loads(str(z["meta_json"]))
-    except Exception as exc:  # missing, truncated or foreign file
-        raise SkydomeError(
-            f"the packaged Milky Way map {_MAP_FILE} cannot be read ({exc}); "
-            "rebuild it with tools/build_milky_way.py"
-        ) from exc
-    if meta.get("format_version") != _FORMAT_VERSION:
-        raise SkydomeError(
-            f"{_MAP_FILE} has format {meta.get('format_version')}, expected "
-            f"{_FORMAT_VERSION}; rebuild it with tools/build_milky_way.py"
-        )
+    q, meta = read_packaged_npz(
+        _MAP_FILE, "s10_u16", _FORMAT_VERSION, "Milky Way map", "tools/build_milky_way.py"
+    )
     lo, hi = meta["log10_s10_min"], meta["log10_s10_max"]
     s10 = 10.0 ** (lo + q.astype(np.float64) * ((hi - lo) / 65535.0))
     s10 = np.ascontiguousarray(s10.astype(np.float32))

@@ -30,15 +30,14 @@ the maria/highland colour differences (a few per cent) left out.
 from __future__ import annotations
 
 import functools
-import io
-import json
 import math
 from importlib import resources
 from typing import Any
 
 import numpy as np
 
-from skydome.errors import ParameterError, SkydomeError
+from skydome.errors import ParameterError
+from skydome.io.packaged import read_packaged_npz
 
 #: Longitude of the map's west edge and east edge, degrees (east-positive, selenographic).
 MAP_LON_WEST_DEG = -180.0
@@ -60,21 +59,9 @@ _FORMAT_VERSION = 1
 
 @functools.cache
 def _map_and_meta() -> tuple[np.ndarray, dict]:
-    try:
-        raw = resources.files("skydome.data").joinpath(_MAP_FILE).read_bytes()
-        with np.load(io.BytesIO(raw), allow_pickle=False) as z:
-            q = z["albedo_u16"]
-            meta = json.loads(str(z["meta_json"]))
-    except Exception as exc:  # missing, truncated or foreign file
-        raise SkydomeError(
-            f"the packaged Moon albedo map {_MAP_FILE} cannot be read ({exc}); "
-            "rebuild it with tools/build_moon_albedo.py"
-        ) from exc
-    if meta.get("format_version") != _FORMAT_VERSION:
-        raise SkydomeError(
-            f"{_MAP_FILE} has format {meta.get('format_version')}, expected {_FORMAT_VERSION}; "
-            "rebuild it with tools/build_moon_albedo.py"
-        )
+    q, meta = read_packaged_npz(
+        _MAP_FILE, "albedo_u16", _FORMAT_VERSION, "Moon albedo map", "tools/build_moon_albedo.py"
+    )
     a = np.ascontiguousarray(q.astype(np.float32) * np.float32(meta["albedo_scale"]))
     a.setflags(write=False)
     return a, meta
