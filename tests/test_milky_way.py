@@ -145,15 +145,15 @@ def test_luminance_units_and_colour():
     assert mw.S10_MAG_ARCSEC2 == pytest.approx(27.7815, abs=1e-4)
     assert mw.S10_CD_M2 == pytest.approx(8.332e-7, rel=1e-3)
     assert mw.S10_MAG_ARCSEC2 - 2.5 * math.log10(220.0) == pytest.approx(21.93, abs=0.005)
+
     # The colour temperature's B-V by Ballesteros (2012, EPL 97, 34008):
     # T = 4600 (1/(0.92 BV + 1.7) + 1/(0.92 BV + 0.62)); 4840 K -> 0.96, in the published
     # 0.8-1.0 of integrated starlight.
-    from scipy.optimize import brentq
-
     def ballesteros(bv):
         return 4600.0 * (1.0 / (0.92 * bv + 1.7) + 1.0 / (0.92 * bv + 0.62))
 
-    bv = brentq(lambda x: ballesteros(x) - mw.COLOUR_TEMPERATURE_K, 0.0, 2.0)
+    grid = np.linspace(0.0, 2.0, 200_001)  # T falls with B-V: invert on a fine grid
+    bv = float(np.interp(mw.COLOUR_TEMPERATURE_K, ballesteros(grid)[::-1], grid[::-1]))
     assert 0.8 <= bv <= 1.0
     # Planck's law: the peak of B_lambda at 2.8978e-3 m K / T (Wien) = 598.7 nm.
     wl = np.linspace(400.0, 800.0, 4001)

@@ -238,8 +238,6 @@ def catalogue_s10_sums(lon_deg, lat_deg, vmag) -> dict:
 def calibrate(v: np.ndarray, pole_target: float, sky_target: float) -> tuple[float, float]:
     """(a, k) of log10 S = a + k v / 255 such that the solid-angle mean of S over |b| > 80
     deg is ``pole_target`` and over the sphere ``sky_target`` (S10). ``v`` (H, W) floats."""
-    from scipy.optimize import brentq
-
     h, w = v.shape
     _, lat = pixel_lonlat(w, h)
     wt = row_weights(h)
@@ -254,7 +252,18 @@ def calibrate(v: np.ndarray, pole_target: float, sky_target: float) -> tuple[flo
         pole, sky = means(k)
         return math.log(sky / pole) - math.log(sky_target / pole_target)
 
-    k = brentq(ratio_error, 0.05, 20.0, xtol=1e-10)
+    # The sky/pole ratio grows with k (a steeper stretch lifts the bright plane more than the
+    # faint poles): bisect its error from k = 0.05 to 20, to 1e-10.
+    lo, hi = 0.05, 20.0
+    if ratio_error(lo) * ratio_error(hi) > 0:
+        raise ValueError("the map's sky/pole ratio cannot reach the target's for k in [0.05, 20]")
+    while hi - lo > 1e-10:
+        mid = 0.5 * (lo + hi)
+        if (ratio_error(mid) > 0) == (ratio_error(hi) > 0):
+            hi = mid
+        else:
+            lo = mid
+    k = 0.5 * (lo + hi)
     pole, _ = means(k)
     return math.log10(pole_target / pole), k
 
