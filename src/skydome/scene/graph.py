@@ -316,8 +316,10 @@ class FrameGraph:
         if tonemap is not None:
             if scale is None:
                 raise ParameterError("a tone-mapped image needs an exposure ('auto' or a scale)")
+            # The exposure pass has measured the frame already when it set an auto exposure.
+            measured = exposure == "auto" and len(tiles) == 1
             frame.image = self._display_image(
-                last if len(tiles) == 1 else data, state, camera, (w, h), tonemap, scale
+                last if len(tiles) == 1 else data, state, camera, (w, h), tonemap, scale, measured
             )
             info["tonemap"] = tonemap
             if self.night_vision:
@@ -326,7 +328,9 @@ class FrameGraph:
                 info["overlays"] = list(self.overlays)
         return frame
 
-    def _display_image(self, source, state, camera, size, tonemap: str, scale: float):
+    def _display_image(
+        self, source, state, camera, size, tonemap: str, scale: float, measured: bool = False
+    ):
         """The 8-bit image of a frame (a texture in GL rows, or the read-back frame):
         night vision, tone map and overlays on the GPU, one read-back."""
         from skydome.display.gpu_tonemap import gpu_tonemap, upload_frame
@@ -338,7 +342,7 @@ class FrameGraph:
         if isinstance(source, np.ndarray):
             source = owned = upload_frame(self.ctx, source)
         try:
-            texture = self._eye(source, state, camera, size)
+            texture = self._eye(source, state, camera, size, measured=measured)
             draw = None if overlays is None else (lambda fbo, s: overlays.draw(fbo, camera, s))
             return gpu_tonemap(texture, tonemap, scale, ctx=self.ctx, overlay=draw)
         finally:
@@ -393,7 +397,7 @@ class FrameGraph:
             exposure_pass = self.exposure_pass()
             exposure_pass.measure(texture)
             key = 2.0**compensation_ev * DEFAULT_KEY
-            shown = self._eye(texture, state, camera, (w, h))
+            shown = self._eye(texture, state, camera, (w, h), measured=True)
             self._post.draw(shown, framebuffer, (w, h), tonemap, key, auto_exposure=exposure_pass)
         else:
             scale = float(exposure) * 2.0**compensation_ev
@@ -430,9 +434,12 @@ class FrameGraph:
                 self._overlays = None
             self.overlays = names
 
-    def _eye(self, texture, state, camera: Camera, size: tuple[int, int]):
+    def _eye(
+        self, texture, state, camera: Camera, size: tuple[int, int], *, measured: bool = False
+    ):
         """``texture`` through the night-vision pass when it is on (else as it is). The
-        adaptation is the frame's own log-average luminance, measured on the GPU."""
+        adaptation is the frame's own log-average luminance, measured on the GPU (already,
+        when ``measured``: the exposure pass holds this texture's average)."""
         if not self.night_vision:
             return texture
         from skydome.display.night_vision import NightVision
@@ -441,7 +448,8 @@ class FrameGraph:
         if self._night_vision is None:
             self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
         meter = self.exposure_pass()
-        meter.measure(texture)
+        if not measured:
+            meter.measure(texture)
         # Seconds of the UTC day: drives the temporal noise (same time, same image).
         time_s = 0.0 if state.time is None else float(state.time.jd_utc - 0.5) % 1.0 * 86400.0
         return self._night_vision.apply(
