@@ -111,3 +111,28 @@ def test_display_passes_change_the_image_not_the_frame(dark_sky):
     assert spread(seen.image) < 0.3 * spread(base.image), (spread(seen.image), spread(base.image))
     again = dark_sky.render(cam, w, h, exposure="auto", tonemap="filmic")
     assert np.array_equal(again.image, base.image)  # off again: as before
+
+
+def test_a_window_draw_shows_what_render_gives_with_every_night_pass(dark_sky):
+    # One frame graph for files and windows: Sky.draw into a framebuffer (no frame read
+    # back) equals Sky.render's image within 1 code value (render snaps to 8-bit codes in
+    # the shader, draw leaves it to the target), with the night layers, night vision and
+    # the overlays on, at auto and at a fixed exposure.
+    cam, w, h = PerspectiveCamera(fov_deg=70.0, yaw_deg=100.0, pitch_deg=40.0), 200, 120
+    ctx = dark_sky.graph.ctx
+    tex = ctx.texture((w, h), 4, dtype="f1")
+    fbo = ctx.framebuffer(color_attachments=[tex])
+    dark_sky.night_vision = True
+    dark_sky.overlays = "lines,labels,grid"
+    try:
+        for exposure in ("auto", -9.0):
+            dark_sky.draw(fbo, cam, size=(w, h), exposure=exposure, tonemap="filmic")
+            drawn = np.frombuffer(fbo.read(components=3), np.uint8).reshape(h, w, 3)[::-1]
+            image = dark_sky.render(cam, w, h, exposure=exposure, tonemap="filmic").image
+            assert np.abs(drawn.astype(int) - image.astype(int)).max() <= 1, exposure
+            assert image.std() > 5  # a sky with lines and labels, not a flat frame
+    finally:
+        dark_sky.night_vision = False
+        dark_sky.overlays = ()
+        fbo.release()
+        tex.release()
