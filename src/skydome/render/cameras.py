@@ -186,32 +186,27 @@ def _rim(direction: np.ndarray, radius_rad: float, points: int = 16) -> np.ndarr
 def _rects(camera: Camera, d: np.ndarray, w: int, h: int) -> list | None:
     """Pixel rectangles (x0, y0, x1, y1; GL: y up) that hold the directions ``d`` (N, 3)
     for camera models with a closed-form inverse of camera.glsl; None where there is none."""
+    from skydome.render.projection import project  # it imports this module
+
     if isinstance(camera, PerspectiveCamera):
-        local = d @ camera.basis()  # (right, up, forward) components
-        if np.all(local[:, 2] <= 0.0):
+        forward = d @ camera.basis()[:, 2]
+        if np.all(forward <= 0.0):
             return []  # wholly behind the camera
-        if np.any(local[:, 2] <= 1e-6):
+        if np.any(forward <= 1e-6):
             return None
-        t = math.tan(math.radians(camera.fov_deg) / 2.0)
-        x = (local[:, 0] / (local[:, 2] * t) + 1.0) * 0.5 * w
-        y = (local[:, 1] / (local[:, 2] * t / (w / h)) + 1.0) * 0.5 * h
+        x, y, _ = project(camera, d, w, h)
         return [(x.min(), y.min(), x.max(), y.max())]
     if isinstance(camera, FisheyeCamera):
-        zenith = np.arccos(np.clip(d[:, 2], -1.0, 1.0))
-        az = np.arctan2(d[:, 0], d[:, 1])
-        rho = zenith / (0.5 * math.pi) * 0.5 * min(w, h)
-        x, y = 0.5 * w - rho * np.sin(az), 0.5 * h + rho * np.cos(az)
+        x, y, _ = project(camera, d, w, h)
         return [(x.min(), y.min(), x.max(), y.max())]
     if isinstance(camera, EquirectCamera):
+        x, y, _ = project(camera, d, w, h)
         el = np.arcsin(np.clip(d[:, 2], -1.0, 1.0))
-        y = (el / math.pi + 0.5) * h
         if np.max(np.abs(el)) > math.radians(89.0):  # around a pole: whole rows
             return [(0.0, y.min(), float(w), float(h) if el.max() > 0 else y.max())]
-        az = np.mod(np.arctan2(d[:, 0], d[:, 1]), 2.0 * math.pi)
-        if np.ptp(az) > math.pi:  # across the seam at azimuth 0: one rectangle each side
-            a = np.where(az > math.pi, az - 2.0 * math.pi, az) / (2.0 * math.pi) * w
+        if np.ptp(x) > 0.5 * w:  # across the seam at azimuth 0: one rectangle each side
+            a = np.where(x > 0.5 * w, x - w, x)
             return [(a.min() + w, y.min(), float(w), y.max()), (0.0, y.min(), a.max(), y.max())]
-        x = az / (2.0 * math.pi) * w
         return [(x.min(), y.min(), x.max(), y.max())]
     return None
 
