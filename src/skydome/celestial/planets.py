@@ -51,7 +51,7 @@ import numpy as np
 from skydome.astro.planets import PLANETS
 from skydome.celestial.planet_colours import planet_albedo
 from skydome.scene.layer import DrawContext, Layer
-from skydome.scene.state import SkyState, refraction_scale
+from skydome.scene.state import Light, SkyState, refraction_scale
 
 #: A planet whose disk has at least this radius in frame pixels is drawn as a disk.
 DISK_MIN_RADIUS_PX = 1.0
@@ -113,23 +113,13 @@ def planet_to_sun(direction_true, sun_direction_true, phase_angle_rad: float) ->
 
 
 @dataclass(frozen=True)
-class PlanetView:
-    """One planet as the observer sees it at one instant (ENU unit vectors, radians, lux)."""
+class PlanetView(Light):
+    """One planet as the observer sees it at one instant: a ``Light`` (ENU unit vectors,
+    radians, lux) with its magnitude, phase angle and the unit vector towards the Sun."""
 
-    name: str
-    direction: np.ndarray
-    direction_true: np.ndarray
-    distance_km: float
-    angular_radius_rad: float
-    illuminance_lux: float
-    magnitude: float
-    phase_angle_rad: float
-    to_sun: np.ndarray
-
-    @property
-    def elevation_deg(self) -> float:
-        """Apparent elevation, degrees."""
-        return math.degrees(math.asin(float(np.clip(self.direction[2], -1.0, 1.0))))
+    magnitude: float = math.nan
+    phase_angle_rad: float = 0.0
+    to_sun: np.ndarray = None
 
     @property
     def illuminated_fraction(self) -> float:
