@@ -36,7 +36,7 @@ from skydome.celestial.point_sources import PointSources
 from skydome.celestial.scintillation import Scintillation, scintillation_sigma
 from skydome.errors import ParameterError
 from skydome.scene.layer import DrawContext, Layer, SpectralBasis
-from skydome.scene.state import EARTH_RADIUS_KM, SkyState
+from skydome.scene.state import SkyState, horizon_dip_sin
 
 #: Recompute the apparent places of date when the time has moved by more than this (TT).
 APPARENT_PLACE_REFRESH_DAYS = 1.0 / 24.0
@@ -68,12 +68,6 @@ def black_body_colours(basis: SpectralBasis, temperature_k) -> np.ndarray:
     f /= f.max(axis=0, keepdims=True)  # any scale: the colour is per unit luminance
     y = SRGB_LUMINANCE @ (conversion_matrix(wl, "rgbs") @ f)[:3]
     return (basis.to_output @ f / y).T
-
-
-def horizon_dip_rad(altitude_m: float) -> float:
-    """Geometric dip of the horizon (rad) for an eye ``altitude_m`` above a spherical Earth."""
-    h = max(float(altitude_m), 0.0) * 1e-3
-    return math.acos(EARTH_RADIUS_KM / (EARTH_RADIUS_KM + h))
 
 
 class StarsLayer(Layer):
@@ -224,7 +218,8 @@ class StarsLayer(Layer):
     def draw(self, frame: DrawContext) -> None:
         if self.directions is None:
             return
-        lowest = -(horizon_dip_rad(frame.altitude_m) + math.radians(BELOW_HORIZON_MARGIN_DEG))
+        dip = math.asin(horizon_dip_sin(frame.altitude_m))
+        lowest = -(dip + math.radians(BELOW_HORIZON_MARGIN_DEG))
         key = (self._serial, id(frame.basis), lowest)
         if self._drawn is None or self._drawn[0] != key:
             keep = np.flatnonzero(self.altitude_rad > lowest)

@@ -17,6 +17,8 @@ import math
 import numpy as np
 
 from skydome.errors import ParameterError, check_range
+from skydome.scene.state import EARTH_MEAN_RADIUS_M as EARTH_RADIUS_M
+from skydome.scene.state import horizon_dip_sin
 
 # ---------------------------------------------------------------------- units
 
@@ -51,8 +53,6 @@ def s10_to_luminance(s10) -> np.ndarray:
 
 # ---------------------------------------------------------------------- geometry
 
-#: Mean Earth radius (m; IUGG mean radius R1 = 6371.0088 km).
-EARTH_RADIUS_M = 6_371_008.8
 #: Height of the emitting layer (m): the OI 557.7 nm and OH emissions peak at 87-97 km
 #: (Leinert et al. 1998, A&AS 127, 1, sec. 11); 90 km is the conventional value.
 AIRGLOW_HEIGHT_M = 90_000.0
@@ -132,13 +132,6 @@ def airglow_luminance(
     lum = s10_to_luminance(airglow_zenith_s10(zenith_s10, solar_flux_sfu))
     v = van_rhijn(z, layer_height_m, observer_height_m)
     return np.where(np.cos(z) >= -horizon_dip_sin(observer_height_m), lum * v, 0.0)
-
-
-def horizon_dip_sin(observer_height_m) -> float:
-    """sin of the dip of the ground's horizon below the horizontal for an observer at
-    ``observer_height_m`` above a spherical Earth: a ray with elevation below -dip hits it."""
-    r = EARTH_RADIUS_M + max(float(observer_height_m), 0.0)
-    return math.sqrt(max(1.0 - (EARTH_RADIUS_M / r) ** 2, 0.0))
 
 
 # ---------------------------------------------------------------------- spectrum

@@ -30,6 +30,8 @@ STANDARD_PRESSURE_HPA = 1010.0
 STANDARD_TEMPERATURE_C = 10.0
 #: Equatorial radius of the Earth (km), for the earthshine on the Moon (IERS 2010).
 EARTH_RADIUS_KM = 6378.137
+#: Mean Earth radius (m; IUGG mean radius R1 = 6371.0088 km), for the horizon's dip.
+EARTH_MEAN_RADIUS_M = 6_371_008.8
 
 
 @dataclass(frozen=True)
@@ -259,6 +261,13 @@ def earthshine_lux(sun_illuminance_lux: float, earth_phase_angle_rad: float, moo
     phase_law = (math.sin(a) + (math.pi - a) * math.cos(a)) / math.pi
     geometric_albedo = 2.0 / 3.0 * 0.30
     return sun_illuminance_lux * geometric_albedo * phase_law * (EARTH_RADIUS_KM / moon_km) ** 2
+
+
+def horizon_dip_sin(observer_height_m) -> float:
+    """sin of the dip of the ground's horizon below the horizontal for an observer at
+    ``observer_height_m`` above a spherical Earth: a ray with elevation below -dip hits it."""
+    r = EARTH_MEAN_RADIUS_M + max(float(observer_height_m), 0.0)
+    return math.sqrt(max(1.0 - (EARTH_MEAN_RADIUS_M / r) ** 2, 0.0))
 
 
 def refraction_scale(state: SkyState) -> float:
