@@ -19,11 +19,12 @@ from skydome.celestial.scintillation import (
     scintillation_sigma,
     young_sigma,
 )
-from skydome.celestial.stars import StarsLayer, planck_relative
+from skydome.celestial.stars import StarsLayer
 from skydome.errors import ParameterError
 from skydome.render.cameras import EquirectCamera, PerspectiveCamera
 from skydome.render.projection import pixel_directions, pixel_solid_angle, project
 from skydome.spectra import LINEAR_SRGB_TO_XYZ, SRGB_LUMINANCE
+from skydome.spectra.blackbody import planck_relative
 
 VALLETTA = Observer(35.8989, 14.5146, 56.0)
 WINTER_EVENING = "2018-01-20T20:00Z"  # Orion high in the south, the Moon set, the Sun -45 deg

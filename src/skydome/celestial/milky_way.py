@@ -48,6 +48,7 @@ from skydome.io.packaged import read_packaged_npz
 from skydome.render.refraction import RefractionTable
 from skydome.scene.layer import DrawContext, Layer
 from skydome.scene.state import SkyState, refraction_scale
+from skydome.spectra.blackbody import planck_relative
 
 __all__ = [
     "S10_MAG_ARCSEC2",
@@ -192,13 +193,9 @@ def luminance_enu(directions, observer, time, *, scale: float = 1.0) -> np.ndarr
 def spectral_shape(wavelengths_nm) -> np.ndarray:
     """Relative spectral radiance of the Galaxy's light: a Planck spectrum at
     COLOUR_TEMPERATURE_K, 1 at 550 nm."""
-    wl = np.asarray(wavelengths_nm, dtype=np.float64) * 1e-9
-    c2 = 1.438776877e-2  # second radiation constant h c / k, m K (CODATA 2018)
-
-    def planck(x):
-        return x**-5 / np.expm1(c2 / (x * COLOUR_TEMPERATURE_K))
-
-    return planck(wl) / planck(550e-9)
+    wl = np.asarray(wavelengths_nm, dtype=np.float64)
+    shape = planck_relative(wl, COLOUR_TEMPERATURE_K)[:, 0].reshape(wl.shape)
+    return shape / planck_relative(550.0, COLOUR_TEMPERATURE_K)[0, 0]
 
 
 class MilkyWayLayer(Layer):

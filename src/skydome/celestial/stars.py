@@ -37,22 +37,13 @@ from skydome.celestial.scintillation import Scintillation, scintillation_sigma
 from skydome.errors import ParameterError
 from skydome.scene.layer import DrawContext, Layer, SpectralBasis
 from skydome.scene.state import SkyState, horizon_dip_sin
+from skydome.spectra.blackbody import planck_relative
 
 #: Recompute the apparent places of date when the time has moved by more than this (TT).
 APPARENT_PLACE_REFRESH_DAYS = 1.0 / 24.0
 #: Stars this far below the camera's geometric horizon are still drawn (deg).
 BELOW_HORIZON_MARGIN_DEG = 1.0
-# Planck's radiation constants: c2 = h c / k = 1.438776877e-2 m K (CODATA 2018).
-_C2_NM_K = 1.438776877e7
 _J2000 = 2451545.0
-
-
-def planck_relative(wavelengths_nm, temperature_k) -> np.ndarray:
-    """Black-body spectral radiance up to a constant, lambda^-5 / (exp(c2 / lambda T) - 1),
-    shape (len(wavelengths), len(temperatures)); c2 from CODATA 2018."""
-    wl = np.asarray(wavelengths_nm, dtype=np.float64)[:, None]
-    t = np.asarray(temperature_k, dtype=np.float64)[None, :]
-    return wl**-5.0 / np.expm1(_C2_NM_K / (wl * t))
 
 
 def black_body_colours(basis: SpectralBasis, temperature_k) -> np.ndarray:
