@@ -24,6 +24,7 @@ Moon
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -40,6 +41,12 @@ __all__ = [
     "lux_to_magnitude",
     "moon_magnitude",
     "moon_illuminance_lux",
+    "MAG0_LUMINANCE_CD_M2",
+    "S10_MAG_ARCSEC2",
+    "mag_to_luminance",
+    "luminance_to_mag",
+    "s10_to_mag",
+    "s10_to_luminance",
 ]
 
 SOLAR_CONSTANT_W_M2 = 1361.0
@@ -90,3 +97,38 @@ def moon_illuminance_lux(
 ) -> np.ndarray:
     """Illuminance (lux) from the Moon outside the atmosphere (earthshine not included)."""
     return magnitude_to_lux(moon_magnitude(phase_angle_rad, distance_km, sun_distance_au))
+
+
+# Surface brightness of the night sky. 1 S10 is the light of one V = 10 star spread over a
+# square degree: 10 + 2.5 log10(3600^2) = 27.78 V mag/arcsec^2. A V surface brightness m is a
+# luminance L = 10.8e4 10^(-0.4 m) cd/m^2 (the conversion of the night-sky issue; 220 S10 =
+# 21.93 mag/arcsec^2 = 1.83e-4 cd/m^2). It is 0.19 mag from the stellar zero point above,
+# as the published zero points are from each other.
+
+#: cd/m^2 of a surface brightness of 0 V mag/arcsec^2 (L = 10.8e4 * 10^(-0.4 m)).
+MAG0_LUMINANCE_CD_M2 = 10.8e4
+#: V mag/arcsec^2 of 1 S10: a 10th-magnitude star per square degree (3600^2 arcsec^2).
+S10_MAG_ARCSEC2 = 10.0 + 2.5 * math.log10(3600.0**2)
+
+
+def mag_to_luminance(mag_arcsec2) -> np.ndarray:
+    """Luminance (cd/m^2) of a V surface brightness (mag/arcsec^2)."""
+    return MAG0_LUMINANCE_CD_M2 * 10.0 ** (-0.4 * np.asarray(mag_arcsec2, dtype=np.float64))
+
+
+def luminance_to_mag(luminance_cd_m2) -> np.ndarray:
+    """V surface brightness (mag/arcsec^2) of a luminance (cd/m^2); inf for 0."""
+    lum = np.asarray(luminance_cd_m2, dtype=np.float64)
+    with np.errstate(divide="ignore"):
+        return -2.5 * np.log10(lum / MAG0_LUMINANCE_CD_M2)
+
+
+def s10_to_mag(s10) -> np.ndarray:
+    """V mag/arcsec^2 of a brightness in S10 units."""
+    with np.errstate(divide="ignore"):
+        return S10_MAG_ARCSEC2 - 2.5 * np.log10(np.asarray(s10, dtype=np.float64))
+
+
+def s10_to_luminance(s10) -> np.ndarray:
+    """Luminance (cd/m^2) of a brightness in S10 units."""
+    return np.asarray(s10, dtype=np.float64) * float(mag_to_luminance(S10_MAG_ARCSEC2))

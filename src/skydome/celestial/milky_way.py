@@ -43,6 +43,7 @@ import math
 
 import numpy as np
 
+from skydome.astro import photometry
 from skydome.errors import ParameterError
 from skydome.io.packaged import read_packaged_npz
 from skydome.render.refraction import RefractionTable
@@ -65,9 +66,9 @@ __all__ = [
 ]
 
 #: Surface brightness of 1 S10 (one V = 10 star per square degree), V mag/arcsec^2.
-S10_MAG_ARCSEC2 = 10.0 + 2.5 * math.log10(3600.0**2)
+S10_MAG_ARCSEC2 = photometry.S10_MAG_ARCSEC2
 #: Luminance of 1 S10, cd/m^2, by the issue's conversion L = 10.8e4 10^(-0.4 m) cd/m^2.
-S10_CD_M2 = 10.8e4 * 10.0 ** (-0.4 * S10_MAG_ARCSEC2)
+S10_CD_M2 = float(photometry.s10_to_luminance(1.0))
 #: Colour temperature of the Galaxy's integrated light (Licquia, Newman & Brinchmann 2015).
 COLOUR_TEMPERATURE_K = 4840.0
 

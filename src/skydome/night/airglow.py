@@ -4,7 +4,7 @@ horizon and the solar-cycle factor; and the surface-brightness units of the nigh
 Float64 NumPy functions: the layer (``skydome.night.glow_layer.AirglowLayer``) draws the
 same formulas in ``shaders/night/airglow.glsl``, and the tests check the frame against them.
 
-Units. 1 S10 is the light of one V = 10 star spread over a square degree: 10 + 2.5 log10(3600^2)
+Units (skydome.astro.photometry). 1 S10 is the light of one V = 10 star spread over a square degree: 10 + 2.5 log10(3600^2)
 = 27.78 V mag/arcsec^2. A V surface brightness m (mag/arcsec^2) is a luminance
 L = 10.8e4 * 10^(-0.4 m) cd/m^2 (the conversion the night-sky work uses throughout; e.g.
 220 S10 = 21.93 mag/arcsec^2 = 1.83e-4 cd/m^2).
@@ -12,44 +12,19 @@ L = 10.8e4 * 10^(-0.4 m) cd/m^2 (the conversion the night-sky work uses througho
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from skydome.astro.photometry import (  # noqa: F401 (the night sky's units, re-exported)
+    MAG0_LUMINANCE_CD_M2,
+    S10_MAG_ARCSEC2,
+    luminance_to_mag,
+    mag_to_luminance,
+    s10_to_luminance,
+    s10_to_mag,
+)
 from skydome.errors import ParameterError, check_range
 from skydome.scene.state import EARTH_MEAN_RADIUS_M as EARTH_RADIUS_M
 from skydome.scene.state import horizon_dip_sin
-
-# ---------------------------------------------------------------------- units
-
-#: cd/m^2 of a surface brightness of 0 V mag/arcsec^2 (L = 10.8e4 * 10^(-0.4 m)).
-MAG0_LUMINANCE_CD_M2 = 10.8e4
-#: V mag/arcsec^2 of 1 S10: a 10th-magnitude star per square degree (3600^2 arcsec^2).
-S10_MAG_ARCSEC2 = 10.0 + 2.5 * math.log10(3600.0**2)
-
-
-def mag_to_luminance(mag_arcsec2) -> np.ndarray:
-    """Luminance (cd/m^2) of a V surface brightness (mag/arcsec^2)."""
-    return MAG0_LUMINANCE_CD_M2 * 10.0 ** (-0.4 * np.asarray(mag_arcsec2, dtype=np.float64))
-
-
-def luminance_to_mag(luminance_cd_m2) -> np.ndarray:
-    """V surface brightness (mag/arcsec^2) of a luminance (cd/m^2); inf for 0."""
-    lum = np.asarray(luminance_cd_m2, dtype=np.float64)
-    with np.errstate(divide="ignore"):
-        return -2.5 * np.log10(lum / MAG0_LUMINANCE_CD_M2)
-
-
-def s10_to_mag(s10) -> np.ndarray:
-    """V mag/arcsec^2 of a brightness in S10 units."""
-    with np.errstate(divide="ignore"):
-        return S10_MAG_ARCSEC2 - 2.5 * np.log10(np.asarray(s10, dtype=np.float64))
-
-
-def s10_to_luminance(s10) -> np.ndarray:
-    """Luminance (cd/m^2) of a brightness in S10 units."""
-    return np.asarray(s10, dtype=np.float64) * float(mag_to_luminance(S10_MAG_ARCSEC2))
-
 
 # ---------------------------------------------------------------------- geometry
 
