@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import argparse
 
-from timing import median_ms
+from timing import draw_ms, median_ms
 
 from skydome import Sky
 from skydome.gpu import gl_info
@@ -89,16 +89,8 @@ def main() -> None:
         ctx.finish()
 
     print(f"update (a new time, every layer): {median_ms(new_time, args.repeats):.1f} ms")
-    tex = ctx.texture((1920, 1080), 4, dtype="f1")
-    fbo = ctx.framebuffer(color_attachments=[tex])
-
-    def draw():
-        sky.draw(fbo, CAMERA, size=(1920, 1080))
-        ctx.finish()
-
-    print(f"draw 1920x1080 (every layer, no read-back): {median_ms(draw, args.repeats):.1f} ms")
-    fbo.release()
-    tex.release()
+    drawn = draw_ms(sky, CAMERA, (1920, 1080), args.repeats)
+    print(f"draw 1920x1080 (every layer, no read-back): {drawn:.1f} ms")
 
 
 if __name__ == "__main__":

@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from timing import median_ms
+from timing import draw_ms, median_ms
 
 from skydome import Sky
 from skydome.gpu import gl_info
@@ -112,16 +112,7 @@ def main() -> None:
     many = median_ms(lambda: SkyState.series(sky.observer, batch), 3) / len(batch)
     print(f"  astronomy alone: {one:.1f} ms for one time, {many:.2f} ms per time in a batch of 40")
 
-    tex = ctx.texture((1920, 1080), 4, dtype="f1")
-    fbo = ctx.framebuffer(color_attachments=[tex])
-
-    def draw():
-        sky.draw(fbo, cam, size=(1920, 1080))
-        ctx.finish()
-
-    print(f"draw 1920x1080 (no read-back): {median_ms(draw, args.repeats):.1f} ms")
-    fbo.release()
-    tex.release()
+    print(f"draw 1920x1080 (no read-back): {draw_ms(sky, cam, (1920, 1080), args.repeats):.1f} ms")
 
     if not args.no_timelapse:
         from tests.cli_helpers import run_cli

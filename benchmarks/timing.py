@@ -18,3 +18,21 @@ def median_ms(fn: Callable[[], object], repeats: int, warmup: int = 2) -> float:
         fn()
         times.append((time.perf_counter() - t0) * 1e3)
     return statistics.median(times)
+
+
+def draw_ms(sky, camera, size: tuple[int, int], repeats: int) -> float:
+    """Median time of ``sky.draw`` into an offscreen 8-bit framebuffer of ``size`` (what a
+    window gets: no read-back), the GPU work finished."""
+    ctx = sky.graph.ctx
+    tex = ctx.texture(size, 4, dtype="f1")
+    fbo = ctx.framebuffer(color_attachments=[tex])
+
+    def draw():
+        sky.draw(fbo, camera, size=size)
+        ctx.finish()
+
+    try:
+        return median_ms(draw, repeats)
+    finally:
+        fbo.release()
+        tex.release()
