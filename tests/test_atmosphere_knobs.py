@@ -119,7 +119,10 @@ def test_aod_alone_keeps_the_spectral_shape_and_ssa():
         c0["mie_scattering"] / c0["mie_extinction"],
         rtol=1e-12,
     )
-    np.testing.assert_allclose(c1["mie_scattering"][[0]] / c1["mie_extinction"][[0]], 0.62)
+    # (Mie-solved to the target albedo: to 1e-3, tools/build_mars_dust.py)
+    np.testing.assert_allclose(
+        c1["mie_scattering"][[0]] / c1["mie_extinction"][[0]], 0.62, atol=1e-3
+    )
     # The Ångström exponent alone keeps the AOD at 550 nm; ssa alone keeps the extinction.
     # On the seeds' Earth (earth_bruneton: grey Mie extinction 4.44e-6 /m, AOD 0.005328) with
     # the seed's numbers, and on the measured earth (clean continental, AOD 0.1 by the preset's

@@ -25,6 +25,7 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
+from skydome.atmosphere.phase import MiePhaseLobes
 from skydome.errors import ParameterError, check_range
 
 #: One Dobson unit: 2.687e20 molecules per m^2 of column (0.01 mm of pure ozone at 0 °C and
@@ -342,6 +343,9 @@ class AtmosphereParams:
     solar_irradiance: Spectrum
     #: Shortest Sun elevation cosine the precomputed tables must cover (Bruneton's mu_s_min).
     mu_s_min: float = -0.2
+    #: The aerosol's phase function per wavelength (Henyey-Greenstein lobes), or None for the
+    #: Cornette-Shanks function of ``mie_g`` at every wavelength.
+    mie_phase: MiePhaseLobes | None = None
     description: str = field(default="", compare=False)
 
     def __post_init__(self):
@@ -500,7 +504,7 @@ class AtmosphereParams:
           continental aerosol; None keeps the current ratio at each wavelength.
         - ``scale_height_m``: makes the Mie density profile exponential with this scale height
           (keeping the optical depth unless ``aod_550`` is given); ``mie_g``: the
-          Cornette-Shanks asymmetry parameter.
+          Cornette-Shanks asymmetry parameter (it replaces a ``mie_phase``).
 
         The sea-level extinction follows from the profile's column: β_ext(λ) = τ_a(λ) /
         ∫ mie_density dh (for an exponential profile, τ / H).
@@ -557,8 +561,9 @@ class AtmosphereParams:
             "mie_scattering": Spectrum.sampled(grid, ext * ratio),
             "mie_density": density,
         }
-        if mie_g is not None:
+        if mie_g is not None:  # one Cornette-Shanks asymmetry replaces a spectral phase
             changes["mie_g"] = mie_g
+            changes["mie_phase"] = None
         return self.with_(**changes)
 
     def with_knobs(
@@ -586,6 +591,17 @@ class AtmosphereParams:
             params = params.with_ozone(ozone_du)
         return params
 
+    def mie_phase_function(self, cos_theta, wavelengths_nm) -> np.ndarray:
+        """The aerosol's phase function (sr^-1), shape (cosines..., wavelengths): ``mie_phase``
+        where set, else Cornette-Shanks of ``mie_g`` (the same at every wavelength)."""
+        if self.mie_phase is not None:
+            return self.mie_phase.phase(cos_theta, wavelengths_nm)
+        mu = np.asarray(cos_theta, float)[..., None]
+        g = self.mie_g
+        k = 3.0 / (8.0 * np.pi) * (1.0 - g * g) / (2.0 + g * g)
+        p = k * (1.0 + mu * mu) / (1.0 + g * g - 2.0 * g * mu) ** 1.5
+        return np.broadcast_to(p, (*np.shape(cos_theta), np.size(wavelengths_nm))).copy()
+
     def coefficients(self, wavelengths_nm) -> dict[str, np.ndarray]:
         """Per-wavelength coefficients (per metre), albedo and solar irradiance."""
         wl = np.asarray(wavelengths_nm, float)
@@ -603,6 +619,8 @@ class AtmosphereParams:
         its form (a layered one exactly as before tabulated profiles existed)."""
         d = asdict(self)
         d.pop("description", None)
+        if self.mie_phase is None:  # as before spectral phase functions existed
+            d.pop("mie_phase")
         for name in ("rayleigh_density", "mie_density", "absorption_density"):
             d[name] = getattr(self, name).to_dict()
         return d

@@ -58,7 +58,12 @@ import numpy as np
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.transmittance import TransmittanceTable
-from skydome.atmosphere.uniforms import geometry_uniforms, profile_defines, spectral_uniforms
+from skydome.atmosphere.uniforms import (
+    geometry_uniforms,
+    mie_phase_defines,
+    profile_defines,
+    spectral_uniforms,
+)
 from skydome.errors import CacheError, ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.textures import copy_array_to_3d, linear_clamped
@@ -321,7 +326,11 @@ class PrecomputedAtmosphere:
 
     def defines(self) -> dict[str, object]:
         """Preprocessor defines the lookup shader needs."""
-        return {"NUM_GROUPS": self.groups, **profile_defines(self.params)}
+        return {
+            "NUM_GROUPS": self.groups,
+            **profile_defines(self.params),
+            **mie_phase_defines(self.params),
+        }
 
     def uniforms(self) -> dict[str, object]:
         """Every uniform of ``atmosphere/precomputed_lookup.glsl`` (and of spectral/transmittance GLSL)."""
@@ -575,6 +584,7 @@ class _Precomputation:
         gm = self.ms_groups
         self.ms_defines = {
             **profile_defines(self.params),
+            **mie_phase_defines(self.params),
             "NUM_GROUPS": gm,
             "RAY_SAMPLES": cfg.ms_samples,
             "N_MU_SKY": n_sky,
@@ -674,6 +684,7 @@ class _Precomputation:
         w, h, d = cfg.table_shape(cfg.scattering_size)
         defines = {
             **profile_defines(self.params),
+            **mie_phase_defines(self.params),
             "NUM_GROUPS": self.groups,
             "RAY_SAMPLES": cfg.single_samples,
         }
@@ -716,6 +727,7 @@ class _Precomputation:
             samples = cfg.single_samples if single else cfg.ms_samples
             defines = {
                 **profile_defines(self.params),
+                **mie_phase_defines(self.params),
                 "NUM_GROUPS": groups,
                 "RAY_SAMPLES": samples,
                 "IRR_N_MU": n_mu,

@@ -194,32 +194,39 @@ def hazy() -> AtmosphereParams:
 
 
 def mars() -> AtmosphereParams:
-    """Mars with a moderately dusty sky (dust optical depth ~0.5, typical of clear seasons).
+    """Mars in a clear season, from published profiles (``skydome.atmosphere.mars_atmosphere``).
 
-    Radius 3389.5 km; CO2 Rayleigh scattering scaled from air by number density (610 Pa,
-    210 K: 1/120 of Earth's sea level) and by CO2's ~2.5x larger cross-section; dust with
-    scale height 11.1 km, extinction 4.5e-5 m^-1 at the ground, single scattering albedo
-    rising from 0.62 at 440 nm to 0.97 at 700 nm (absorbing in the blue, Wolff et al. 2009),
-    g = 0.63; Sun at 1.524 AU (irradiance / 1.524^2, angular radius / 1.524).
+    CO2 gas from a Mars-GRAM 2005 profile (Justus et al. 2005: 583 Pa and 0.0142 kg/m^3 at
+    the areoid, radius 3389.5 km) with Rayleigh scattering 2.5 times air's per molecule; dust of
+    optical depth 0.5 at 550 nm on Conrath's profile (nu = 0.01), with Mie optics for
+    r_eff = 1.71 um (Markiewicz et al. 1999): single-scattering albedo 0.62 at 440 nm rising
+    to 0.97 at 700 nm (absorbing in the blue: the butterscotch daytime sky) and a forward
+    peak twice as high in the blue as in the red (the blue glow around the setting Sun);
+    ground albedo 0.10-0.35 (450-650 nm); the Sun at 1.524 AU.
     """
-    dust_ext = 4.5e-5
-    ssa = np.interp(_GRID_NM, [440.0, 550.0, 700.0], [0.62, 0.90, 0.97])
+    from skydome.atmosphere import mars_atmosphere as m
+
+    dust_density = m.mars_dust_density()
+    top_m = m.TOP_M
+    extinction, scattering = m.mars_dust_spectra(dust_density.column_m(top_m))
+    phase = m.mars_dust_phase()
     return AtmosphereParams(
         name="mars",
-        bottom_radius_m=3_389_500.0,
-        top_radius_m=3_389_500.0 + 120_000.0,
-        rayleigh_scattering=_lambda_power(EARTH_RAYLEIGH_K * 2.5 / 120.0, 4.0),
-        rayleigh_density=DensityProfile.exponential(11_100.0),
-        mie_scattering=Spectrum.sampled(_GRID_NM, dust_ext * ssa),
-        mie_extinction=Spectrum.constant(dust_ext),
-        mie_g=0.63,
-        mie_density=DensityProfile.exponential(11_100.0),
+        bottom_radius_m=m.MARS_RADIUS_M,
+        top_radius_m=m.MARS_RADIUS_M + top_m,
+        rayleigh_scattering=Spectrum.sampled(_GRID_NM, m.mars_rayleigh_scattering(_GRID_NM)),
+        rayleigh_density=m.mars_gas_density(),
+        mie_scattering=scattering,
+        mie_extinction=extinction,
+        mie_g=float(phase.asymmetry(550.0)[0]),
+        mie_density=dust_density,
         absorption_extinction=Spectrum.constant(0.0),
         absorption_density=DensityProfile.exponential(11_100.0),
         ground_albedo=Spectrum.sampled([450.0, 550.0, 650.0], [0.10, 0.22, 0.35]),
         sun_angular_radius_rad=SUN_ANGULAR_RADIUS_1AU / 1.524,
         solar_irradiance=_sun(1.0 / 1.524**2),
-        description="Mars, moderately dusty (dust optical depth ~0.5)",
+        mie_phase=phase,
+        description="Mars, clear season (dust optical depth 0.5), Mars-GRAM gas profile",
     )
 
 

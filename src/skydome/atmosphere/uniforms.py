@@ -132,4 +132,25 @@ def spectral_uniforms(params: AtmosphereParams, wavelengths_nm) -> dict[str, obj
         "u_ground_albedo": vec4s(c["ground_albedo"]),
         "u_mie_g": float(params.mie_g),
         "u_sun_angular_radius": float(params.sun_angular_radius_rad),
+        **mie_lobe_uniforms(params, wavelengths_nm),
+    }
+
+
+def mie_phase_defines(params: AtmosphereParams) -> dict[str, object]:
+    """``MIE_LOBES`` (the lobe count) for an atmosphere with a spectral phase function
+    (``params.mie_phase``; common/mie_phase.glsl), else nothing: Cornette-Shanks of u_mie_g."""
+    return {} if params.mie_phase is None else {"MIE_LOBES": len(params.mie_phase.lobe_g)}
+
+
+def mie_lobe_uniforms(params: AtmosphereParams, wavelengths_nm) -> dict[str, object]:
+    """``u_mie_lobe_g`` and ``u_mie_lobe_weight`` (group-major vec4s: for each group of 4
+    wavelengths, each lobe's weights at them) of a spectral phase function, else nothing."""
+    phase = params.mie_phase
+    if phase is None:
+        return {}
+    w = phase.weights_at(wavelengths_nm)  # (wavelengths, lobes)
+    groups = w.reshape(-1, 4, w.shape[1])  # (group, 4, lobe)
+    return {
+        "u_mie_lobe_g": [float(g) for g in phase.lobe_g],
+        "u_mie_lobe_weight": [float(v) for v in np.transpose(groups, (0, 2, 1)).ravel()],
     }

@@ -1,5 +1,6 @@
-"""Maps shipped in ``skydome/data`` as NumPy archives: one array plus JSON metadata with a
-format version, written by a ``tools/`` script (the Moon's albedo, the Milky Way)."""
+"""Data shipped in ``skydome/data``: maps as NumPy archives (one array plus JSON metadata with
+a format version, written by a ``tools/`` script: the Moon's albedo, the Milky Way), and
+tables as CSV files with ``#`` comment lines and a header row."""
 
 from __future__ import annotations
 
@@ -34,3 +35,21 @@ def read_packaged_npz(
             f"rebuild it with {tool}"
         )
     return array, meta
+
+
+def read_packaged_csv(file_name: str, columns: tuple[str, ...] | None = None) -> dict:
+    """The numeric columns of ``skydome/data/file_name`` by name (float64 arrays): ``#`` lines
+    are comments, the first other line names the columns. ``columns``, when given, must be the
+    file's (in order), else SkydomeError."""
+    try:
+        text = resources.files("skydome.data").joinpath(file_name).read_text()
+        rows = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
+        names = tuple(rows[0].split(","))
+        table = np.array([[float(v) for v in r.split(",")] for r in rows[1:]], dtype=np.float64)
+    except Exception as exc:  # missing or malformed file
+        raise SkydomeError(f"the packaged table {file_name} cannot be read ({exc})") from exc
+    if columns is not None and names != tuple(columns):
+        raise SkydomeError(f"{file_name}: columns {names}, expected {tuple(columns)}")
+    if table.ndim != 2 or table.shape[1] != len(names):
+        raise SkydomeError(f"{file_name}: every row needs {len(names)} values")
+    return {name: table[:, k].copy() for k, name in enumerate(names)}

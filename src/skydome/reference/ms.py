@@ -338,6 +338,11 @@ class _Medium:
             raise ParameterError(
                 f"wavelengths_nm must be a 1-D array of positive numbers, got {wavelengths_nm}"
             )
+        if params.mie_phase is not None:
+            raise ParameterError(
+                f"{params.name}: the Monte Carlo reference samples one Cornette-Shanks phase "
+                "function; this atmosphere's varies with wavelength (mie_phase)"
+            )
         c = params.coefficients(wl)
         top = params.atmosphere_height_m
         profs = []

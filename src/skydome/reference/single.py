@@ -87,7 +87,10 @@ def single_scattering(
     ground = ray_hits_ground(params, r, mu)
     length = np.where(ground, distance_to_bottom(params, r, mu), distance_to_top(params, r, mu))
     phase_r = rayleigh_phase(nu)
-    phase_m = cornette_shanks_phase(nu, params.mie_g)
+    if params.mie_phase is None:
+        phase_m = cornette_shanks_phase(nu, params.mie_g)[:, None]
+    else:  # a phase function per wavelength (n_rays, n_wl)
+        phase_m = params.mie_phase.phase(nu, wavelengths_nm)
     du = 1.0 / samples
     for i in range(samples):
         u = (i + offset) * du
@@ -101,7 +104,7 @@ def single_scattering(
         d = densities(params, rt - Rb) * dt[:, None]
         scat = (
             d[:, 0:1] * coef["rayleigh_scattering"] * phase_r[:, None]
-            + d[:, 1:2] * coef["mie_scattering"] * phase_m[:, None]
+            + d[:, 1:2] * coef["mie_scattering"] * phase_m
         )
         out += np.where(lit[:, None], scat * np.exp(-_optical_depth(coef, col)), 0.0)
 

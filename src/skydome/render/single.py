@@ -6,7 +6,12 @@ import numpy as np
 
 from skydome.atmosphere import AtmosphereParams
 from skydome.atmosphere.transmittance import TransmittanceTable
-from skydome.atmosphere.uniforms import geometry_uniforms, profile_defines, spectral_uniforms
+from skydome.atmosphere.uniforms import (
+    geometry_uniforms,
+    mie_phase_defines,
+    profile_defines,
+    spectral_uniforms,
+)
 from skydome.errors import ParameterError
 from skydome.gpu import shared_context
 from skydome.render.base import PassRenderer, camera_position_km, check_sun_direction
@@ -73,6 +78,7 @@ class SingleScatteringRenderer(PassRenderer):
             "NUM_GROUPS": self.groups,
             "CAMERA_MODEL": camera.model,
             **profile_defines(self.params),
+            **mie_phase_defines(self.params),
             "PROFILE_VALUES": ", ".join(f"{v:.9e}" for v in self.uniforms["u_profile"]),
             "PROFILE_INV_STEP_VALUES": ", ".join(
                 f"{v:.9e}" for v in self.uniforms["u_profile_inv_step"]

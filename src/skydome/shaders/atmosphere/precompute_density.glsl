@@ -7,9 +7,14 @@
 // and with g ~ 0.8 its lobe is narrower than the spacing of the directions, so the plain sum
 // would depend on where v falls between them; normalized, it is a P_M-weighted mean of L around
 // v, exact for smooth L. The Rayleigh phase function is smooth and needs no such care.
+// A spectral phase function's lobes (MIE_LOBES) are broadened to g <= MS_MIE_LOBE_G_MAX: the
+// directions are ~20 deg apart, and a lobe a few degrees wide (Martian dust's diffraction peak,
+// g ~ 0.97) made the weighted mean jump from one direction to the next as v moved (bands in
+// the orders >= 2); self-normalized, the broadening keeps the energy.
 // Stored as a logarithm (atmosphere/precomputed_params.glsl).
 #include "atmosphere/precompute_common.glsl"
 
+#define MS_MIE_LOBE_G_MAX 0.8
 uniform vec4 u_density_size;  // the grid of J (NU, MU_S, MU, R)
 uniform sampler2D u_field;  // L dw, x = group * N_DIR + direction, y = r_index * MU_S + mu_s_index
 
@@ -25,15 +30,20 @@ void main() {
     int row = v_layer * n_mu_s + (texel.x - (texel.x / n_mu_s) * n_mu_s);
     vec3 v = view_in_frame(mu, mu_s, nu);
 
+#ifndef MIE_LOBES
     float g = u_mie_g;
     float gg = 1.0 + g * g;
+    float norm_m = 0.0;
+#else
+    vec4 norm_m[NUM_GROUPS];  // a spectral phase function: one normalization per wavelength
+    for (int k = 0; k < NUM_GROUPS; ++k) norm_m[k] = vec4(0.0);
+#endif
     vec4 sum_r[NUM_GROUPS];
     vec4 sum_m[NUM_GROUPS];
     for (int k = 0; k < NUM_GROUPS; ++k) {
         sum_r[k] = vec4(0.0);
         sum_m[k] = vec4(0.0);
     }
-    float norm_m = 0.0;
     for (int a = 0; a < N_MU; ++a) {
         vec2 m = mu_node(a, r);
         float sin_a = safe_sqrt(1.0 - m.x * m.x);
@@ -42,14 +52,20 @@ void main() {
             vec3 w = vec3(sin_a * u_phi_cs[j], m.x);
             float c = dot(v, w);
             float pr = 1.0 + c * c;
+#ifndef MIE_LOBES
             // Cornette-Shanks without its constant factor (it cancels in the normalization).
             float ix = inversesqrt(max(gg - 2.0 * g * c, 1e-8));
             float pm = pr * ix * ix * ix;
             norm_m += pm * w_a;
+#endif
             int x = a * N_PHI + j;
             for (int k = 0; k < NUM_GROUPS; ++k) {
                 vec4 Lw = texelFetch(u_field, ivec2(k * N_DIR + x, row), 0);
                 sum_r[k] += pr * Lw;
+#ifdef MIE_LOBES
+                vec4 pm = mie_phase_group_broadened(c, k, MS_MIE_LOBE_G_MAX);
+                norm_m[k] += pm * w_a;
+#endif
                 sum_m[k] += pm * Lw;
             }
         }
@@ -57,6 +73,10 @@ void main() {
     vec3 d = densities(r - u_bottom_radius);
     for (int k = 0; k < NUM_GROUPS; ++k) {
         out_density[k] = to_log(u_rayleigh_scattering[k] * (d.x * 3.0 / (16.0 * PI)) * sum_r[k]
+#ifndef MIE_LOBES
                               + u_mie_scattering[k] * (d.y / max(norm_m, 1e-30)) * sum_m[k]);
+#else
+                              + u_mie_scattering[k] * (d.y / max(norm_m[k], vec4(1e-30))) * sum_m[k]);
+#endif
     }
 }

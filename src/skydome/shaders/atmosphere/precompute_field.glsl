@@ -47,7 +47,7 @@ void main() {
     vec4 ray_r[NUM_GROUPS];
     vec4 ray_m[NUM_GROUPS];
     single_scattering_integrals(r, mu, mu_s, nu, hits_ground, g, g + 1, ray_r, ray_m);
-    vec4 radiance = rayleigh_phase(nu) * ray_r[g] + cornette_shanks_phase(nu, u_mie_g) * ray_m[g];
+    vec4 radiance = rayleigh_phase(nu) * ray_r[g] + mie_phase_group(nu, g) * ray_m[g];
 #else
     vec4 ray[NUM_GROUPS];
     scattered_radiance(u_density, u_density_size, r, mu, mu_s, nu, hits_ground, g, g + 1, ray);

@@ -39,8 +39,8 @@ void main() {
             vec4 ray_m[NUM_GROUPS];
             single_scattering_integrals(r, mu, mu_s, nu, false, 0, NUM_GROUPS, ray_r, ray_m);
             float phase_r = rayleigh_phase(nu);
-            float phase_m = cornette_shanks_phase(nu, u_mie_g);
-            for (int g = 0; g < NUM_GROUPS; ++g) radiance[g] = phase_r * ray_r[g] + phase_m * ray_m[g];
+            for (int g = 0; g < NUM_GROUPS; ++g)
+                radiance[g] = phase_r * ray_r[g] + mie_phase_group(nu, g) * ray_m[g];
 #else
             scattered_radiance(u_density, u_density_size, r, mu, mu_s, nu, false, 0, NUM_GROUPS,
                                radiance);

@@ -144,7 +144,7 @@ vec4 sky_radiance(vec3 camera, vec3 view_ray, float shadow_length, vec3 sun_dire
         scattering *= T;
         single_mie *= T;
     }
-    return scattering * rayleigh_phase(nu) + single_mie * cornette_shanks_phase(nu, u_mie_g);
+    return scattering * rayleigh_phase(nu) + single_mie * mie_phase_channels(nu);
 }
 
 // The phase-free parts of sky_radiance_to_point: Rayleigh + orders >= 2 (/ P_R) and single
@@ -187,5 +187,5 @@ vec4 sky_radiance_to_point(vec3 camera, vec3 point, float shadow_length, vec3 su
     vec4 scattering, single_mie;
     scattering_to_point(camera, view_ray, length(point - camera), shadow_length, sun_direction,
                         scattering, single_mie);
-    return scattering * rayleigh_phase(nu) + single_mie * cornette_shanks_phase(nu, u_mie_g);
+    return scattering * rayleigh_phase(nu) + single_mie * mie_phase_channels(nu);
 }

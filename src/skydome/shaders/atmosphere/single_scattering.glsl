@@ -5,6 +5,7 @@
 #include "atmosphere/transmittance_lut.glsl"
 #include "common/phase_functions.glsl"
 #include "common/spectral.glsl"
+#include "common/mie_phase.glsl"
 
 uniform float u_sun_angular_radius;  // rad
 
@@ -54,7 +55,8 @@ void single_scattering(vec3 position, vec3 dir, vec3 sun, int samples, float off
 
     vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
     float phase_r = rayleigh_phase(nu);
-    float phase_m = cornette_shanks_phase(nu, u_mie_g);
+    vec4 phase_m[NUM_GROUPS];
+    for (int g = 0; g < NUM_GROUPS; ++g) phase_m[g] = mie_phase_group(nu, g);
     for (int i = 0; i < samples; ++i) {
         float u = (float(i) + offset) * du;
         float t = length_km * u * u;
@@ -71,7 +73,7 @@ void single_scattering(vec3 position, vec3 dir, vec3 sun, int samples, float off
         vec3 c = max(hits_ground ? c_t - c0 : c0 - c_t, vec3(0.0)) + c_sun;
         vec3 d = densities(r_t - u_bottom_radius) * dt;
         for (int g = 0; g < NUM_GROUPS; ++g) {
-            vec4 scattering = u_rayleigh_scattering[g] * (d.x * phase_r) + u_mie_scattering[g] * (d.y * phase_m);
+            vec4 scattering = u_rayleigh_scattering[g] * (d.x * phase_r) + u_mie_scattering[g] * (d.y * phase_m[g]);
             radiance[g] += scattering * exp(-optical_depth(g, c));
         }
     }

@@ -50,7 +50,7 @@ vec4 aerial_from_table(sampler3D scattering, sampler3D single_mie, vec3 unit, fl
                        float distance, float ray_length_km) {
     vec3 uvw = vec3(sky_view_texcoords(unit, u_aerial_size.xy), aerial_w(distance, ray_length_km));
     return texture(scattering, uvw) * rayleigh_phase(nu)
-         + texture(single_mie, uvw) * cornette_shanks_phase(nu, u_mie_g);
+         + texture(single_mie, uvw) * mie_phase_channels(nu);
 }
 #endif
 #ifdef HAS_DEPTH_MAP
@@ -63,7 +63,7 @@ layout(location = 1) out vec4 frag_transmittance;
 vec4 sky_from_table(sampler2D scattering, sampler2D single_mie, vec3 unit, float nu) {
     vec2 uv = sky_view_texcoords(unit, u_sky_view_size);
     return texture(scattering, uv) * rayleigh_phase(nu)
-         + texture(single_mie, uv) * cornette_shanks_phase(nu, u_mie_g);
+         + texture(single_mie, uv) * mie_phase_channels(nu);
 }
 
 void main() {
