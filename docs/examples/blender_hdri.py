@@ -43,6 +43,18 @@ elevation_true = math.degrees(math.asin(sun.direction_true[2]))
 )
 direct_normal_lux = ill.direct_horizontal_lux / math.sin(math.radians(elevation_true))
 
+# Its colour: the disk alone (with it minus without it) through a 2-degree camera, summed
+# over the pixels' solid angles: the beam's RGB illuminance (lx), whose luminance is the
+# same direct-normal illuminance.
+zoom = sky.camera("sun", fov_deg=2.0)
+disk = sky.render(zoom, 128, 128, exposure=None).rgb
+sky.layer("sun").enabled = False
+disk = disk - sky.render(zoom, 128, 128, exposure=None).rgb
+sky.layer("sun").enabled = True
+pixel_sr = (math.radians(2.0) / 128) ** 2  # small field: every pixel ~ the same solid angle
+beam_rgb_lux = disk.reshape(-1, 3).sum(axis=0) * pixel_sr
+colour = beam_rgb_lux / beam_rgb_lux.max()  # Blender's lamp colour, brightest channel 1
+
 # Check that the map is absolute: its upper hemisphere, weighted by the cosine, is the
 # diffuse illuminance on a horizontal surface (lx).
 data, _ = read_exr(out / "sky-no-sun.exr")
@@ -56,7 +68,10 @@ settings = {
     "exr": "sky-no-sun.exr",
     "world_strength": 1.0 / PHOTOPIC_EFFICACY_LM_PER_W,  # cd/m^2 -> W/(m^2 sr)
     "mapping_rotation_z_deg": 90.0,  # north on Blender's +Y, east on +X
-    "sun_strength_w_m2": direct_normal_lux / PHOTOPIC_EFFICACY_LM_PER_W,
+    "sun_strength_w_m2": direct_normal_lux
+    / PHOTOPIC_EFFICACY_LM_PER_W
+    / float(colour @ SRGB_LUMINANCE),  # strength x colour keeps the luminance
+    "sun_colour_linear_rgb": colour.tolist(),
     "sun_angle_deg": math.degrees(2 * sun.angular_radius_rad),
     "sun_rotation_euler_deg": [90.0 - sun.elevation_deg, 0.0, 180.0 - sun.azimuth_deg],
     "film_exposure_stops": math.log2(PHOTOPIC_EFFICACY_LM_PER_W / 1.2)
@@ -64,6 +79,7 @@ settings = {
     "sun_elevation_deg": sun.elevation_deg,
     "sun_azimuth_deg": sun.azimuth_deg,
     "direct_normal_lux": direct_normal_lux,
+    "direct_normal_lux_from_disk": float(beam_rgb_lux @ SRGB_LUMINANCE),
     "diffuse_horizontal_lux": ill.diffuse_horizontal_lux,
     "diffuse_horizontal_lux_from_map": diffuse_from_map,
 }
