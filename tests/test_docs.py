@@ -32,6 +32,7 @@ EXPECTED = {
     "tour.py": ["tour-sunset.png", "tour-sunset.exr", "tour-night-allsky.png", "tour-sun5.*"],
     "tour_cli.sh": ["cli-sunset.png", "cli-sunset.exr", "cli-sun8.png"],
     "place_and_time.py": ["place-moon.png", "place-moon.exr", "place-east.png", "place-1200.png"],
+    "blender_cli.sh": ["sky.exr", "sky.hdr", "sky-preview.png"],
     "blender_hdri.py": ["sky-no-sun.exr", "sky-with-sun.exr", "blender-settings.json"],
     "timelapse.sh": ["dusk.mp4", "dusk-frames/frame_*.exr", "dusk-ev8/frame_*.png"],
     "eye_adaptation.py": ["eye-dusk-strip.png"],
@@ -77,6 +78,13 @@ def _check_exr(path: Path) -> None:
     assert np.mean(luminance >= 0.0) == 1.0, f"{path.name} has negative luminance"
 
 
+def _check_hdr(path: Path) -> None:
+    from skydome.io import read_hdr
+
+    data, _ = read_hdr(path)  # cd/m^2
+    assert np.all(np.isfinite(data)) and data.max() > 0.0, f"{path.name} is black or not finite"
+
+
 def _check_mp4(path: Path) -> None:
     import imageio_ffmpeg
 
@@ -88,7 +96,7 @@ def _check_mp4(path: Path) -> None:
     assert first.max() > 10, f"{path.name}'s first frame is black"
 
 
-CHECKS = {".png": _check_png, ".exr": _check_exr, ".mp4": _check_mp4}
+CHECKS = {".png": _check_png, ".exr": _check_exr, ".hdr": _check_hdr, ".mp4": _check_mp4}
 
 
 def test_every_example_is_listed_and_shown():
@@ -138,6 +146,26 @@ def _check_blender_settings(s: dict) -> None:
     assert s["sun_strength_w_m2"] * lum * 683.0 == pytest.approx(s["direct_normal_lux"], rel=1e-9)
     assert max(s["sun_colour_linear_rgb"]) == pytest.approx(1.0)
     assert 0.5 < s["sun_angle_deg"] < 0.56  # the Sun's 0.52-0.54 deg over the year
+
+
+def test_command_lines_on_the_pages_are_the_readmes():
+    # Single `skydome ...` lines in the pages' sh blocks (outside the included examples) are
+    # copies of the README's, which tests/test_readme_snippets.py runs: a line that drifts
+    # from them would be untested.
+    from tests.test_readme_snippets import SH_BLOCKS, fenced_blocks
+
+    def command(line: str) -> str:
+        return " ".join(line.split(" #")[0].split())  # without a trailing comment
+
+    readme = {command(line) for _, block in SH_BLOCKS for line in block.splitlines()}
+    seen = 0
+    for page in DOCS.rglob("*.md"):
+        for _, block in fenced_blocks(page.read_text(encoding="utf-8"), "sh"):
+            for line in block.splitlines():
+                if line.startswith("skydome "):
+                    seen += 1
+                    assert command(line) in readme, f"{page.relative_to(ROOT)}: {line}"
+    assert seen >= 10
 
 
 def test_cli_reference_is_current():

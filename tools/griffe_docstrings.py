@@ -6,7 +6,10 @@ Sphinx habits, rendered as clean Markdown by mkdocstrings (mkdocs.yml loads it).
   link;
 - Sphinx roles (``:class:`~skydome.scene.Sky```, ``:func:`f```, ``:mod:`m```, …) become code
   spans (the name as shown by Sphinx: the last component when ``~`` is given);
-- a paragraph ending in ``::`` (reST's literal-block marker) ends in ``:``.
+- a paragraph ending in ``::`` (reST's literal-block marker) ends in ``:``;
+- an argument entry naming several parameters (``a, b: what they are``) becomes one entry
+  per parameter, the later ones pointing to the first, so each gets its type and default;
+- parameters whose names start with ``_`` (private plumbing) leave the signatures.
 
 The source is not changed; only the text griffe hands to mkdocstrings.
 """
@@ -50,9 +53,34 @@ def fence_doctests(text: str) -> str:
     return "\n".join(out)
 
 
+_SHARED_ARG = re.compile(r"^(\s+)(\w+(?:, \w+)+): (.*)$")
+
+
+def split_shared_args(text: str) -> str:
+    """``text`` with each Google-style argument line ``a, b: text`` (and its indented
+    continuation lines) written as ``a: text`` followed by ``b: the same as `a`.``"""
+    lines = text.split("\n")
+    out: list[str] = []
+    i = 0
+    while i < len(lines):
+        m = _SHARED_ARG.match(lines[i])
+        if m is None:
+            out.append(lines[i])
+            i += 1
+            continue
+        indent, names, first = m.group(1), m.group(2).split(", "), m.group(3)
+        out.append(f"{indent}{names[0]}: {first}")
+        i += 1
+        while i < len(lines) and lines[i].startswith(indent + " ") and lines[i].strip():
+            out.append(lines[i])
+            i += 1
+        out += [f"{indent}{name}: the same as `{names[0]}`." for name in names[1:]]
+    return "\n".join(out)
+
+
 def markdown_docstring(text: str) -> str:
     """The docstring ``text`` as Markdown (see the module docstring)."""
-    text = fence_doctests(text)
+    text = split_shared_args(fence_doctests(text))
     text = _ROLE.sub(_role, text)
     return re.sub(r"(\S)::$", r"\1:", text, flags=re.MULTILINE)
 
@@ -63,3 +91,6 @@ class MarkdownDocstrings(griffe.Extension):
     def on_object(self, *, obj: griffe.Object, **kwargs) -> None:
         if obj.docstring is not None:
             obj.docstring.value = markdown_docstring(obj.docstring.value)
+        if isinstance(obj, griffe.Function):
+            for name in [p.name for p in obj.parameters if p.name.startswith("_")]:
+                del obj.parameters[name]

@@ -14,8 +14,10 @@ out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLE
 out.mkdir(parents=True, exist_ok=True)
 
 # 1. A sky for a place and a time: the Sun, the Moon, the stars where they are.
+# --8<-- [start:sky]
 sky = Sky("Valletta", "2018-03-01T16:52Z")  # a gazetteer name; naive times are UTC
 frame = sky.render(sky.camera("sun", fov_deg=60), 320, 180, tonemap="filmic")
+# --8<-- [end:sky]
 print(sky)
 print("frame.data", frame.data.shape, frame.data.dtype, "(linear sRGB, Y in cd/m^2, scotopic)")
 print(
