@@ -5,7 +5,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint gallery bench system-deps clean
+.PHONY: demo test lint gallery bench docs system-deps clean
 
 system-deps:
 	@if ! ldconfig -p | grep -q 'libEGL.so.1' || ! ls /usr/lib/*/dri/swrast_dri.so >/dev/null 2>&1; then \
@@ -18,7 +18,7 @@ system-deps:
 $(STAMP): pyproject.toml | system-deps
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e '.[dev]'
+	$(PY) -m pip install -q -e '.[dev,docs]'
 	touch $(STAMP)
 
 # Render a sky to out/ (PNG tone mapped, EXR in cd/m^2).
@@ -27,8 +27,8 @@ demo: $(STAMP)
 	$(VENV)/bin/skydome render --sun-elevation 8 --sun-azimuth 250 --size 1280x720 -o out/sky.png -o out/sky.exr
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check src tests benchmarks tools
-	$(VENV)/bin/ruff format --check src tests benchmarks tools
+	$(VENV)/bin/ruff check src tests benchmarks tools docs/examples
+	$(VENV)/bin/ruff format --check src tests benchmarks tools docs/examples
 
 # Lint, then the whole test suite (GL tests run headless, on the GPU or Mesa llvmpipe).
 test: lint
@@ -37,8 +37,13 @@ test: lint
 gallery: $(STAMP)
 	$(PY) tools/make_gallery.py && $(PY) tools/make_gallery.py --model single
 
+# The documentation site into site/ (MkDocs, warnings are errors); the CLI page first.
+docs: $(STAMP)
+	$(PY) tools/make_cli_docs.py
+	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict -d site
+
 bench: $(STAMP)
 	$(PY) benchmarks/bench_render.py
 
 clean:
-	rm -rf $(VENV) out .pytest_cache
+	rm -rf $(VENV) out site .pytest_cache

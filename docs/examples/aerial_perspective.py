@@ -1,0 +1,65 @@
+"""How-to: composite a scene with aerial perspective: ridges at 3, 15 and 60 km under a low
+Sun. The renderer gives the light scattered in front of each pixel's scene point and the
+transmittance to it. Writes aerial-*.png/.exr to the output folder (the first
+argument, or $SKYDOME_EXAMPLES_OUT, or ./out)."""
+
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from skydome.atmosphere import preset
+from skydome.display import auto_exposure, tonemap
+from skydome.io import write_outputs
+from skydome.render import PerspectiveCamera, direction_from_angles
+from skydome.render.precomputed import PrecomputedRenderer
+
+out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLES_OUT", "out"))
+out.mkdir(parents=True, exist_ok=True)
+W, H = 320, 180
+
+renderer = PrecomputedRenderer(preset("earth"))  # tables from the cache, or ~3 s on a CPU
+# The camera stands on a 1500 m summit looking a little down at three ridges.
+camera = PerspectiveCamera(fov_deg=60, yaw_deg=230, pitch_deg=-2)
+altitude_m = 1500.0
+sun = direction_from_angles(6.0, 250.0)  # elevation, azimuth (deg) -> ENU unit vector
+
+# Your scene, rendered by anything: its radiance in cd/m^2 (linear sRGB) and, per pixel, the
+# distance in metres along the view ray to what the pixel shows (inf: only sky there).
+# Distances past the point where a ray meets the ground are taken as that point.
+x, y = np.arange(W)[None, :], np.arange(H)[:, None]
+depth_m = np.full((H, W), np.inf)
+for distance_m, top_row, wave_rows in ((60e3, 70, 4), (15e3, 84, 6), (3e3, 104, 8)):
+    top = top_row + wave_rows * np.sin(2 * np.pi * x / W * (1 + distance_m / 2e4))
+    depth_m = np.where(y >= top, distance_m, depth_m)  # nearer ridges hide farther ones
+scene_rgb = np.where(np.isfinite(depth_m)[..., None], [12.0, 16.0, 9.0], 0.0)  # dark hills
+
+# One call gives the sky where the depth is inf, and in front of the scene the light
+# scattered between the camera and the scene point; frame.info["transmittance"] is the
+# (H, W, 3) transmittance to that point.
+sky = renderer.render(camera, W, H, sun_direction=sun, altitude_m=altitude_m, depth_m=depth_m)
+transmittance = sky.info["transmittance"]
+composite = scene_rgb * transmittance + sky.rgb  # cd/m^2
+
+for distance_m in (3e3, 15e3, 60e3):
+    at = depth_m == distance_m
+    print(
+        f"{distance_m / 1e3:4.0f} km: transmittance (R, G, B) "
+        f"{np.round(transmittance[at].mean(axis=0), 3)}, "
+        f"in-scattered {sky.luminance[at].mean():.0f} cd/m^2"
+    )
+
+frame = np.dstack([composite, sky.data[..., 3]]).astype(np.float32)  # keep the scotopic
+scale = auto_exposure(frame, clip_percentile=99.5)
+write_outputs(
+    [out / "aerial-composite.png", out / "aerial-composite.exr"],
+    frame,
+    tonemap(frame, "filmic", scale),
+)
+no_air = np.where(np.isfinite(depth_m)[..., None], scene_rgb, sky.rgb)  # the scene pasted in
+write_outputs(
+    out / "aerial-without.png",
+    None,
+    tonemap(np.dstack([no_air, sky.data[..., 3]]), "filmic", scale),
+)
