@@ -50,9 +50,13 @@ def main() -> None:
     ap.add_argument("--only", default="", help="comma-separated view names")
     ap.add_argument("--scene", action="store_true", help="only the place-and-time views")
     ap.add_argument("--night", action="store_true", help="only the night-sky views")
+    ap.add_argument("--mars", action="store_true", help="only Mars at noon and at sunset")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     OUT.mkdir(parents=True, exist_ok=True)
+    if args.mars:
+        mars_views(w, h)
+        return
     if args.scene or args.night:
         if args.scene:
             scene_views(w, h)
@@ -200,6 +204,11 @@ def real_earth(w: int, h: int) -> None:
         for name in types
     ]  # fmt: skip
     _strip(frames, 13.0, OUT / "aerosol-types-sun10.png", " | ".join(types) + ", Sun 10 deg")
+    mars_views(w, h)
+
+
+def mars_views(w: int, h: int) -> None:
+    """Mars at noon and at sunset, each at its own exposure."""
     mars = []
     for el, cam in (
         (70.0, PerspectiveCamera(fov_deg=90, yaw_deg=180, pitch_deg=20)),
