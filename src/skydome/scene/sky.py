@@ -328,9 +328,12 @@ class Sky:
         exposure: str | float = "auto",
         compensation_ev: float = 0.0,
         tonemap: str = "filmic",
+        measure: bool = False,
     ) -> None:
         """Draw into ``framebuffer`` (e.g. a window's ``ctx.screen``), tone-mapped on the GPU,
-        with no read-back. ``exposure``: "auto" or an EV100 number."""
+        with no read-back. ``exposure``: "auto" or an EV100 number; with ``measure`` an EV
+        frame's log-average luminance is measured too (``graph.exposure_pass().read()``,
+        cd/m^2: for an eye adapting over time)."""
         scale = _exposure_scale(exposure, compensation_ev)
         self.graph.draw(
             self.state,
@@ -341,6 +344,7 @@ class Sky:
             exposure=scale,
             compensation_ev=compensation_ev,
             tonemap=tonemap,
+            measure=measure,
         )
 
     def _repr_png_(self) -> bytes:
