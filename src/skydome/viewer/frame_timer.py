@@ -95,8 +95,13 @@ class FrameTimer:
             q = self._queries[key] = self.ctx.query(time=True)
         self._active = True
         try:
+            # Finish the work queued before the pass, and the pass itself before its query
+            # ends: a CPU rasterizer (llvmpipe) runs queued passes at the next flush, and a
+            # query would otherwise time the pass that flushed, not its own.
+            self.ctx.finish()
             with q:
                 yield
+                self.ctx.finish()
         finally:
             self._active = False
             self._used.append(key)
