@@ -51,6 +51,28 @@ def _key_names(glfw) -> dict[int, str]:
     return _KEYS
 
 
+def _use_egl() -> bool:
+    """Whether the window's context should come from EGL rather than GLX: on Linux, where
+    the headless contexts (``skydome.gpu``) are EGL ones, one process may hold both, and
+    EGL and GLX contexts in one process do not mix (glXMakeCurrent fails with BadAccess
+    while an EGL context is current). ``SKYDOME_VIEWER_EGL=0`` turns it off."""
+    import os
+    import sys
+
+    return sys.platform.startswith("linux") and os.environ.get("SKYDOME_VIEWER_EGL", "1") != "0"
+
+
+def _restore_headless() -> None:
+    """Make this thread's shared headless context (``skydome.gpu.shared_context``), if one
+    was made, current again: with the window gone no context is current, and code that
+    draws headless afterwards (a script, the rest of a test session) expects its own."""
+    from skydome.gpu import context as gpu_context
+
+    ctx = getattr(gpu_context._shared, "ctx", None)
+    if ctx is not None:
+        ctx.__enter__()
+
+
 class ViewerWindow:
     """A glfw window with an OpenGL 3.3 core context wrapped by moderngl.
 
@@ -61,6 +83,7 @@ class ViewerWindow:
         vsync: swap at the display's refresh rate (off: as fast as frames are drawn).
         visible: show the window (hidden windows still draw: for tests).
         panel: show the control panel (needs imgui-bundle).
+        egl: make the context with EGL (default on Linux: see :func:`_use_egl`).
     Raises:
         ParameterError: glfw (or imgui-bundle for the panel) is not installed.
         GLError: no window or no OpenGL 3.3 context (no display, no driver).
@@ -75,8 +98,11 @@ class ViewerWindow:
         vsync: bool = False,
         visible: bool = True,
         panel: bool = True,
+        egl: bool | None = None,
     ):
         glfw = require("glfw", "glfw")
+        if egl is None:
+            egl = _use_egl()
         self.glfw = glfw
         for name, v in (("width", width), ("height", height)):
             if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_WINDOW_SIDE:
@@ -95,6 +121,8 @@ class ViewerWindow:
         glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
         glfw.window_hint(glfw.VISIBLE, bool(visible))
         glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
+        if egl:
+            glfw.window_hint(glfw.CONTEXT_CREATION_API, glfw.EGL_CONTEXT_API)
         window = glfw.create_window(width, height, title, None, None)
         if not window:
             glfw.terminate()
@@ -104,14 +132,14 @@ class ViewerWindow:
             )
         self.window = window
         glfw.make_context_current(window)
-        import moderngl
+        from skydome.gpu.context import wrap_context
 
         try:
-            self.ctx = moderngl.create_context(require=330)
-        except Exception as exc:
+            self.ctx = wrap_context(330)
+        except GLError as exc:
             glfw.destroy_window(window)
             glfw.terminate()
-            raise GLError(f"no OpenGL 3.3 context on the window: {exc}") from None
+            raise GLError(f"the window's OpenGL context: {exc}") from None
         self.vsync = bool(vsync)
         glfw.swap_interval(1 if self.vsync else 0)
         self.panel = None
@@ -122,7 +150,7 @@ class ViewerWindow:
         self.scene = None
         self.timer = FrameTimer(self.ctx)
         self._size: tuple[int, int] | None = None
-        self._mouse_down = False
+        self._cursor = (0.0, 0.0)
         glfw.set_key_callback(window, lambda w, k, sc, action, mods: self.on_key(k, action))
         glfw.set_char_callback(window, lambda w, c: self.on_char(c))
         glfw.set_mouse_button_callback(
@@ -140,6 +168,13 @@ class ViewerWindow:
     def window_size(self) -> tuple[int, int]:
         """The window's size in screen coordinates (the pointer's units)."""
         return tuple(self.glfw.get_window_size(self.window))
+
+    def make_current(self) -> None:
+        """Make the window's GL context current in this thread (moderngl draws in whichever
+        context is current: a headless one made meanwhile, e.g. by a Sky without ctx=,
+        would otherwise receive the window's draws). Unconditional: glfw does not see a
+        context made current behind its back."""
+        self.glfw.make_context_current(self.window)
 
     def set_vsync(self, on: bool) -> None:
         self.vsync = bool(on)
@@ -179,13 +214,13 @@ class ViewerWindow:
         if action == glfw.PRESS:
             if self.panel is not None and self.panel.wants_mouse():
                 return
-            x, y = self.glfw.get_cursor_pos(self.window)
-            controls.press(x, y)
+            controls.press(*self._cursor)
         else:
             controls.release()
 
     def on_cursor(self, x: float, y: float) -> None:
         """The pointer moved to (x, y) in screen coordinates."""
+        self._cursor = (float(x), float(y))
         if self.panel is not None:
             self.panel.on_cursor(x, y)
         controls = self._controls()
@@ -208,6 +243,7 @@ class ViewerWindow:
         """Draw one frame (input already polled): the sky, then the panel; returns the
         screen's pixels before the panel when ``screenshot`` is true."""
         scene, timer = self.scene, self.timer
+        self.make_current()
         size = self.framebuffer_size()
         if size != self._size:
             scene.base.graph.release_targets(keep=size)
@@ -249,7 +285,11 @@ class ViewerWindow:
         if scene.ctx is not self.ctx:
             raise ParameterError("the scene's Sky must be made with ctx=window.ctx")
         self.scene = scene
+        self.make_current()
         scene.base.graph.profiler = self.timer
+        # A flag left by earlier work (the atmosphere's precomputation leaves a
+        # GL_INVALID_OPERATION on llvmpipe) is not this loop's failure: take it first.
+        self.ctx.error  # noqa: B018
         glfw = self.glfw
         last = time.perf_counter()
         i = 0
@@ -308,15 +348,24 @@ class ViewerWindow:
             )
 
     def close(self) -> None:
-        """Free the panel, the timer's queries and the window."""
+        """Free the panel, the timer's queries and the window. GL objects of this context
+        that nothing holds any more are collected first, while the context is current:
+        collected later, their release would delete another context's objects of the
+        same names (GL names are per context; glDelete* acts on the current one)."""
+        import gc
+
         if self.panel is not None:
             self.panel.release()
             self.panel = None
         self.timer.release()
+        self.scene = None
         if self.window is not None:
+            self.glfw.make_context_current(self.window)
+            gc.collect()
             self.glfw.destroy_window(self.window)
             self.window = None
             self.glfw.terminate()
+            _restore_headless()
 
     def __enter__(self):
         return self
