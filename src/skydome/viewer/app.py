@@ -263,16 +263,33 @@ class ViewerWindow:
         with timer.cpu("sky"):
             scene.draw(screen, size, dt_s)
         pixels = None
-        if screenshot:
+        asked = self.panel is not None and self.panel.screenshot_requested
+        if screenshot or asked:
             from skydome.viewer.screenshot import read_screen
 
             pixels = read_screen(screen, size)
+        if asked:
+            self._panel_screenshot(pixels)
         if self.panel is not None:
             with timer.cpu("panel"), timer.section("panel"):
                 self.panel.render(size)
         with timer.cpu("swap"):
             self.glfw.swap_buffers(self.window)
         return pixels
+
+    def _panel_screenshot(self, pixels) -> None:
+        """Save the panel's screenshot (PNG of the screen, EXR of the frame in cd/m^2) in
+        the working directory; the panel says where, or why not."""
+        from skydome.viewer.screenshot import save
+
+        stem = self.panel.screenshot_requested
+        self.panel.screenshot_requested = None
+        try:
+            paths = save([f"{stem}.png", f"{stem}.exr"], pixels, self.scene,
+                         metadata=self.describe(self.scene))  # fmt: skip
+            self.panel.message = "saved " + ", ".join(str(p) for p in paths)
+        except Exception as exc:  # an unwritable directory: said, the viewer goes on
+            self.panel.message = f"screenshot: {exc}"
 
     def run(self, scene, *, frames: int | None = None, screenshot=(), on_frame=None):
         """Show ``scene`` until the window closes, or for ``frames`` frames; save the last
