@@ -134,10 +134,13 @@ class Panel:
         self.imgui.set_current_context(self.context)
         self.renderer.render(self.imgui.get_draw_data(), size)
 
-    def _mark(self, name: str) -> None:
+    def _mark(self, name: str, *, frame: bool = False) -> None:
+        """Keep the last widget's rectangle as ``rects[name]`` (``frame``: a slider's frame
+        only, without its label)."""
         imgui = self.imgui
         a, b = imgui.get_item_rect_min(), imgui.get_item_rect_max()
-        self.rects[name] = (a.x, a.y, b.x, b.y)
+        x1 = a.x + imgui.calc_item_width() if frame else b.x
+        self.rects[name] = (a.x, a.y, x1, b.y)
 
     # ------------------------------------------------------------------ sections
 
@@ -293,7 +296,7 @@ class Panel:
             changed, v = imgui.slider_float(
                 "fov", s.fov_deg, *VIEW_FOV_RANGE_DEG, "%.1f deg", _clamp(imgui)
             )
-            self._mark("fov")
+            self._mark("fov", frame=True)
             if changed:
                 c.set(fov_deg=v)
         altitude = scene.altitude_m()
