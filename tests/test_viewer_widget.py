@@ -66,3 +66,25 @@ def test_repr_png_is_a_png_image(sky):
     data = sky._repr_png_()
     img = Image.open(io.BytesIO(data))
     assert img.format == "PNG" and img.size == (512, 256)
+
+
+def test_a_slowly_playing_time_keeps_the_drawn_state_within_half_a_pixel(sky):
+    """While the time plays, a step that moves the Sun and the Moon by less than half a
+    pixel (here 0.5 * 90 deg / 1280 px = 0.035 deg; one second moves them ~0.004 deg)
+    keeps the drawn state (no re-aim); a minute (~0.25 deg) draws the new one; paused,
+    the exact time is drawn."""
+    from skydome.viewer.controls import Controls
+    from skydome.viewer.scene import ViewerScene, initial_state
+
+    scene = ViewerScene(sky, Controls(initial_state(sky, playing=True, speed=1.0)))
+    scene.view_width_px = 1280
+    first = scene.sky()
+    jd = scene.controls.state.jd_utc
+    scene.controls.set(jd_utc=jd + 1.0 / 86400.0)
+    assert scene.sky() is first
+    scene.controls.set(jd_utc=jd + 60.0 / 86400.0)
+    moved = scene.sky()
+    assert moved is not first
+    assert float(moved.state.time.jd_utc) == pytest.approx(jd + 60.0 / 86400.0, abs=1e-9)
+    scene.controls.set(playing=False, jd_utc=jd + 61.0 / 86400.0)
+    assert float(scene.sky().state.time.jd_utc) == pytest.approx(jd + 61.0 / 86400.0, abs=1e-9)

@@ -7,9 +7,10 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
-import time
 
 import pytest
+
+from skydome.viewer.xvfb import start_xvfb
 
 
 def _glfw_works() -> bool:
@@ -22,31 +23,6 @@ def _glfw_works() -> bool:
         return subprocess.run([sys.executable, "-c", code], timeout=30).returncode == 0
     except (OSError, subprocess.TimeoutExpired):
         return False
-
-
-def start_xvfb() -> tuple[subprocess.Popen, str]:
-    """Start Xvfb on a free display number (it writes the number to a pipe); returns the
-    process and the DISPLAY value."""
-    read_fd, write_fd = os.pipe()
-    proc = subprocess.Popen(
-        ["Xvfb", "-displayfd", str(write_fd), "-screen", "0", "1920x1080x24", "-nolisten", "tcp"],
-        pass_fds=(write_fd,),
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    os.close(write_fd)
-    number = b""
-    deadline = time.monotonic() + 20.0
-    with os.fdopen(read_fd, "rb") as pipe:
-        while time.monotonic() < deadline and not number.endswith(b"\n"):
-            chunk = pipe.read(1)
-            if not chunk:
-                break
-            number += chunk
-    if not number.strip():
-        proc.kill()
-        raise RuntimeError("Xvfb did not report a display number")
-    return proc, f":{int(number)}"
 
 
 @pytest.fixture(scope="session")

@@ -409,12 +409,17 @@ class FrameGraph:
         compensation_ev: float = 0.0,
         tonemap: str = "filmic",
         measure: bool = False,
-    ) -> None:
+        read_back: bool = False,
+    ) -> float | None:
         """Draw the frame into ``framebuffer`` (a moderngl framebuffer, e.g. a window's
         ``ctx.screen``), tone-mapped, with no read-back. ``size`` defaults to the
         framebuffer's viewport size. One tile: the frame must fit GL's limits. With a fixed
         ``exposure`` and ``measure``, the exposure pass measures the frame all the same
-        (``exposure_pass().read()``: an eye adapting over time reads it)."""
+        (``exposure_pass().read()``: an eye adapting over time reads it). With ``"auto"``
+        and ``read_back``, the measured log-average is read back (one texel) and applied
+        as a fixed scale: the same exposure, without the per-pixel lookup of the
+        AUTO_EXPOSURE tone map (which costs a CPU rasterizer more than the read-back).
+        Returns the exposure scale used (m^2/cd) when it is known on the CPU, else None."""
         from skydome.display.gpu_tonemap import GpuToneMapper
 
         w, h = size or tuple(framebuffer.viewport[2:]) or framebuffer.size
@@ -425,6 +430,10 @@ class FrameGraph:
         if exposure == "auto" or measure:
             with self._section("exposure"):
                 self.exposure_pass().measure(texture)
+        scale = None
+        if exposure == "auto" and read_back:
+            exposure = DEFAULT_KEY / self.exposure_pass().read()
+            measure = True  # the exposure pass holds this frame's average
         with self._section("display"):
             if exposure == "auto":
                 key = 2.0**compensation_ev * DEFAULT_KEY
@@ -439,6 +448,7 @@ class FrameGraph:
             overlays = self._overlay_pass(state)
             if overlays is not None:
                 overlays.draw(framebuffer, camera, (w, h))
+        return scale
 
     # ------------------------------------------------------------------ display passes
 

@@ -291,10 +291,19 @@ class ViewerWindow:
         except Exception as exc:  # an unwritable directory: said, the viewer goes on
             self.panel.message = f"screenshot: {exc}"
 
-    def run(self, scene, *, frames: int | None = None, screenshot=(), on_frame=None):
-        """Show ``scene`` until the window closes, or for ``frames`` frames; save the last
-        frame to the ``screenshot`` paths. ``on_frame(window, i)`` runs before each frame
-        (scripts and tests inject input there). Returns the FrameTimer."""
+    def run(
+        self,
+        scene,
+        *,
+        frames: int | None = None,
+        screenshot=(),
+        on_frame=None,
+        duration_s: float | None = None,
+    ):
+        """Show ``scene`` until the window closes, for ``frames`` frames or for
+        ``duration_s`` seconds; save the last frame to the ``screenshot`` paths (with
+        ``frames``). ``on_frame(window, i)`` runs before each frame (scripts and tests
+        inject input there). Returns the FrameTimer."""
         if frames is not None and (isinstance(frames, bool) or not isinstance(frames, int)):
             raise ParameterError(f"frames {frames!r} must be a positive integer")
         if frames is not None and frames < 1:
@@ -309,11 +318,14 @@ class ViewerWindow:
         self.ctx.error  # noqa: B018
         glfw = self.glfw
         last = time.perf_counter()
+        stop_at = None if duration_s is None else last + float(duration_s)
         i = 0
         pixels = None
         try:
             while not glfw.window_should_close(self.window):
                 if frames is not None and i >= frames:
+                    break
+                if stop_at is not None and time.perf_counter() >= stop_at:
                     break
                 glfw.poll_events()
                 if on_frame is not None:

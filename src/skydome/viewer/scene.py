@@ -17,6 +17,10 @@ from skydome.render.frame import Frame
 from skydome.scene.sky import Sky
 from skydome.viewer.controls import Controls, ViewState
 
+#: The most the Sun or the Moon may move (deg) before a new time is drawn: a tenth of
+#: their disks' diameter (less when half a pixel of the view is less).
+HOLD_MAX_DEG = 0.05
+
 
 def initial_state(sky: Sky, **overrides: Any) -> ViewState:
     """A ViewState for ``sky``'s place and time, the camera on what ``skydome render``
@@ -67,6 +71,9 @@ class ViewerScene:
         self._sky: Sky | None = None
         self._observer_key: tuple | None = None
         self._observer = sky.observer
+        self._pending = None
+        #: The width (pixels) of the view drawn, for the half-pixel hold of :meth:`sky`.
+        self.view_width_px: int | None = None
         #: The exposure (EV100) of the last frame drawn, and its tone map.
         self.last_ev100: float | None = None
 
@@ -109,16 +116,17 @@ class ViewerScene:
             key = ("abstract", s.sun_elevation_deg, s.sun_azimuth_deg)
         else:
             key = (s.jd_utc, s.latitude_deg, s.longitude_deg, s.elevation_m)
-        if key != self._key or self._sky is None:
+        if (key != self._key or self._sky is None) and not (not s.abstract and self._hold(key)):
             if s.abstract:
                 self._sky = self.base.with_sun(s.sun_elevation_deg, s.sun_azimuth_deg)
             else:
                 from skydome.astro.time import Time
                 from skydome.scene.state import SkyState
 
-                state = SkyState.at_place(self.observer(), Time.from_utc(s.jd_utc))
+                state = self._pending or SkyState.at_place(self.observer(), Time.from_utc(s.jd_utc))
                 self._sky = Sky(_graph=self.base.graph, _state=state)
             self._key = key
+        self._pending = None
         graph = self.base.graph
         for layer in graph.layers:
             layer.enabled = layer.name not in s.layers_off
@@ -128,6 +136,35 @@ class ViewerScene:
             self._aim(self._sky, self.controls.pending_look)
             self.controls.pending_look = None
         return self._sky
+
+    def _hold(self, key: tuple) -> bool:
+        """Whether a new time at the same place moves the Sun and the Moon (and with them
+        the turning sky) by less than half a pixel of the view (at most HOLD_MAX_DEG)
+        from the state drawn, while the time plays: then the drawn state is kept and its tables are not re-aimed
+        (a time running slowly costs one astronomy call a frame, not a re-aim). Otherwise
+        the new state is kept in ``_pending`` for :meth:`sky`."""
+        import numpy as np
+
+        from skydome.astro.time import Time
+        from skydome.scene.state import SkyState
+
+        self._pending = None
+        s = self.controls.state
+        if not s.playing or self._sky is None or self._key is None or self._key[1:] != key[1:]:
+            return False
+        state = SkyState.at_place(self.observer(), Time.from_utc(s.jd_utc))
+        old = self._sky.state
+        w = 1280.0 if self.view_width_px is None else float(self.view_width_px)
+        fov = s.fov_deg if s.projection == "perspective" else 360.0
+        tol = min(HOLD_MAX_DEG, 0.5 * fov / max(w, 1.0))
+        for a, b in ((old.sun, state.sun), (old.moon, state.moon)):
+            if a is None or b is None:
+                continue
+            cos = float(np.clip(np.dot(a.direction, b.direction), -1.0, 1.0))
+            if np.degrees(np.arccos(cos)) >= tol:
+                self._pending = state
+                return False
+        return True
 
     def _aim(self, sky: Sky, look: str) -> None:
         light = sky.state.sun if look == "sun" else sky.state.moon
@@ -178,12 +215,16 @@ class ViewerScene:
     def draw(self, framebuffer, size: tuple[int, int], dt_s: float = 0.0) -> None:
         """Draw the state's frame into ``framebuffer`` over ``size`` (w, h) pixels,
         tone-mapped; in the adapt mode, then let the eye adapt for ``dt_s`` real seconds to
-        what it measured."""
+        what it measured. The auto exposure is read back (one texel) and applied as a fixed
+        scale, as ``Sky.render`` does: cheaper per pixel on a CPU rasterizer."""
+        from skydome.display.exposure import scale_to_ev100
+
         s = self.controls.state
+        self.view_width_px = int(size[0])
         sky = self.sky()
         exposure, comp = self.exposure()
         adapt = s.exposure_mode == "adapt"
-        sky.draw(
+        scale = sky.draw(
             framebuffer,
             s.camera(),
             size=size,
@@ -192,16 +233,13 @@ class ViewerScene:
             compensation_ev=comp,
             tonemap=s.tonemap,
             measure=adapt,
+            read_back=True,
         )
-        if exposure == "auto" or adapt:
+        if adapt:
             luminance = sky.graph.exposure_pass().read()
-            if adapt:
-                self.eye.update(min(luminance, 1e12), max(float(dt_s), 0.0))
-            if exposure == "auto":
-                from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
-
-                exposure = scale_to_ev100(2.0**comp * DEFAULT_KEY / luminance) - comp
-        self.last_ev100 = float(exposure)
+            self.eye.update(min(luminance, 1e12), max(float(dt_s), 0.0))
+        #: The EV100 of the exposure applied (compensation included).
+        self.last_ev100 = None if scale is None else scale_to_ev100(scale)
 
     def render(self, width: int, height: int, *, tonemap: bool = True) -> Frame:
         """The frame :meth:`draw` shows, read back: ``Frame.data`` in cd/m^2 and (with
