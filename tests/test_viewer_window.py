@@ -187,3 +187,26 @@ def test_a_resize_keeps_one_set_of_targets(window):
     sizes = {k for k in scene.base.graph._targets if k[0] != "smooth"}
     assert sizes == {(W // 2, H // 2)}
     scene.release()
+
+
+def test_a_failing_context_stops_with_a_clear_message(window):
+    """A GL error during the loop (here the flag a read of the default framebuffer's
+    absent COLOR_ATTACHMENT0 sets, as a failing driver would) stops the viewer with one
+    GLError naming the context; a moderngl error from a pass becomes one too."""
+    from skydome.errors import GLError
+
+    scene = _scene(window, "Valletta", "2018-03-01T12:00Z", night=False)
+
+    def flag(win, i):
+        if i == 1:
+            win.ctx.screen.read(viewport=(0, 0, 4, 4))  # sets GL_INVALID_OPERATION
+
+    with pytest.raises(GLError, match="OpenGL context failed .GL_INVALID_OPERATION"):
+        window.run(scene, frames=3, on_frame=flag)
+
+    def fail(win, i):
+        win.ctx.program(vertex_shader="not GLSL")  # moderngl.Error: a compile error
+
+    with pytest.raises(GLError, match="OpenGL context failed"):
+        window.run(scene, frames=2, on_frame=fail)
+    scene.release()

@@ -73,6 +73,11 @@ def _restore_headless() -> None:
         ctx.__enter__()
 
 
+def one_line(exc: BaseException) -> str:
+    """An exception's message on one line."""
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
 class ViewerWindow:
     """A glfw window with an OpenGL 3.3 core context wrapped by moderngl.
 
@@ -345,6 +350,17 @@ class ViewerWindow:
                 self.timer.end_frame()
                 self.check_context()
                 i += 1
+        except GLError:
+            raise
+        except Exception as exc:
+            import moderngl
+
+            if isinstance(exc, moderngl.Error):
+                raise GLError(
+                    f"the OpenGL context failed ({one_line(exc)}); the viewer stops. Restart "
+                    "it; if it happens again, the driver or the display lost the context"
+                ) from None
+            raise
         finally:
             scene.base.graph.profiler = None
         if screenshot and pixels is not None:
