@@ -14,6 +14,12 @@ system-deps:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libegl1 libgl1-mesa-dri >/dev/null; \
 	  else echo "warning: install libegl1 and libgl1-mesa-dri for OpenGL without a GPU" >&2; fi; \
 	fi
+	@if ! command -v Xvfb >/dev/null; then \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	    echo "installing Xvfb (xvfb: a virtual display for the viewer's window tests)"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq xvfb >/dev/null; \
+	  else echo "warning: install xvfb to run the viewer's window tests without a display" >&2; fi; \
+	fi
 
 $(STAMP): pyproject.toml | system-deps
 	$(PYTHON) -m venv $(VENV)

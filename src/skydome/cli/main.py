@@ -37,6 +37,7 @@ COMMAND_MODULES = [
     "skydome.cli.places_cmd",
     "skydome.cli.atmosphere_cmds",
     "skydome.cli.astro_cmds",
+    "skydome.cli.view_cmd",
 ]
 
 for _name in COMMAND_MODULES:

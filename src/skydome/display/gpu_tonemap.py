@@ -64,10 +64,21 @@ class GpuToneMapper:
             "FILMIC_INPUT_CAP": float(FILMIC_INPUT_CAP),
             "FILMIC_DESATURATION_STOPS": float(FILMIC_DESATURATION_STOPS),
         }
-        self.pass_ = FullscreenPass(self.ctx, "post/tonemap.glsl", defines)
         self._defines = defines
-        self._auto_pass = None  # compiled with AUTO_EXPOSURE on first use
+        # One program per (operator, auto exposure), compiled on first use: the operator is
+        # a compile-time constant (a CPU rasterizer would run every operator's branch).
+        self._passes: dict[tuple[int, bool], FullscreenPass] = {}
         self._targets: dict[tuple[int, int], tuple] = {}
+
+    def program(self, name: str, auto_exposure: bool = False) -> FullscreenPass:
+        """The compiled pass of operator ``name`` (with AUTO_EXPOSURE when asked)."""
+        key = (get_operator(name).gl_id, bool(auto_exposure))
+        if key not in self._passes:
+            defines = {**self._defines, "TONEMAP_OPERATOR": key[0]}
+            if key[1]:
+                defines["AUTO_EXPOSURE"] = 1
+            self._passes[key] = FullscreenPass(self.ctx, "post/tonemap.glsl", defines)
+        return self._passes[key]
 
     def uniforms(self, name: str, exposure_scale: float, **params: float) -> dict[str, object]:
         """The uniforms of ``post/tonemap.glsl`` for an operator, exposure and parameters
@@ -103,13 +114,8 @@ class GpuToneMapper:
         fbo.viewport = (0, 0, w, h)
         uniforms = {**self.uniforms(name, exposure_scale, **params), "u_viewport": (w, h)}
         textures = {"u_hdr": texture}
-        fpass = self.pass_
+        fpass = self.program(name, auto_exposure is not None)
         if auto_exposure is not None:
-            if self._auto_pass is None:
-                self._auto_pass = FullscreenPass(
-                    self.ctx, "post/tonemap.glsl", {**self._defines, "AUTO_EXPOSURE": 1}
-                )
-            fpass = self._auto_pass
             uniforms.update(auto_exposure.uniforms())
             textures["u_log_luminance"] = auto_exposure.texture
         fpass.draw(fbo, uniforms, textures)
@@ -172,9 +178,9 @@ class GpuToneMapper:
             fbo.release()
             tex.release()
         self._targets.clear()
-        self.pass_.release()
-        if self._auto_pass is not None:
-            self._auto_pass.release()
+        for p in self._passes.values():
+            p.release()
+        self._passes.clear()
 
 
 _mappers: dict[int, GpuToneMapper] = {}

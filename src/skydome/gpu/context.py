@@ -66,14 +66,29 @@ def create_context(backend: str | None = "egl"):
     raise GLError(f"cannot create an OpenGL 3.3 context ({'; '.join(errors)}). {_INSTALL_HINT}")
 
 
-def wrap_context():
-    """Wrap the OpenGL context current in this thread (e.g. a viewer window's)."""
+def wrap_context(require: int = 330):
+    """Wrap the OpenGL context current in this thread (e.g. a viewer window's), whether
+    EGL or GLX made it current (moderngl's loader tries EGL first, then GLX). The headless
+    contexts stay as they are: moderngl's default context is left unchanged."""
     import moderngl
 
     try:
-        ctx = moderngl.create_context(require=330)
+        from _moderngl import DefaultLoader
+
+        store = moderngl._store
+        before = store.default_context
+        try:
+            moderngl.init_context(DefaultLoader())
+            ctx = store.default_context
+        finally:
+            store.default_context = before
     except Exception as exc:
-        raise GLError(f"no current OpenGL 3.3 context to wrap: {exc}") from None
+        raise GLError(f"no current OpenGL context to wrap: {exc}") from None
+    if ctx.version_code < require:
+        raise GLError(
+            f"the current OpenGL context has version {ctx.version_code}, skydome needs "
+            f"{require}. {_INSTALL_HINT}"
+        )
     return ctx
 
 

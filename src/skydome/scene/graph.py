@@ -21,6 +21,7 @@ For each tile of a frame (one tile up to TILE_SIZE on a side):
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
@@ -100,6 +101,10 @@ class FrameGraph:
         self.night_vision = False
         self.night_vision_seed = 0
         self.overlays: tuple[str, ...] = ()
+        #: None, or an object whose ``section(name)`` is a context manager wrapped around
+        #: each pass of a frame (a layer's draw, the exposure, the display passes): the
+        #: viewer's GPU timer queries (``viewer.frame_timer``).
+        self.profiler = None
         self.basis = basis
         for layer in self.layers:  # a volume layer may bring the spectral basis (its tables)
             layer.prepare(self)
@@ -138,6 +143,24 @@ class FrameGraph:
         return self._targets[key]
 
     # ------------------------------------------------------------------ drawing
+
+    def _section(self, name: str):
+        """The profiler's section ``name`` (a no-op context without a profiler)."""
+        if self.profiler is None:
+            return contextlib.nullcontext()
+        return self.profiler.section(name)
+
+    def release_targets(self, keep: tuple[int, int] | None = None) -> None:
+        """Free the float targets of every tile size but ``keep`` (w, h), and the reduced
+        targets of the smooth layers (made again at the next frame): a window that resizes
+        keeps only its current size's."""
+        for key in [k for k in self._targets if k != keep]:
+            texs, fbos, depth = self._targets.pop(key)
+            for obj in (*fbos, *texs, depth):
+                if obj is not None:
+                    obj.release()
+        for key in [k for k in self._staging if k != keep]:
+            del self._staging[key]
 
     def update(self, state) -> None:
         for layer in self.layers:
@@ -182,7 +205,8 @@ class FrameGraph:
         try:
             for layer in space:
                 if layer not in smooth_layers:
-                    layer.draw(context(fbos[current]))
+                    with self._section(layer.name):
+                        layer.draw(context(fbos[current]))
             smooth = self._draw_smooth(smooth_layers, f, camera, frame_size, tile, altitude_m)
             volume = self.active("volume")
             if smooth is not None and not (volume and volume[0].merges_smooth):
@@ -198,7 +222,8 @@ class FrameGraph:
             frame = context(fbos[nxt], behind=texs[current])
             if i == 0 and smooth is not None:
                 frame.behind_smooth, frame.smooth_map = smooth
-            layer.draw(frame)
+            with self._section(layer.name):
+                layer.draw(frame)
             current = nxt
         return texs[current]
 
@@ -231,8 +256,9 @@ class FrameGraph:
             self.ctx, camera, (math.ceil(w / f), math.ceil(h / f)),
             (x0 // f - 1, y0 // f - 1, sw, sh), fbo, uniforms, {}, altitude_m, self.basis,
         )  # fmt: skip
-        for layer in layers:
-            layer.draw(reduced)
+        with self._section("smooth"):
+            for layer in layers:
+                layer.draw(reduced)
         # A tile pixel p (gl_FragCoord) lies at p / f + 1 texels in the reduced target.
         return tex, (1.0 / (f * sw), 1.0 / (f * sh), 1.0 / sw, 1.0 / sh)
 
@@ -382,10 +408,18 @@ class FrameGraph:
         exposure: str | float = "auto",
         compensation_ev: float = 0.0,
         tonemap: str = "filmic",
-    ) -> None:
+        measure: bool = False,
+        read_back: bool = False,
+    ) -> float | None:
         """Draw the frame into ``framebuffer`` (a moderngl framebuffer, e.g. a window's
         ``ctx.screen``), tone-mapped, with no read-back. ``size`` defaults to the
-        framebuffer's viewport size. One tile: the frame must fit GL's limits."""
+        framebuffer's viewport size. One tile: the frame must fit GL's limits. With a fixed
+        ``exposure`` and ``measure``, the exposure pass measures the frame all the same
+        (``exposure_pass().read()``: an eye adapting over time reads it). With ``"auto"``
+        and ``read_back``, the measured log-average is read back (one texel) and applied
+        as a fixed scale: the same exposure, without the per-pixel lookup of the
+        AUTO_EXPOSURE tone map (which costs a CPU rasterizer more than the read-back).
+        Returns the exposure scale used (m^2/cd) when it is known on the CPU, else None."""
         from skydome.display.gpu_tonemap import GpuToneMapper
 
         w, h = size or tuple(framebuffer.viewport[2:]) or framebuffer.size
@@ -393,19 +427,28 @@ class FrameGraph:
         texture = self.draw_tile(camera, (w, h), (0, 0, w, h), altitude_m)
         if self._post is None:
             self._post = GpuToneMapper(self.ctx, quantize=False)
-        if exposure == "auto":
-            exposure_pass = self.exposure_pass()
-            exposure_pass.measure(texture)
-            key = 2.0**compensation_ev * DEFAULT_KEY
-            shown = self._eye(texture, state, camera, (w, h), measured=True)
-            self._post.draw(shown, framebuffer, (w, h), tonemap, key, auto_exposure=exposure_pass)
-        else:
-            scale = float(exposure) * 2.0**compensation_ev
-            shown = self._eye(texture, state, camera, (w, h))
-            self._post.draw(shown, framebuffer, (w, h), tonemap, scale)
-        overlays = self._overlay_pass(state)
-        if overlays is not None:
-            overlays.draw(framebuffer, camera, (w, h))
+        if exposure == "auto" or measure:
+            with self._section("exposure"):
+                self.exposure_pass().measure(texture)
+        scale = None
+        if exposure == "auto" and read_back:
+            exposure = DEFAULT_KEY / self.exposure_pass().read()
+            measure = True  # the exposure pass holds this frame's average
+        with self._section("display"):
+            if exposure == "auto":
+                key = 2.0**compensation_ev * DEFAULT_KEY
+                shown = self._eye(texture, state, camera, (w, h), measured=True)
+                self._post.draw(
+                    shown, framebuffer, (w, h), tonemap, key, auto_exposure=self.exposure_pass()
+                )
+            else:
+                scale = float(exposure) * 2.0**compensation_ev
+                shown = self._eye(texture, state, camera, (w, h), measured=measure)
+                self._post.draw(shown, framebuffer, (w, h), tonemap, scale)
+            overlays = self._overlay_pass(state)
+            if overlays is not None:
+                overlays.draw(framebuffer, camera, (w, h))
+        return scale
 
     # ------------------------------------------------------------------ display passes
 

@@ -328,11 +328,18 @@ class Sky:
         exposure: str | float = "auto",
         compensation_ev: float = 0.0,
         tonemap: str = "filmic",
-    ) -> None:
+        measure: bool = False,
+        read_back: bool = False,
+    ) -> float | None:
         """Draw into ``framebuffer`` (e.g. a window's ``ctx.screen``), tone-mapped on the GPU,
-        with no read-back. ``exposure``: "auto" or an EV100 number."""
+        with no read-back. ``exposure``: "auto" or an EV100 number; with ``measure`` an EV
+        frame's log-average luminance is measured too (``graph.exposure_pass().read()``,
+        cd/m^2: for an eye adapting over time); with "auto" and ``read_back`` the measured
+        exposure is read back and applied as a fixed scale (cheaper on a CPU rasterizer).
+        Returns the exposure scale used (m^2/cd, compensation included) when known on the
+        CPU, else None."""
         scale = _exposure_scale(exposure, compensation_ev)
-        self.graph.draw(
+        return self.graph.draw(
             self.state,
             framebuffer,
             camera,
@@ -341,6 +348,8 @@ class Sky:
             exposure=scale,
             compensation_ev=compensation_ev,
             tonemap=tonemap,
+            measure=measure,
+            read_back=read_back,
         )
 
     def _repr_png_(self) -> bytes:

@@ -15,7 +15,14 @@
 
 uniform sampler2D u_hdr;            // RGBA32F, GL rows (row 0 = bottom of the image)
 uniform vec2 u_viewport;            // target size in pixels
+#ifdef TONEMAP_OPERATOR
+// One operator compiled in (a CPU rasterizer runs every branch of a per-pixel if chain,
+// uniform or not: five operators cost five): u_operator is then unused.
+#define OPERATOR TONEMAP_OPERATOR
+#else
 uniform int u_operator;             // 0 linear, 1 exponential, 2 reinhard, 3 hvs, 4 filmic
+#define OPERATOR u_operator
+#endif
 uniform float u_exposure;           // exposure scale, m^2/cd (skydome.display.exposure)
 uniform vec3 u_luminance_weights;   // SRGB_LUMINANCE (seed 001 eq. 5.3)
 uniform float u_exp_k;              // exponential: T_s of seed 000 eq. 4.14
@@ -88,10 +95,10 @@ vec3 tm_filmic(vec3 c) {
 vec3 tonemap_display_linear(vec3 exposed) {
     vec3 c = max(exposed, vec3(0.0));  // negative (out-of-gamut) components -> 0
     vec3 d;
-    if (u_operator == 1) d = tm_exponential(c);
-    else if (u_operator == 2) d = tm_reinhard(c);
-    else if (u_operator == 3) d = tm_hvs(c);
-    else if (u_operator == 4) d = tm_filmic(c);
+    if (OPERATOR == 1) d = tm_exponential(c);
+    else if (OPERATOR == 2) d = tm_reinhard(c);
+    else if (OPERATOR == 3) d = tm_hvs(c);
+    else if (OPERATOR == 4) d = tm_filmic(c);
     else d = c;
     return clamp(d, 0.0, 1.0);
 }

@@ -1,0 +1,98 @@
+"""The viewer's frame rate in its window: ``skydome view``'s own frame timer over a span of
+seconds, under Xvfb when there is no display.
+
+Usage: python benchmarks/bench_viewer.py [--seconds 10] [--size 1280x720]
+
+Prints the GL device, then for each case the median frames per second over ``--seconds``
+(after 1 s of warm-up), with the median CPU time per stage (ms) and, where timed, the GPU
+time per pass (ms). The scene is Valletta, 2018-03-09 06:00 UTC (the Sun 7 deg and a waning
+Moon 33 deg up, as benchmarks/bench_scene.py), ``night=False`` (the atmosphere, the Sun and
+the Moon), auto exposure, filmic, looking at the Sun with a 90 deg field of view:
+
+- ``static``: the time stands still, no panel;
+- ``static + panel``: with the control panel drawn;
+- ``playing 1 min/s``: the time runs (a new SkyState and re-aimed tables every frame);
+- ``playing 1 day/s``;
+- ``static, GPU timing``: with the per-pass GPU timer queries (each pass finished before
+  its query ends: the cost of knowing).
+
+The target is >= 30 fps at 1280 x 720 on llvmpipe (aim: 60).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+
+from skydome import Sky
+from skydome.gpu import gl_info
+
+PLACE = (35.8989, 14.5146, 56.0)
+TIME = "2018-03-09T06:00Z"
+
+
+def measure(size, seconds: float, *, panel: bool, speed: float | None, gpu: bool):
+    from skydome.viewer.app import ViewerWindow
+    from skydome.viewer.controls import Controls
+    from skydome.viewer.frame_timer import FrameTimer
+    from skydome.viewer.scene import ViewerScene, initial_state
+
+    with ViewerWindow(*size, panel=panel) as win:
+        sky = Sky(PLACE, TIME, ctx=win.ctx, night=False)
+        look = sky.camera("sun")
+        fields = dict(yaw_deg=look.yaw_deg, pitch_deg=look.pitch_deg, fov_deg=90.0)
+        if speed is not None:
+            fields.update(playing=True, speed=speed)
+        scene = ViewerScene(sky, Controls(initial_state(sky, **fields)))
+        if panel:
+            win.panel.configure(atmosphere=sky.layer("atmosphere").params)
+        win.timer = FrameTimer(win.ctx, gpu=gpu)
+        win.run(scene, duration_s=1.0)  # warm-up: shaders, targets
+        win.timer = FrameTimer(win.ctx, gpu=gpu, window=1_000_000)
+        timer = win.run(scene, duration_s=seconds)
+        frames = len(timer.frame_ms)
+        median = statistics.median(timer.frame_ms)
+        report = timer.report()
+        scene.release()
+        info = gl_info(win.ctx).describe()
+    return 1e3 / median, frames, report, info
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seconds", type=float, default=10.0)
+    ap.add_argument("--size", default="1280x720")
+    args = ap.parse_args()
+    w, h = (int(v) for v in args.size.lower().split("x"))
+    xvfb = None
+    if not os.environ.get("DISPLAY"):
+        from skydome.viewer.xvfb import start_xvfb
+
+        xvfb, os.environ["DISPLAY"] = start_xvfb(f"{max(w, 1920)}x{max(h, 1080)}x24")
+    try:
+        cases = [
+            ("static", dict(panel=False, speed=None, gpu=False)),
+            ("static + panel", dict(panel=True, speed=None, gpu=False)),
+            ("playing 1 min/s", dict(panel=False, speed=60.0, gpu=False)),
+            ("playing 1 day/s", dict(panel=False, speed=86400.0, gpu=False)),
+            ("static, GPU timing", dict(panel=False, speed=None, gpu=True)),
+        ]
+        printed = False
+        for name, kw in cases:
+            fps, frames, report, info = measure((w, h), args.seconds, **kw)
+            if not printed:
+                print(f"device: {info}; window {w}x{h}, {args.seconds:g} s per case")
+                printed = True
+            cpu = ", ".join(f"{k} {v:.1f}" for k, v in report["cpu"].items())
+            line = f"{name:20s} {fps:5.1f} fps ({frames} frames); cpu ms: {cpu}"
+            if report["gpu"]:
+                line += "; gpu ms: " + ", ".join(f"{k} {v:.1f}" for k, v in report["gpu"].items())
+            print(line, flush=True)
+    finally:
+        if xvfb is not None:
+            xvfb.terminate()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,448 @@
+"""The viewer's control panel (Dear ImGui through ``imgui-bundle``): time, place, camera,
+atmosphere, display, frame times and screenshots.
+
+Every widget writes through ``Controls.set`` (which clamps to the viewer's ranges) or the
+atmosphere knobs' clamp (:func:`skydome.viewer.rebuild.clamp_knobs`), and sliders are
+``always_clamp``: a value typed in (Ctrl+click) outside the range is held at the range's
+end. A change of the atmosphere starts a background rebuild (``viewer.rebuild``) with a
+progress bar; the old tables stay on screen until the new ones are ready.
+
+``Panel.rects`` holds the screen rectangle (window units) of the last frame's named
+widgets, so that scripts and tests can click them.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+
+from skydome.viewer import require
+from skydome.viewer.controls import (
+    COMPENSATION_RANGE,
+    ELEVATION_RANGE_M,
+    EV_RANGE,
+    EXPOSURE_MODES,
+    LAT_RANGE,
+    LON_RANGE,
+    PROJECTIONS,
+    SPEED_PRESETS,
+    SPEED_RANGE,
+    VIEW_ALTITUDE_RANGE_M,
+    VIEW_FOV_RANGE_DEG,
+    VIEW_PITCH_RANGE_DEG,
+)
+from skydome.viewer.rebuild import KNOB_RANGES, AtmosphereRebuild, Knobs, build_sky, clamp_knobs
+
+#: Panel width (window units) and where it sits.
+PANEL_WIDTH = 340.0
+PANEL_POS = (10.0, 10.0)
+
+
+class Panel:
+    """The panel of a :class:`~skydome.viewer.app.ViewerWindow`."""
+
+    def __init__(self, window):
+        imgui = require("imgui_bundle", "imgui-bundle").imgui
+        from skydome.viewer.imgui_gl import ImguiPlatform, ImguiRenderer
+
+        self.imgui = imgui
+        self.context = imgui.create_context()
+        imgui.get_io().set_ini_filename("")  # no imgui.ini in the working directory
+        self.platform = ImguiPlatform(window.glfw, window.window)
+        self.renderer = ImguiRenderer(window.ctx)
+        self.window = window
+        self.rebuild = AtmosphereRebuild()
+        self.knobs: Knobs | None = None
+        self.config = None
+        self.night = True
+        self.light_pollution = None
+        self.rects: dict[str, tuple[float, float, float, float]] = {}
+        self.message = ""
+        self.search_text = ""
+        self.search_results: list = []
+        self.time_text = ""
+        self._time_text_jd: float | None = None
+        self._drawn = False
+
+    def configure(self, *, atmosphere, config=None, night: bool = True, light_pollution=None):
+        """The atmosphere shown (AtmosphereParams), its tables' config and the layers'
+        choices a rebuild keeps."""
+        self.knobs = Knobs.of(atmosphere)
+        self.config = config
+        self.night = bool(night)
+        self.light_pollution = light_pollution
+
+    # ------------------------------------------------------------------ input
+
+    def wants_mouse(self) -> bool:
+        """Whether the pointer is over the panel (or dragging one of its widgets)."""
+        return bool(self._drawn and self.imgui.get_io().want_capture_mouse)
+
+    def wants_keyboard(self) -> bool:
+        """Whether a text field has the keyboard."""
+        return bool(self._drawn and self.imgui.get_io().want_capture_keyboard)
+
+    def on_key(self, key, action):
+        self.platform.on_key(key, action)
+
+    def on_char(self, codepoint):
+        self.platform.on_char(codepoint)
+
+    def on_cursor(self, x, y):
+        self.platform.on_cursor(x, y)
+
+    def on_mouse_button(self, button, action):
+        self.platform.on_mouse_button(button, action)
+
+    def on_scroll(self, dx, dy):
+        self.platform.on_scroll(dx, dy)
+
+    # ------------------------------------------------------------------ frames
+
+    def build(self, scene, timer, dt_s: float) -> None:
+        """Lay the panel out for this frame (its widgets act on ``scene`` at once)."""
+        imgui = self.imgui
+        imgui.set_current_context(self.context)
+        self.platform.new_frame(dt_s)
+        imgui.new_frame()
+        self.rects = {}
+        imgui.set_next_window_pos(imgui.ImVec2(*PANEL_POS), imgui.Cond_.first_use_ever)
+        height = max(imgui.get_io().display_size.y - 2.0 * PANEL_POS[1], 100.0)
+        imgui.set_next_window_size(imgui.ImVec2(PANEL_WIDTH, height), imgui.Cond_.first_use_ever)
+        imgui.begin("skydome")
+        try:
+            self._status(scene, timer)
+            if imgui.collapsing_header("Time", imgui.TreeNodeFlags_.default_open):
+                self._time(scene)
+            if imgui.collapsing_header("Place"):
+                self._place(scene)
+            if imgui.collapsing_header("Camera", imgui.TreeNodeFlags_.default_open):
+                self._camera(scene)
+            if imgui.collapsing_header("Atmosphere"):
+                self._atmosphere(scene)
+            if imgui.collapsing_header("Display"):
+                self._display(scene)
+            if imgui.collapsing_header("Frame times"):
+                self._times(timer)
+        finally:
+            imgui.end()
+        imgui.render()
+        self._drawn = True
+
+    def render(self, size: tuple[int, int]) -> None:
+        """Draw the panel laid out by :meth:`build` over the frame."""
+        self.imgui.set_current_context(self.context)
+        self.renderer.render(self.imgui.get_draw_data(), size)
+
+    def _mark(self, name: str, *, frame: bool = False) -> None:
+        """Keep the last widget's rectangle as ``rects[name]`` (``frame``: a slider's frame
+        only, without its label)."""
+        imgui = self.imgui
+        a, b = imgui.get_item_rect_min(), imgui.get_item_rect_max()
+        x1 = a.x + imgui.calc_item_width() if frame else b.x
+        self.rects[name] = (a.x, a.y, x1, b.y)
+
+    # ------------------------------------------------------------------ sections
+
+    def _status(self, scene, timer) -> None:
+        imgui = self.imgui
+        fps = timer.fps()
+        s = scene.controls.state
+        sky = scene.sky()
+        sun = sky.state.sun
+        line = f"{fps:.1f} fps" if fps else "-- fps"
+        line += f"   Sun {sun.elevation_deg:+.1f} deg"
+        if sky.state.moon is not None:
+            line += f"   Moon {sky.state.moon.elevation_deg:+.1f} deg"
+        imgui.text(line)
+        if scene.last_ev100 is not None:
+            imgui.text(f"EV100 {scene.last_ev100:.2f} ({s.exposure_mode})")
+        status = self.rebuild.status
+        if status.running:
+            imgui.progress_bar(status.fraction, imgui.ImVec2(-1.0, 0.0), f"tables: {status.stage}")
+        elif status.error:
+            self.message = f"rebuild failed: {status.error}"
+        if self.message:
+            imgui.text_wrapped(self.message)
+
+    def _time(self, scene) -> None:
+        imgui = self.imgui
+        c = scene.controls
+        s = c.state
+        if s.abstract:
+            changed, el = imgui.slider_float(
+                "Sun elevation", s.sun_elevation_deg, -90.0, 90.0, "%.2f deg", _clamp(imgui)
+            )
+            if changed:
+                c.set(sun_elevation_deg=el)
+            changed, az = imgui.slider_float(
+                "Sun azimuth", s.sun_azimuth_deg, 0.0, 360.0, "%.1f deg", _clamp(imgui)
+            )
+            if changed:
+                c.set(sun_azimuth_deg=az)
+            return
+        from skydome.astro.time import Time, to_time
+
+        if self._time_text_jd != s.jd_utc and not imgui.get_io().want_text_input:
+            self.time_text = str(Time.from_utc(s.jd_utc).iso())
+            self._time_text_jd = s.jd_utc
+        entered, text = imgui.input_text(
+            "UTC", self.time_text, imgui.InputTextFlags_.enter_returns_true
+        )
+        self.time_text = text
+        if entered:
+            try:
+                t = to_time(text.strip())
+                c.set(jd_utc=float(t.jd_utc))
+                self.message = ""
+            except Exception as exc:  # a bad date: said, not raised
+                self.message = f"time: {exc}"
+            self._time_text_jd = None
+        for label, days in (("-1 d", -1.0), ("-1 h", -1 / 24), ("+1 h", 1 / 24), ("+1 d", 1.0)):
+            if imgui.button(label):
+                c.set(jd_utc=s.jd_utc + days)
+            imgui.same_line()
+        if imgui.button("Now"):
+            from datetime import datetime, timezone
+
+            c.set(jd_utc=float(to_time(datetime.now(timezone.utc)).jd_utc))
+        hours = (s.jd_utc - 0.5) % 1.0 * 24.0
+        changed, h = imgui.slider_float("hour (UTC)", hours, 0.0, 24.0, "%.2f h", _clamp(imgui))
+        if changed:
+            c.set(jd_utc=s.jd_utc + (h - hours) / 24.0)
+        if imgui.button("Pause" if s.playing else "Play"):
+            c.set(playing=not s.playing)
+        self._mark("play")
+        imgui.same_line()
+        names = list(SPEED_PRESETS)
+        current = next(
+            (i for i, n in enumerate(names) if SPEED_PRESETS[n] == abs(s.speed)), len(names)
+        )
+        changed, i = imgui.combo("speed", current, [*names, "custom"])
+        if changed and i < len(names):
+            c.set(speed=math.copysign(SPEED_PRESETS[names[i]], s.speed or 1.0))
+        changed, v = imgui.slider_float(
+            "s per s",
+            s.speed,
+            *SPEED_RANGE,
+            "%.0f",
+            imgui.SliderFlags_.logarithmic | _clamp(imgui),
+        )
+        if changed:
+            c.set(speed=v)
+        for label, kind in (
+            ("sunrise", "sunrise"),
+            ("sunset", "sunset"),
+            ("moonrise", "moonrise"),
+            ("full Moon", "full_moon"),
+        ):
+            if imgui.button(label):
+                if not scene.jump(kind):
+                    self.message = f"no {label} in the next days here"
+            self._mark(f"jump_{kind}")
+            imgui.same_line()
+        imgui.new_line()
+
+    def _place(self, scene) -> None:
+        imgui = self.imgui
+        c = scene.controls
+        s = c.state
+        if s.abstract:
+            imgui.text("a Sun alone: no place (start with --place or --lat/--lon)")
+            return
+        for label, field, rng, fmt in (
+            ("latitude", "latitude_deg", LAT_RANGE, "%.4f deg"),
+            ("longitude", "longitude_deg", LON_RANGE, "%.4f deg"),
+            ("elevation", "elevation_m", ELEVATION_RANGE_M, "%.0f m"),
+        ):
+            changed, v = imgui.drag_float(
+                label, getattr(s, field), 0.01 if "deg" in fmt else 1.0, *rng, fmt, _clamp(imgui)
+            )
+            if changed:
+                c.set(**{field: v})
+        changed, text = imgui.input_text("search", self.search_text)
+        if changed:
+            self.search_text = text
+            from skydome.astro.places import search
+
+            self.search_results = search(text, limit=8) if text.strip() else []
+        for p in self.search_results:
+            picked, _ = imgui.selectable(p.label, False)
+            if picked:
+                c.set(
+                    latitude_deg=p.latitude_deg,
+                    longitude_deg=p.longitude_deg,
+                    elevation_m=p.elevation_m,
+                )
+                self.search_results = []
+                self.search_text = p.label
+
+    def _camera(self, scene) -> None:
+        imgui = self.imgui
+        c = scene.controls
+        s = c.state
+        changed, i = imgui.combo("projection", PROJECTIONS.index(s.projection), list(PROJECTIONS))
+        if changed:
+            c.set(projection=PROJECTIONS[i])
+        if s.projection == "perspective":
+            changed, v = imgui.slider_float("yaw", s.yaw_deg, 0.0, 360.0, "%.1f deg", _clamp(imgui))
+            if changed:
+                c.set(yaw_deg=v)
+            changed, v = imgui.slider_float(
+                "pitch", s.pitch_deg, *VIEW_PITCH_RANGE_DEG, "%.1f deg", _clamp(imgui)
+            )
+            if changed:
+                c.set(pitch_deg=v)
+            changed, v = imgui.slider_float(
+                "fov", s.fov_deg, *VIEW_FOV_RANGE_DEG, "%.1f deg", _clamp(imgui)
+            )
+            self._mark("fov", frame=True)
+            if changed:
+                c.set(fov_deg=v)
+        altitude = scene.altitude_m()
+        changed, v = imgui.slider_float(
+            "altitude",
+            max(altitude, 0.1),
+            max(VIEW_ALTITUDE_RANGE_M[0], 0.1),
+            VIEW_ALTITUDE_RANGE_M[1],
+            "%.1f m",
+            imgui.SliderFlags_.logarithmic | _clamp(imgui),
+        )
+        if changed:
+            c.set(altitude_m=v)
+        if imgui.button("look at the Sun"):
+            scene.look_at("sun")
+        imgui.same_line()
+        if imgui.button("look at the Moon"):
+            scene.look_at("moon")
+        imgui.text_disabled("drag: look, wheel: zoom, WASD: walk, Q/E: climb")
+
+    def _atmosphere(self, scene) -> None:
+        imgui = self.imgui
+        if self.knobs is None:
+            self.knobs = Knobs.of(scene.base.layer("atmosphere").params)
+        k = self.knobs
+        from skydome.atmosphere.presets import PRESETS
+
+        names = list(PRESETS)
+        edited = False
+        changed, i = imgui.combo("preset", names.index(k.preset) if k.preset in names else 0, names)
+        if changed:
+            self.knobs = k = Knobs.of_preset(names[i])
+            edited = True
+        values = {}
+        for field, label, fmt in (
+            ("albedo", "ground albedo", "%.2f"),
+            ("aod_550", "Mie amount (AOD 550)", "%.3f"),
+            ("mie_g", "Mie g", "%.2f"),
+            ("ozone_du", "ozone", "%.0f DU"),
+            ("rayleigh_scale", "Rayleigh scale", "%.2f"),
+        ):
+            lo, hi = KNOB_RANGES[field]
+            changed, v = imgui.slider_float(label, getattr(k, field), lo, hi, fmt, _clamp(imgui))
+            if changed:
+                values[field] = v
+            if imgui.is_item_deactivated_after_edit():
+                edited = True
+        if values:
+            self.knobs = k = clamp_knobs(k, **values)
+        if edited:
+            self._start_rebuild()
+
+    def _start_rebuild(self) -> None:
+        try:
+            self.rebuild.start(self.knobs.params(), self.config)
+            self.message = ""
+        except Exception as exc:  # bad knobs: said, the old tables stay
+            self.message = f"atmosphere: {exc}"
+
+    def poll_rebuild(self, scene) -> None:
+        """Swap in the new tables once the background rebuild has them in the cache."""
+        self.rebuild.poll()
+        done = self.rebuild.take()
+        if done is None:
+            return
+        params, config = done
+        try:
+            sky = build_sky(
+                scene.base, params, config, night=self.night, light_pollution=self.light_pollution
+            )
+        except Exception as exc:
+            self.message = f"atmosphere: {exc}"
+            return
+        scene.replace_sky(sky)
+        self.message = f"atmosphere: {params.name}"
+
+    def stop_rebuild(self) -> None:
+        self.rebuild.stop()
+
+    def _display(self, scene) -> None:
+        imgui = self.imgui
+        from skydome.display import TONEMAPS
+
+        c = scene.controls
+        s = c.state
+        for mode in EXPOSURE_MODES:
+            if imgui.radio_button(mode, s.exposure_mode == mode):
+                c.set(exposure_mode=mode)
+            imgui.same_line()
+        imgui.new_line()
+        if s.exposure_mode == "ev":
+            changed, v = imgui.slider_float("EV100", s.ev100, *EV_RANGE, "%.2f", _clamp(imgui))
+            if changed:
+                c.set(ev100=v)
+        changed, v = imgui.slider_float(
+            "compensation", s.compensation_ev, *COMPENSATION_RANGE, "%.2f EV", _clamp(imgui)
+        )
+        if changed:
+            c.set(compensation_ev=v)
+        ops = list(TONEMAPS)
+        changed, i = imgui.combo("tone map", ops.index(s.tonemap), ops)
+        if changed:
+            c.set(tonemap=ops[i])
+        changed, v = imgui.checkbox("night vision", s.night_vision)
+        if changed:
+            c.set(night_vision=v)
+        from skydome.display.overlays import OVERLAYS
+
+        for name in OVERLAYS:
+            changed, on = imgui.checkbox(f"overlay: {name}", name in s.overlays)
+            if changed:
+                chosen = [n for n in OVERLAYS if (n in s.overlays) != (n == name)]
+                c.set(overlays=tuple(chosen))
+        imgui.separator()
+        for layer in scene.base.layers:
+            changed, on = imgui.checkbox(f"layer: {layer.name}", layer.name not in s.layers_off)
+            if changed:
+                off = set(s.layers_off)
+                (off.discard if on else off.add)(layer.name)
+                c.set(layers_off=frozenset(off))
+        changed, v = imgui.checkbox("vsync", s.vsync)
+        if changed:
+            c.set(vsync=v)
+
+    def _times(self, timer) -> None:
+        imgui = self.imgui
+        r = timer.report()
+        for kind in ("cpu", "gpu"):
+            total = sum(r[kind].values())
+            imgui.text(f"{kind.upper()} {total:.1f} ms")
+            for name, ms in r[kind].items():
+                imgui.bullet_text(f"{name}: {ms:.2f} ms")
+        if imgui.button("screenshot (PNG + EXR)"):
+            self.screenshot_requested = _time.strftime("skydome-%Y%m%d-%H%M%S")
+        self._mark("screenshot")
+
+    screenshot_requested: str | None = None
+
+    def release(self) -> None:
+        """Free the renderer's GL objects, stop a rebuild and drop the ImGui context."""
+        self.rebuild.stop()
+        self.imgui.set_current_context(self.context)
+        self.renderer.release()
+        self.imgui.destroy_context(self.context)
+
+
+def _clamp(imgui) -> int:
+    """Slider flags that hold typed-in values inside the range."""
+    return int(imgui.SliderFlags_.always_clamp)

@@ -1,0 +1,60 @@
+"""``skydome view``: bad input is one line and exit status 2 before any window opens; a
+missing optional dependency says how to install it; ``--frames N --screenshot FILE``
+draws N frames in a window (Xvfb), saves the last and prints the median frame rate."""
+
+from __future__ import annotations
+
+import re
+import sys
+
+import numpy as np
+import pytest
+
+from tests.cli_helpers import run_cli
+from tests.viewer_support import x_display  # noqa: F401  (fixture)
+
+PLACE = ("--place", "Valletta", "--time", "2018-03-01T12:00Z")
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (("--fov", "500"), "--fov 500"),
+        (("--camera", "cubemap"), "--camera cubemap"),
+        (("--frames", "0"), "--frames 0"),
+        (("--screenshot", "x.png"), "--frames"),
+        (("--size", "5000x100"), "--size 5000x100"),
+        (("--speed", "1e9"), "--speed"),
+        (("--exposure", "bright"), "--exposure bright"),
+        (("--sun-elevation", "10"), "--sun-elevation"),
+    ],
+)
+def test_bad_input_is_one_line_and_status_2(tmp_path, args, words):
+    r = run_cli("view", *PLACE, *args, cwd=tmp_path)
+    assert r.returncode == 2, r
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0], r.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_without_glfw_it_says_what_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "glfw", None)  # import glfw -> ImportError
+    r = run_cli("view", *PLACE, "--frames", "1")
+    assert r.returncode == 2
+    assert "pip install 'skydome[viewer]'" in r.stderr and len(r.stderr.splitlines()) == 1
+
+
+def test_frames_and_screenshot(tmp_path, x_display):  # noqa: F811
+    pytest.importorskip("glfw")
+    pytest.importorskip("imgui_bundle")
+    from PIL import Image
+
+    png = tmp_path / "view.png"
+    r = run_cli(
+        "view", *PLACE, "--no-night", "--size", "320x180", "--look", "south",
+        "--exposure", "14", "--frames", "5", "--screenshot", str(png),
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert re.search(r"^\d+\.\d fps$", r.stdout, re.M), r.stdout
+    img = np.asarray(Image.open(png).convert("RGB"))
+    assert img.shape == (180, 320, 3) and img.std() > 2.0
