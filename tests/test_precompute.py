@@ -64,8 +64,9 @@ def away_from(dirs: np.ndarray, sun: np.ndarray, deg: float) -> np.ndarray:
 # ------------------------------------------------------------------------------------------
 
 
+@pytest.mark.parametrize("atmosphere", ["earth_bruneton", "earth"])
 @pytest.mark.parametrize("altitude_m", [0.0, 10_000.0])
-def test_single_order_matches_single_scattering_renderer(ctx, altitude_m):
+def test_single_order_matches_single_scattering_renderer(ctx, altitude_m, atmosphere):
     # Same params and wavelengths; the renderer with 256 samples per ray is converged (its
     # 16-sample default is 0.6% off). The tables interpolate (r, mu, mu_s, nu) from a
     # 32 x 128 x 32 x 8 grid: measured 0.02-0.15% RMS, 0.6% at worst over 1200 directions in
@@ -74,13 +75,13 @@ def test_single_order_matches_single_scattering_renderer(ctx, altitude_m):
     # directions below the horizon include the ground lit by the Sun (the renderer's model of
     # it), through the tables' direct-irradiance path. The Sun's disk (and 1 degree around it,
     # where a float32 cosine decides in or out) is left out.
-    # On the seeds' Earth (earth_bruneton). `earth`'s aerosol stops at a 2 km mixing-layer top
-    # with a kink in ln density that the tables' 16 Gauss-Legendre nodes per ray do not
-    # resolve: 1.2-1.6% RMS there, -1% bias (24 nodes: 0.5%, 32: 0.2-0.4%; at a 50% longer
-    # single-scattering stage). A quadrature split at the profile's kinks is the remedy.
+    # `earth`'s aerosol stops at a 2 km mixing-layer top with a kink in ln density; the ray
+    # quadrature splits there (split_node in atmosphere/precompute_common.glsl: a quarter of
+    # the nodes below it, 3/4 above). Before the split 16 nodes left it 1.2-1.6% RMS low;
+    # measured now 0.21-0.43% RMS, 0.86% at worst (the seeds' earth_bruneton 0.03-0.22%).
     from skydome.render.single import SingleScatteringRenderer
 
-    pa = tables("earth_bruneton", orders=1)
+    pa = tables(atmosphere, orders=1)
     ref = SingleScatteringRenderer(
         pa.params, spectral="accurate", view_samples=256, jitter=False, ctx=ctx
     )
@@ -103,8 +104,9 @@ def test_single_order_twilight_matches_single_scattering_renderer(ctx):
     # depression as the Earth's shadow rises; the tables carry that by the lit-density
     # normalization F (atmosphere/precomputed_params.glsl). Measured RMS 0.3% (0 deg) and 1.3% (-6 deg);
     # bound 1% and 3% (of the value plus 1% of the sky's mean: shadowed directions are 0).
-    # On the seeds' Earth, as the test above (`earth`: 5.1% RMS at -6 deg, its aerosol's
-    # mixing-layer top being under-resolved by the 16 nodes per ray).
+    # On the seeds' Earth (`earth`: 0.36% RMS at 0 deg with the split at its mixing-layer top,
+    # but 5.1% at -6 deg, where the lit part of the rays lies far above that top: not the kink,
+    # still open).
     from skydome.render.single import SingleScatteringRenderer
 
     pa = tables("earth_bruneton", orders=1)

@@ -211,10 +211,17 @@ def gauss_legendre(n: int, a: float = -1.0, b: float = 1.0) -> np.ndarray:
 
 
 def _ray_rules(n: int) -> dict[str, object]:
-    return {
+    """Gauss-Legendre rules on [0, 1] with n, n/2, n/4 and n/8 nodes (atmosphere/
+    precompute_common.glsl; the last two when n is a multiple of 8)."""
+    rules = {
         "u_ray_rule": gauss_legendre(n, 0.0, 1.0).ravel().tolist(),
         "u_ray_rule_half": gauss_legendre(n // 2, 0.0, 1.0).ravel().tolist(),
     }
+    if n % 8 == 0:
+        rules["u_ray_rule_quarter"] = gauss_legendre(n // 4, 0.0, 1.0).ravel().tolist()
+        rules["u_ray_rule_eighth"] = gauss_legendre(n // 8, 0.0, 1.0).ravel().tolist()
+        rules["u_ray_rule_three_quarters"] = gauss_legendre(3 * n // 4, 0.0, 1.0).ravel().tolist()
+    return rules
 
 
 def _direction_rules(directions: tuple[int, int, int]) -> dict[str, object]:

@@ -103,6 +103,19 @@ def profile_defines(params: AtmosphereParams) -> dict[str, object]:
     return {"PROFILE_FORMS": forms}
 
 
+def mie_kink_radius_km(params: AtmosphereParams) -> float:
+    """Radius (km) of the boundary between a layered aerosol profile's two layers, where its
+    ln density has a kink (the mixing-layer top of the OPAC types), or 0: the precomputation's
+    ray quadrature splits there (atmosphere/precompute_common.glsl, split_node)."""
+    profile = params.mie_density
+    if profile.is_tabulated:
+        return 0.0
+    lower, upper = profile.layers
+    if lower == upper or not 0.0 < lower.width_m < params.atmosphere_height_m:
+        return 0.0
+    return (params.bottom_radius_m + lower.width_m) / M_PER_KM
+
+
 def geometry_uniforms(params: AtmosphereParams) -> dict[str, object]:
     """Radii (km) and density profiles: what the transmittance table depends on."""
     bottom, top = params.bottom_radius_m / M_PER_KM, params.top_radius_m / M_PER_KM
@@ -110,6 +123,7 @@ def geometry_uniforms(params: AtmosphereParams) -> dict[str, object]:
         "u_bottom_radius": bottom,
         "u_top_radius": top,
         "u_horizon_length": (top * top - bottom * bottom) ** 0.5,
+        "u_kink_radius": mie_kink_radius_km(params),
         **profile_uniforms(
             (params.rayleigh_density, params.mie_density, params.absorption_density),
             params.atmosphere_height_m,

@@ -12,84 +12,133 @@
 uniform mat4 u_spectral_to_table[NUM_GROUPS];
 
 // ---------------------------------------------------------------- quadrature along a ray
-// Gauss-Legendre rules on [0, 1]: (node, weight), RAY_SAMPLES and RAY_SAMPLES / 2 points.
+// Gauss-Legendre rules on [0, 1]: (node, weight), with RAY_SAMPLES, RAY_SAMPLES / 2, / 4 and / 8
+// points (the smaller ones for the pieces of a split ray; / 4 and / 8 only when RAY_SAMPLES is a
+// multiple of 8, which the split at the aerosol's kink needs).
 uniform vec2 u_ray_rule[RAY_SAMPLES];
 uniform vec2 u_ray_rule_half[RAY_SAMPLES / 2];
+#if RAY_SAMPLES % 8 == 0
+#define RAY_KINK_SPLIT 1
+uniform vec2 u_ray_rule_quarter[RAY_SAMPLES / 4];
+uniform vec2 u_ray_rule_eighth[RAY_SAMPLES / 8];
+uniform vec2 u_ray_rule_three_quarters[3 * RAY_SAMPLES / 4];
+#endif
+// Radius (km) where the aerosol's density has a kink (a layered profile's layer boundary: the
+// mixing-layer top), 0 for none (atmosphere/uniforms.py, geometry_uniforms).
+uniform float u_kink_radius;
 
-// Node i (t, dt, km) of the rules below for a piece [a, b] of a ray with its perigee t_p inside:
-// half the nodes on each side, t = t_p -+ l u^2 with l = t_p - a before it and b - t_p after
-// it, dense at the perigee.
-void perigee_node(int i, float t_p, float a, float b, out float t, out float dt) {
-    if (i < RAY_SAMPLES / 2) {
-        vec2 q = u_ray_rule_half[i];
-        float l = t_p - a;
-        t = t_p - l * q.x * q.x;
-        dt = 2.0 * l * q.x * q.y;
+// Node j of the rule with m points (m = RAY_SAMPLES or a half, quarter or eighth of it).
+vec2 ray_rule(int m, int j) {
+    if (m == RAY_SAMPLES) return u_ray_rule[j];
+#ifdef RAY_KINK_SPLIT
+    if (m == RAY_SAMPLES / 4) return u_ray_rule_quarter[j];
+    if (m == RAY_SAMPLES / 8) return u_ray_rule_eighth[j];
+    if (m == 3 * RAY_SAMPLES / 4) return u_ray_rule_three_quarters[j];
+#endif
+    return u_ray_rule_half[j];
+}
+
+// Node j of m on the piece [a, b] of a ray over which the altitude is monotonic, mapped with
+// t = low + l u^2 from its low-altitude end (the air is densest there, and the density is a
+// smooth function of u: exp(-c u^2) going up, exp(-c u^4) from a perigee) and integrated with
+// Gauss-Legendre in u: integral f dt = integral f(t(u)) 2 l u du.
+void piece_node(int j, int m, float r, float mu, float a, float b, out float t, out float dt) {
+    vec2 q = ray_rule(m, j);
+    float l = b - a;
+    bool up = altitude_at(r, mu, a) <= altitude_at(r, mu, b);  // dense at the lower end
+    t = up ? a + l * q.x * q.x : b - l * q.x * q.x;
+    dt = 2.0 * l * q.x * q.y;
+}
+
+// Node i of n (RAY_SAMPLES, or half of it for one of two lit intervals) on [a, b], split where
+// the integrand is not smooth: at the perigee t_p = -r mu (when `at_perigee`), where the
+// altitude turns, and, with RAY_KINK_SPLIT, where the ray crosses u_kink_radius, where the
+// aerosol's ln density has a kink (a Gauss-Legendre rule across a kink converges as 1/n^2:
+// 16 nodes left `earth`'s single scattering 1.2-1.6 % low, from the ground, at a 2 km
+// mixing-layer top). One piece gets all n nodes, two get n/2 each, three n/2 (the first),
+// n/4 and n/4, four n/4 each.
+void split_node(int i, int n, float r, float mu, float a, float b, bool at_perigee, out float t,
+                out float dt) {
+    float p1 = b, p2 = b, p3 = b;  // inner breakpoints, sorted; b when unused
+    int k = 1;
+    float t_p = -r * mu;
+    if (at_perigee && t_p > a && t_p < b) {
+        p1 = t_p;
+        k = 2;
+    }
+#ifdef RAY_KINK_SPLIT
+    float rk = u_kink_radius;
+    float disc = rk * rk - r * r * (1.0 - mu * mu);
+    if (rk > 0.0 && disc > 0.0) {
+        float h = sqrt(disc);
+        for (int c = 0; c < 2; ++c) {
+            float x = c == 0 ? t_p - h : t_p + h;
+            if (x > a && x < b) {  // insert x into (p1, p2, p3)
+                if (x < p1) {
+                    p3 = p2;
+                    p2 = p1;
+                    p1 = x;
+                } else if (x < p2) {
+                    p3 = p2;
+                    p2 = x;
+                } else {
+                    p3 = x;
+                }
+                k += 1;
+            }
+        }
+    }
+#endif
+    if (k == 1) {
+        piece_node(i, n, r, mu, a, b, t, dt);
+    } else if (k == 2) {
+        // at the perigee: half each; at the kink alone, a quarter below it, 3/4 above
+        int m = n / 2;
+        if (n == RAY_SAMPLES && p1 != t_p) m = altitude_at(r, mu, a) < altitude_at(r, mu, b) ? n / 4 : 3 * n / 4;
+        if (i < m) piece_node(i, m, r, mu, a, p1, t, dt);
+        else piece_node(i - m, n - m, r, mu, p1, b, t, dt);
+    } else if (k == 3) {
+        int m = n / 4;
+        if (i < 2 * m) piece_node(i, 2 * m, r, mu, a, p1, t, dt);
+        else if (i < 3 * m) piece_node(i - 2 * m, m, r, mu, p1, p2, t, dt);
+        else piece_node(i - 3 * m, m, r, mu, p2, b, t, dt);
     } else {
-        vec2 q = u_ray_rule_half[i - RAY_SAMPLES / 2];
-        float l = b - t_p;
-        t = t_p + l * q.x * q.x;
-        dt = 2.0 * l * q.x * q.y;
+        int m = n / 4;
+        int piece = i / m;
+        float lo = piece == 0 ? a : piece == 1 ? p1 : piece == 2 ? p2 : p3;
+        float hi = piece == 0 ? p1 : piece == 1 ? p2 : piece == 2 ? p3 : b;
+        piece_node(i - piece * m, m, r, mu, lo, hi, t, dt);
     }
 }
 
-// Node i (t, dt) of the rule for a ray of length L from radius r with cosine mu.
-// The air is densest at the lowest point of the ray: the start (mu >= 0), the end (rays that
-// hit the ground), or the perigee t_p = -r mu in between. Each monotonic piece [low, high] is
-// mapped with t = low + l u^2 (dense at the low end, where the density is a smooth function of
-// u: exp(-c u^2) going up, exp(-c u^4) around a perigee) and integrated with Gauss-Legendre in
-// u: integral f dt = integral f(t(u)) 2 l u du. A ray through its perigee gets half the nodes
-// on each side (perigee_node).
+// Node i (t, dt, km) of the rule for the whole ray of length L from radius r with cosine mu.
 void ray_node(int i, float r, float mu, float L, out float t, out float dt) {
-    float t_p = clamp(-r * mu, 0.0, L);
-    if (t_p <= 0.0) {
-        vec2 q = u_ray_rule[i];
-        t = L * q.x * q.x;
-        dt = 2.0 * L * q.x * q.y;
-    } else if (t_p >= L) {
-        vec2 q = u_ray_rule[i];
-        t = L * (1.0 - q.x * q.x);
-        dt = 2.0 * L * q.x * q.y;
-    } else {
-        perigee_node(i, t_p, 0.0, L, t, dt);
-    }
+    split_node(i, RAY_SAMPLES, r, mu, 0.0, L, true, t, dt);
 }
 
 // The same rule restricted to the sunlit part of the ray (single scattering is zero in the
 // planet's shadow): in twilight the lit part is a short segment high up, far from the ray's
 // dense low end, and a rule over the whole ray puts few nodes there (5% errors at a Sun 12 deg
 // below the horizon). `lit` = (a0, b0, a1, b1), the lit intervals from lit_segments (empty when
-// b <= a). One lit interval gets the full rule of ray_node (split at the perigee if inside);
-// two get half the nodes each, dense at their lower end.
+// b <= a). One lit interval gets the full rule (split as split_node says); two get half the
+// nodes each (split at the kink, not at the perigee).
 vec4 lit_segments(float r, float mu, float mu_s, float nu, float L) {
     vec2 s = shadow_interval(r, mu, mu_s, nu, L);
     if (s.y <= s.x) return vec4(0.0, L, L, L);
     return vec4(0.0, s.x, s.y, L);
 }
 
-void segment_node(int i, float r, float mu, float a, float b, bool full, out float t, out float dt) {
-    float l = b - a;
-    float t_p = clamp(-r * mu, a, b);
-    if (full && t_p > a && t_p < b) {
-        perigee_node(i, t_p, a, b, t, dt);
-        return;
-    }
-    vec2 q = full ? u_ray_rule[i] : u_ray_rule_half[i];
-    bool up = altitude_at(r, mu, a) <= altitude_at(r, mu, b);  // dense at the lower end
-    t = up ? a + l * q.x * q.x : b - l * q.x * q.x;
-    dt = 2.0 * l * q.x * q.y;
-}
-
 void lit_ray_node(int i, float r, float mu, vec4 lit, out float t, out float dt) {
     bool first = lit.y > lit.x;
     bool second = lit.w > lit.z;
+    const int half_n = RAY_SAMPLES / 2;
     if (first && second) {
-        if (i < RAY_SAMPLES / 2) segment_node(i, r, mu, lit.x, lit.y, false, t, dt);
-        else segment_node(i - RAY_SAMPLES / 2, r, mu, lit.z, lit.w, false, t, dt);
+        if (i < half_n) split_node(i, half_n, r, mu, lit.x, lit.y, false, t, dt);
+        else split_node(i - half_n, half_n, r, mu, lit.z, lit.w, false, t, dt);
     } else if (first) {
-        segment_node(i, r, mu, lit.x, lit.y, true, t, dt);
+        split_node(i, RAY_SAMPLES, r, mu, lit.x, lit.y, true, t, dt);
     } else if (second) {
-        segment_node(i, r, mu, lit.z, lit.w, true, t, dt);
+        split_node(i, RAY_SAMPLES, r, mu, lit.z, lit.w, true, t, dt);
     } else {
         t = 0.0;
         dt = 0.0;
