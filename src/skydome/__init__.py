@@ -8,7 +8,7 @@ from skydome.errors import SkydomeError
 
 __version__ = "0.1.0"
 
-__all__ = ["Sky", "SkydomeError", "__version__"]
+__all__ = ["Clouds", "Sky", "SkydomeError", "__version__"]
 
 
 def __getattr__(name: str):
@@ -19,4 +19,8 @@ def __getattr__(name: str):
         import importlib
 
         return importlib.import_module("skydome.scene").Sky
+    if name == "Clouds":
+        import importlib
+
+        return importlib.import_module("skydome.clouds.params").Clouds
     raise AttributeError(f"module 'skydome' has no attribute {name!r}")

@@ -110,6 +110,13 @@ class AtmosphereLayer(Layer):
         self._lights = lights
         self._state = state
 
+    @property
+    def lights(self) -> dict:
+        """The lights of the last update as the tables see them: ``sun_direction`` (the
+        airless direction), ``sun_scale`` (irradiance relative to the tables' Sun at 1 au),
+        ``light2_direction`` and ``light2_scale`` (the Moon: per output channel, or 0)."""
+        return dict(self._lights)
+
     def _solar_lux(self) -> float:
         """Illuminance (lx) of the tabulated solar spectrum at 1 au, as the tables see it."""
         if self._solar is None:

@@ -124,6 +124,23 @@ def default_layers(
     return layers
 
 
+def cloud_layer(clouds: Any, quality: str = "full") -> Layer | None:
+    """The cloud layer for ``clouds``: None (none), a preset name, a ``Clouds`` or a
+    ``CloudLayer``."""
+    if clouds is None:
+        return None
+    from skydome.clouds.layer import CloudLayer
+    from skydome.clouds.params import Clouds
+
+    if isinstance(clouds, CloudLayer):
+        return clouds
+    if isinstance(clouds, (str, Clouds)):
+        return CloudLayer(clouds, quality=quality)
+    raise ParameterError(
+        f"clouds {clouds!r} must be a preset name, a Clouds or a CloudLayer"
+    )
+
+
 def default_look(state: SkyState) -> str:
     """What a camera looks at when nothing else is said: the Sun while it is up or in
     twilight (above -6 deg), else the Moon when it is up, else the zenith."""
@@ -147,6 +164,8 @@ class Sky:
         night: with a place and the default layers, draw the night sky (stars, planets,
             Milky Way, zodiacal light, airglow); the abstract mode has none.
         light_pollution: a Bortle class (1-9), a ``skydome.night.LightPollution`` or None.
+        clouds: a preset name ("fair", "overcast", "storm", "cirrus", "clear"), a
+            ``skydome.Clouds`` or a ``CloudLayer``: drawn just after the atmosphere.
         night_vision: show the image as a dark-adapted eye sees it (display only).
         overlays: names of ``skydome.display.overlays.OVERLAYS`` ("lines", "labels",
             "grid") or a comma list, drawn over the image (display only).
@@ -173,6 +192,7 @@ class Sky:
         temperature_C: float | None = None,
         night: bool = True,
         light_pollution: Any = None,
+        clouds: Any = None,
         night_vision: bool = False,
         overlays: Any = (),
         _graph: FrameGraph | None = None,
@@ -216,6 +236,12 @@ class Sky:
                 "LightPollutionLayer yourself"
             )
         layers = [*layers, *extra_layers]
+        sky_clouds = cloud_layer(clouds)
+        if sky_clouds is not None:
+            names = [la.name for la in layers]
+            if "atmosphere" not in names:
+                raise ParameterError("clouds need an atmosphere layer in the same sky")
+            layers.insert(names.index("atmosphere") + 1, sky_clouds)
         atmosphere_layer = next((la for la in layers if la.name == "atmosphere"), None)
         solar_scale = atmosphere_layer.params.solar_scale if atmosphere_layer is not None else 1.0
         self.graph = FrameGraph(layers, ctx=ctx, solar_scale=solar_scale)

@@ -14,11 +14,6 @@
 uniform float u_mie_lobe_g[MIE_LOBES];
 uniform vec4 u_mie_lobe_weight[NUM_GROUPS * MIE_LOBES];  // group-major: [g * MIE_LOBES + j]
 
-float henyey_greenstein_phase(float nu, float g) {
-    float d = max(1.0 + g * g - 2.0 * g * nu, 1e-8);
-    return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
-}
-
 vec4 mie_phase_group(float nu, int g) {
     vec4 p = vec4(0.0);
     for (int j = 0; j < MIE_LOBES; ++j)

@@ -10,3 +10,9 @@ float cornette_shanks_phase(float nu, float g) {
     float k = 3.0 / (8.0 * PI) * (1.0 - g * g) / (2.0 + g * g);
     return k * (1.0 + nu * nu) / pow(max(1.0 + g * g - 2.0 * g * nu, 1e-8), 1.5);
 }
+
+// Henyey-Greenstein: (1 - g^2) / (4 pi (1 + g^2 - 2 g nu)^(3/2)).
+float henyey_greenstein_phase(float nu, float g) {
+    float d = max(1.0 + g * g - 2.0 * g * nu, 1e-8);
+    return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
+}

@@ -1,0 +1,353 @@
+"""The cloud layer: a volume layer of the scene's frame graph drawn after the atmosphere.
+
+Two passes per tile (shaders/clouds/): ``clouds_march.glsl`` marches every pixel's ray
+through the main layer's shell and the cirrus sheet's, lit by the key light (the Sun, or the
+Moon once the Sun is well down) and the sky, into the clouds' own radiance, transmittance and
+mean distance; ``clouds_composite.glsl`` puts them over what lies behind (the atmosphere and
+the space layers), seen through the air in front of them, and takes the direct light off the
+ground in their shadows. The atmosphere's tables give the light: the Sun's and the Moon's
+irradiance at each cloud, the sky's, and the aerial perspective.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from skydome.clouds.params import CIRRUS_EXTINCTION_PER_M, Clouds
+from skydome.errors import ParameterError
+from skydome.scene.layer import DrawContext, Layer
+
+#: Ray-march settings: view steps per km of ray in a shell, most view steps, shortest step
+#: (km); lengths (km) of the march towards the light and across the local slab; the march's
+#: resolution relative to the frame.
+QUALITY = {
+    "full": {"march": (40.0, 160.0, 0.02), "light_km": (6.0, 4.0), "scale": 1},
+    "interactive": {"march": (10.0, 40.0, 0.05), "light_km": (4.0, 3.0), "scale": 2},
+}
+#: Repeat lengths (km) of the shape and detail noises.
+SHAPE_TILE_KM = 12.0
+DETAIL_TILE_KM = 1.6
+#: How far the detail noise erodes the shapes' edges (Schneider 2015's 0.2-0.4).
+DETAIL_EROSION = 0.35
+#: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
+MOON_KEY_BELOW_DEG = -8.0
+
+
+class CloudLayer(Layer):
+    """The clouds of a ``Clouds`` description (see skydome.clouds.params).
+
+    Args:
+        clouds: a ``Clouds`` or a preset name.
+        quality: "full" (still frames) or "interactive" (a coarser march at half the
+            resolution, for the viewer).
+        phase: the phase function (default: the Mie-fitted droplet lobes,
+            skydome.clouds.phase.CLOUD_PHASE).
+    """
+
+    name = "clouds"
+    stage = "volume"
+
+    def __init__(self, clouds: Clouds | str = "fair", *, quality: str = "full", phase=None,
+                 enabled: bool = True):  # fmt: skip
+        super().__init__(enabled=enabled)
+        self.clouds = Clouds(clouds) if isinstance(clouds, str) else clouds
+        if not isinstance(self.clouds, Clouds):
+            raise ParameterError(f"clouds must be a Clouds or a preset name, got {clouds!r}")
+        if quality not in QUALITY:
+            raise ParameterError(f"cloud quality {quality!r} must be one of {', '.join(QUALITY)}")
+        self.quality = quality
+        if phase is None:
+            from skydome.clouds.phase import CLOUD_PHASE
+
+            phase = CLOUD_PHASE
+        self.phase = phase
+        self.noise = None
+        self.weather = None
+        self._targets: dict = {}
+        self._ms_texture = None
+        self._state = None
+        self._t0_jd: float | None = None
+        self.time_s = 0.0
+
+    # ------------------------------------------------------------------ stages
+
+    def _atmosphere(self):
+        if self.graph is None:
+            raise ParameterError("the cloud layer is not in a frame graph yet")
+        try:
+            return self.graph["atmosphere"]
+        except (KeyError, ParameterError):
+            raise ParameterError("clouds need an atmosphere layer in the same sky") from None
+
+    def prepare(self, graph) -> None:
+        super().prepare(graph)
+        atmosphere = self._atmosphere()
+        params = atmosphere.params
+        self.clouds.check_atmosphere(params.top_radius_m - params.bottom_radius_m)
+
+    def _noise_and_weather(self) -> None:
+        """The noise textures and the animated weather map (on first use)."""
+        if self.noise is not None:
+            return
+        from skydome.clouds.noise import cloud_noise
+        from skydome.clouds.weather import AnimatedWeather
+
+        self.noise = cloud_noise(self.graph.ctx, self.clouds.seed)
+        self.weather = AnimatedWeather(
+            self.graph.ctx, weather_map_for(self.clouds), wind_m_s=self.clouds.wind_m_s,
+            seed=self.clouds.seed,
+        )
+
+    def update(self, state) -> None:
+        self._state = state
+        jd = _julian_day(state)
+        if self._t0_jd is None:
+            self._t0_jd = jd
+        self.time_s = 0.0 if jd is None else (jd - self._t0_jd) * 86400.0
+
+    # ------------------------------------------------------------------ uniforms
+
+    def key_light(self, lights: dict) -> tuple[tuple, tuple]:
+        """(direction, per-channel scale relative to the tables' Sun) of the light that lights
+        the clouds: the Sun, or the Moon when the Sun is below MOON_KEY_BELOW_DEG and the
+        Moon is up."""
+        sun = tuple(float(v) for v in lights["sun_direction"])
+        moon = lights.get("light2_direction")
+        sun_el = math.degrees(math.asin(max(-1.0, min(1.0, sun[2]))))
+        if moon is not None and sun_el < MOON_KEY_BELOW_DEG and moon[2] > -0.05:
+            scale = np.broadcast_to(np.asarray(lights["light2_scale"], dtype=np.float64), (4,))
+            return tuple(float(v) for v in moon), tuple(float(s) for s in scale)
+        return sun, (float(lights["sun_scale"]),) * 4
+
+    def uniforms(self, frame: DrawContext) -> dict:
+        """Every uniform of the two passes for this frame."""
+        from skydome.render.base import camera_position_km
+
+        atmosphere = self._atmosphere()
+        params = atmosphere.params
+        lights = atmosphere.lights
+        solar = params.solar_scale
+        c = self.clouds
+        bottom_km = params.bottom_radius_m / 1e3
+        key_dir, key_scale = self.key_light(lights)
+        q = QUALITY[self.quality]
+        g = float(self.phase.asymmetry)
+        f = float(self.phase.second_moment)
+        moon = lights.get("light2_direction")
+        light2 = np.broadcast_to(np.asarray(lights.get("light2_scale", 0.0), dtype=float), (4,))
+        offset_km = tuple(float(v) * self.time_s / 1e3 for v in c.wind_m_s) + (0.0,)
+        albedo = float(np.mean(atmosphere.renderer.uniforms["u_ground_albedo"]))
+        return {
+            **atmosphere.renderer.uniforms,
+            **frame.uniforms,
+            "u_camera_position": camera_position_km(params, frame.altitude_m),
+            "u_sun_direction": tuple(float(v) for v in lights["sun_direction"]),
+            "u_sun_scale": float(lights["sun_scale"]) * solar,
+            "u_light2_direction": tuple(moon) if moon is not None else (0.0, 0.0, 1.0),
+            "u_light2_scale": tuple(float(s) * solar for s in light2),
+            "u_light_direction": key_dir,
+            "u_light_scale": tuple(s * solar for s in key_scale),
+            "u_cloud_shell": (
+                bottom_km + c.base_m / 1e3,
+                bottom_km + (c.base_m + c.thickness_m) / 1e3 if c.coverage > 0 else bottom_km + c.base_m / 1e3,
+                bottom_km + c.cirrus_base_m / 1e3,
+                bottom_km + (c.cirrus_base_m + c.cirrus_thickness_m) / 1e3 if c.cirrus > 0 else bottom_km + c.cirrus_base_m / 1e3,
+            ),  # fmt: skip
+            "u_noise_tiles_km": (c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
+            "u_cloud_offset_km": offset_km,
+            "u_type_extinction": c.type_extinctions_per_km(),
+            "u_cirrus_extinction": CIRRUS_EXTINCTION_PER_M * 1e3,
+            "u_detail_erosion": DETAIL_EROSION,
+            "u_cloud_lobe_g": [float(v) for v in self.phase.g],
+            "u_cloud_lobe_weight": [float(v) for v in self.phase.weights],
+            "u_cloud_moments": (g, f, (g - f) / (1.0 - f)),
+            "u_march": q["march"],
+            "u_light_march_km": q["light_km"],
+            "u_cloud_albedo_below": albedo,
+            "u_frame_jitter": 0.0,
+        }
+
+    def defines(self, frame: DrawContext, extra: tuple[str, ...] = ()) -> dict:
+        atmosphere = self._atmosphere()
+        lights = atmosphere.lights
+        d = {**atmosphere.renderer.tables.defines(), "CLOUD_LOBES": len(self.phase.g)}
+        if np.any(np.asarray(lights.get("light2_scale", 0.0), dtype=float) > 0):
+            d["HAS_LIGHT2"] = 1
+        for name in extra:
+            d[name] = 1
+        return d
+
+    def _ms_table_texture(self):
+        """The multiple-scattering table (skydome.clouds.ms_table) as a 3D texture:
+        x = 12 blocks (the scattered direction's cosine) of 24 depths, y = the optical
+        thickness, z = the light's cosine; RGB = the azimuth Fourier coefficients."""
+        if self._ms_texture is None:
+            from skydome.clouds.ms_table import load_ms_table
+            from skydome.gpu.textures import linear_clamped
+
+            j = np.asarray(load_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
+            nt, nm0, nd, nmu, _ = j.shape
+            texels = np.zeros((nm0, nt, nmu * nd, 4), dtype=np.float32)
+            texels[..., :3] = j.transpose(1, 0, 3, 2, 4).reshape(nm0, nt, nmu * nd, 3)
+            ctx = self.graph.ctx
+            tex = ctx.texture3d((nmu * nd, nt, nm0), 4, texels.tobytes(), dtype="f4")
+            self._ms_texture = linear_clamped(tex, ctx)
+        return self._ms_texture
+
+    def textures(self, noise: bool = True) -> dict:
+        atmosphere = self._atmosphere()
+        t = dict(atmosphere.renderer.textures)
+        t["u_cloud_ms_table"] = self._ms_table_texture()
+        if noise:
+            self._noise_and_weather()
+            t.update(
+                {
+                    "u_weather": self.weather.texture_at(self.time_s),
+                    "u_shape_noise": self.noise.shape,
+                    "u_detail_noise": self.noise.detail,
+                    "u_curl_noise": self.noise.curl,
+                }
+            )
+        return t
+
+    # ------------------------------------------------------------------ drawing
+
+    def _march_target(self, w: int, h: int):
+        key = (w, h)
+        if key not in self._targets:
+            ctx = self.graph.ctx
+            texs = [ctx.texture((w, h), 4, dtype="f4") for _ in range(2)]
+            for t in texs:
+                t.filter = (ctx.LINEAR, ctx.LINEAR)
+                t.repeat_x = t.repeat_y = False
+            self._targets[key] = (texs, ctx.framebuffer(color_attachments=texs))
+        return self._targets[key]
+
+    def march(self, frame: DrawContext, uniforms: dict, textures: dict, extra=()):
+        """Draw the march pass of ``frame``'s tile into this layer's two targets; returns
+        them (radiance, (transmittance, distance km, ground shadow, 1))."""
+        _, _, tw, th = frame.tile
+        (rad, data), fbo = self._march_target(tw, th)
+        fbo.viewport = (0, 0, tw, th)
+        fpass = self.full_screen_pass(
+            frame.ctx, "clouds/clouds_march.glsl", frame.camera, self.defines(frame, extra)
+        )
+        fpass.draw(fbo, uniforms, textures)
+        return rad, data
+
+    def probe(self, camera, width: int, height: int, altitude_m: float, *,
+              test_irradiance: float | None = None, uniform_extinction_per_m: float | None = None):  # fmt: skip
+        """The march pass alone for a camera (the layer must be in a prepared sky): arrays
+        (H, W, 4) of the clouds' radiance (cd/m^2, not yet seen through the air) and of
+        (transmittance, distance km, ground shadow, 1), top row first. For tests:
+        ``test_irradiance`` lights every point with that irradiance (lx, all channels) and no
+        sky; ``uniform_extinction_per_m`` fills the main layer with a constant extinction;
+        both march with the samples at the steps' middles (no jitter)."""
+        ctx = self.graph.ctx
+        frame = DrawContext(
+            ctx, camera, (width, height), (0, 0, width, height), None,
+            {**camera.uniforms(width, height), "u_tile_offset": (0.0, 0.0)}, {},
+            altitude_m, self.graph.basis,
+        )  # fmt: skip
+        uniforms = self.uniforms(frame)
+        extra = []
+        if test_irradiance is not None:
+            extra.append("CLOUDS_ALONE")
+            uniforms["u_test_irradiance"] = (float(test_irradiance),) * 4
+            uniforms["u_cloud_albedo_below"] = 0.0  # black ground below, as the references
+        if uniform_extinction_per_m is not None:
+            extra.append("UNIFORM_CLOUD")
+            uniforms["u_uniform_extinction"] = float(uniform_extinction_per_m) * 1e3
+        if extra:
+            extra.append("NO_JITTER")
+            import os
+            if os.environ.get("DBG"): extra.append("DEBUG_SOURCE")
+        textures = self.textures(noise=uniform_extinction_per_m is None)
+        rad, data = self.march(frame, uniforms, textures, tuple(extra))
+        out = []
+        for tex in (rad, data):
+            a = np.frombuffer(tex.read(), dtype="f4").reshape(height, width, 4)
+            out.append(a[::-1].copy())
+        return out[0], out[1]
+
+    def draw(self, frame: DrawContext) -> None:
+        if self.clouds.empty:  # nothing to draw: what lies behind, as it is
+            self._copy_behind(frame)
+            return
+        uniforms = self.uniforms(frame)
+        textures = {**self.textures(), **frame.textures}
+        rad, data = self.march(frame, uniforms, textures)
+        _, _, tw, th = frame.tile
+        composite = self.full_screen_pass(
+            frame.ctx, "clouds/clouds_composite.glsl", frame.camera, self.defines(frame)
+        )
+        composite.draw(
+            frame.fbo,
+            {**uniforms, "u_cloud_map": (1.0 / tw, 1.0 / th, 0.0, 0.0)},
+            {**textures, "u_behind": frame.behind, "u_cloud_radiance": rad, "u_cloud_data": data},
+        )
+
+    def _copy_behind(self, frame: DrawContext) -> None:
+        from skydome.gpu import FullscreenPass
+
+        key = ("copy",)
+        if key not in self._passes:
+            self._passes[key] = FullscreenPass(frame.ctx, "scene/copy_behind.glsl")
+        self._passes[key].draw(frame.fbo, {}, {"u_behind": frame.behind})
+
+    def info(self) -> dict:
+        c = self.clouds
+        return {
+            "clouds": c.preset,
+            "coverage": c.coverage,
+            "cloud_base_m": c.base_m,
+            "cloud_top_m": c.base_m + c.thickness_m,
+            "cirrus": c.cirrus,
+        }
+
+    def release(self) -> None:
+        super().release()
+        for texs, fbo in self._targets.values():
+            fbo.release()
+            for t in texs:
+                t.release()
+        self._targets.clear()
+        if self._ms_texture is not None:
+            self._ms_texture.release()
+            self._ms_texture = None
+        if self.weather is not None:
+            self.weather.release()
+            self.weather = None
+        self.noise = None  # shared (cloud_noise caches it per context)
+
+
+def weather_map_for(clouds: Clouds):
+    """The weather map of ``clouds``: its own (a ``WeatherMap``, an image path or an array,
+    whose coverage channel ``clouds.coverage`` scales), or one generated from its seed with
+    its coverage, type, precipitation and cirrus (skydome.clouds.weather.WeatherMap)."""
+    from skydome.clouds.weather import WeatherMap
+
+    w = clouds.weather
+    if w is None:
+        return WeatherMap.generate(
+            clouds.seed, tile_km=clouds.tile_km, coverage=clouds.coverage,
+            cloud_type=clouds.type_value, precipitation=clouds.precipitation,
+            cirrus=clouds.cirrus,
+        )  # fmt: skip
+    if not isinstance(w, WeatherMap):
+        if isinstance(w, np.ndarray):
+            w = WeatherMap.from_array(w, clouds.tile_km, cloud_type=clouds.type_value)
+        else:
+            w = WeatherMap.from_image(w, clouds.tile_km)
+    data = w.data.copy()
+    data[..., 0] *= clouds.coverage
+    return WeatherMap(data, w.tile_km)
+
+
+def _julian_day(state) -> float | None:
+    t = getattr(state, "time", None)
+    if t is None:
+        return None
+    return float(np.ravel(t.jd_utc)[0]) if hasattr(t, "jd_utc") else None

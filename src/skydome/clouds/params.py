@@ -1,0 +1,182 @@
+"""What a sky's clouds are: a layer of a cloud type between a base and a top, its coverage,
+a cirrus sheet above it, the wind that carries them, and the presets.
+
+>>> from skydome.clouds import Clouds
+>>> Clouds("fair", coverage=0.5, base_m=1500, thickness_m=2000, wind_m_s=(5, 0), seed=1)
+
+Extinction from liquid water: sigma_ext = 3 LWC / (2 rho_w r_eff) (Stephens 1978, J. Atmos.
+Sci. 35, 2123, eq. 10, extinction efficiency 2 for droplets much larger than the wavelength),
+with an effective droplet radius of 10 um and typical liquid water contents per type
+(Pruppacher & Klett 1997, "Microphysics of Clouds and Precipitation", table 2.2 ranges:
+stratus and stratocumulus 0.1-0.5 g/m^3, cumulus 0.2-1, cumulonimbus 1-3): a cumulus at
+0.5 g/m^3 has 75 /km, a 1 km thick one an optical thickness of about 75 where it is dense.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from skydome.errors import ParameterError
+
+#: The cloud types of the height profiles and where each sits on the weather map's type axis.
+CLOUD_TYPES = {"stratus": 0.0, "stratocumulus": 1.0 / 3.0, "cumulus": 2.0 / 3.0, "cumulonimbus": 1.0}
+#: Typical liquid water content (g/m^3) of each type (module docstring).
+LIQUID_WATER_G_M3 = {"stratus": 0.25, "stratocumulus": 0.3, "cumulus": 0.5, "cumulonimbus": 1.0}
+#: Effective radius of cloud droplets (m).
+EFFECTIVE_RADIUS_M = 10e-6
+WATER_DENSITY_KG_M3 = 1000.0
+#: Ice clouds: a cirrus with an ice water content of 0.02 g/m^3 and effective radius 30 um
+#: has about 1 /km (Heymsfield & McFarquhar 2002 give 0.1-2 /km for midlatitude cirrus).
+CIRRUS_EXTINCTION_PER_M = 1.0e-3
+
+
+def extinction_per_m(liquid_water_g_m3: float, radius_m: float = EFFECTIVE_RADIUS_M) -> float:
+    """Extinction coefficient (1/m) of a cloud of droplets: 3 LWC / (2 rho_w r_eff)."""
+    return 3.0 * liquid_water_g_m3 * 1e-3 / (2.0 * WATER_DENSITY_KG_M3 * radius_m)
+
+
+#: The presets: what a sky of each looks like (fields of Clouds).
+PRESETS: dict[str, dict[str, Any]] = {
+    # fair-weather cumulus (humilis / mediocris): bases near 1.5 km, about 1.5 km deep
+    "fair": dict(coverage=0.4, cloud_type="cumulus", base_m=1500.0, thickness_m=1800.0),
+    # a closed stratocumulus deck
+    "overcast": dict(coverage=0.95, cloud_type="stratocumulus", base_m=800.0, thickness_m=1000.0),
+    # towering cumulonimbus with rain, on a low base, tops near the tropopause
+    "storm": dict(
+        coverage=0.7, cloud_type="cumulonimbus", base_m=900.0, thickness_m=9000.0,
+        precipitation=0.7, cirrus=0.3,
+    ),  # fmt: skip
+    # a cirrus / cirrostratus sheet only
+    "cirrus": dict(coverage=0.0, cirrus=0.8),
+    "clear": dict(coverage=0.0, cirrus=0.0),
+}
+
+
+def _number(name: str, value: Any, lo: float, hi: float, unit: str = "") -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"cloud {name} must be a number, got {value!r}") from None
+    if not math.isfinite(v) or not lo <= v <= hi:
+        unit = f" {unit}" if unit else ""
+        raise ParameterError(f"cloud {name} must be within [{lo:g}, {hi:g}]{unit}, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Clouds:
+    """A sky's clouds. Unset fields come from the preset.
+
+    Args:
+        preset: "fair", "overcast", "storm", "cirrus" or "clear".
+        coverage: fraction of the sky the main layer covers (0-1): 0 is no cloud, 1 the whole
+            weather map's cloudiness.
+        cloud_type: "stratus", "stratocumulus", "cumulus", "cumulonimbus" (or 0-1 between
+            them); a weather map's type channel overrides it per place.
+        base_m, thickness_m: the main layer's base above the ground and its depth (m).
+        precipitation: 0-1, rain in the clouds (denser, darker bases).
+        cirrus: coverage (0-1) of the cirrus sheet at ``cirrus_base_m`` (m) of
+            ``cirrus_thickness_m`` (m).
+        wind_m_s: (east, north) speed of the wind carrying the clouds (m/s).
+        seed: the noise's and the generated weather map's seed.
+        weather: a ``WeatherMap``, an image path or a NumPy array (coverage, type,
+            precipitation, cirrus channels; see skydome.clouds.weather), or None to generate
+            one from the seed.
+        tile_km: the side of the weather map's repeating tile (km).
+    """
+
+    preset: str = "fair"
+    coverage: float | None = None
+    cloud_type: str | float | None = None
+    base_m: float | None = None
+    thickness_m: float | None = None
+    precipitation: float | None = None
+    cirrus: float | None = None
+    cirrus_base_m: float = 9000.0
+    cirrus_thickness_m: float = 800.0
+    wind_m_s: tuple[float, float] = (5.0, 0.0)
+    seed: int = 1
+    weather: Any = field(default=None, compare=False)
+    tile_km: float = 40.0
+
+    def __post_init__(self):
+        if self.preset not in PRESETS:
+            raise ParameterError(
+                f"cloud preset {self.preset!r} must be one of {', '.join(PRESETS)}"
+            )
+        base = {"coverage": 0.0, "cloud_type": "cumulus", "base_m": 1500.0,
+                "thickness_m": 1500.0, "precipitation": 0.0, "cirrus": 0.0}  # fmt: skip
+        base.update(PRESETS[self.preset])
+        for key, value in base.items():
+            if getattr(self, key) is None:
+                object.__setattr__(self, key, value)
+        object.__setattr__(self, "coverage", _number("coverage", self.coverage, 0.0, 1.0))
+        object.__setattr__(
+            self, "precipitation", _number("precipitation", self.precipitation, 0.0, 1.0)
+        )
+        object.__setattr__(self, "cirrus", _number("cirrus coverage", self.cirrus, 0.0, 1.0))
+        object.__setattr__(self, "base_m", _number("base", self.base_m, 0.0, 1e7, "m"))
+        thickness = _number("thickness", self.thickness_m, -math.inf, 20000.0, "m")
+        if thickness <= 0:
+            raise ParameterError(f"cloud thickness must be positive, got {self.thickness_m!r} m")
+        object.__setattr__(self, "thickness_m", thickness)
+        ci_base = _number("cirrus base", self.cirrus_base_m, 0.0, 1e7, "m")
+        ci_thick = _number("cirrus thickness", self.cirrus_thickness_m, 1.0, 5000.0, "m")
+        object.__setattr__(self, "cirrus_base_m", ci_base)
+        object.__setattr__(self, "cirrus_thickness_m", ci_thick)
+        object.__setattr__(self, "cloud_type", self.type_value)  # validates
+        object.__setattr__(self, "tile_km", _number("weather tile", self.tile_km, 1.0, 1000.0, "km"))
+        try:
+            wind = tuple(float(v) for v in self.wind_m_s)
+        except (TypeError, ValueError):
+            raise ParameterError(f"wind must be (east, north) m/s, got {self.wind_m_s!r}") from None
+        if len(wind) != 2 or not all(math.isfinite(v) and abs(v) <= 200 for v in wind):
+            raise ParameterError(
+                f"wind must be (east, north) m/s, each within 200 m/s, got {self.wind_m_s!r}"
+            )
+        object.__setattr__(self, "wind_m_s", wind)
+        if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
+            raise ParameterError(f"cloud seed must be a non-negative integer, got {self.seed!r}")
+
+    @property
+    def type_value(self) -> float:
+        """The cloud type on the weather map's axis (0 stratus ... 1 cumulonimbus)."""
+        t = self.cloud_type
+        if isinstance(t, str):
+            if t not in CLOUD_TYPES:
+                raise ParameterError(
+                    f"cloud type {t!r} must be one of {', '.join(CLOUD_TYPES)} or 0-1"
+                )
+            return CLOUD_TYPES[t]
+        return _number("type", t, 0.0, 1.0)
+
+    @property
+    def top_m(self) -> float:
+        """The highest cloud (m above the ground): the main layer's or the cirrus sheet's."""
+        top = self.base_m + self.thickness_m
+        if self.cirrus > 0:
+            top = max(top, self.cirrus_base_m + self.cirrus_thickness_m)
+        return top
+
+    @property
+    def empty(self) -> bool:
+        """No cloud at all: the layer draws nothing."""
+        return self.coverage == 0.0 and self.cirrus == 0.0
+
+    def check_atmosphere(self, top_of_atmosphere_m: float) -> None:
+        """A ParameterError when the clouds reach above the top of the atmosphere."""
+        if self.top_m >= top_of_atmosphere_m:
+            raise ParameterError(
+                f"the clouds reach {self.top_m:.0f} m, above the top of the atmosphere "
+                f"({top_of_atmosphere_m:.0f} m)"
+            )
+
+    def type_extinctions_per_km(self) -> tuple[float, float, float, float]:
+        """Extinction (1/km) at density 1 of each type of CLOUD_TYPES, in order."""
+        return tuple(extinction_per_m(LIQUID_WATER_G_M3[t]) * 1e3 for t in CLOUD_TYPES)
+
+    def with_(self, **changes) -> Clouds:
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)

@@ -1,0 +1,113 @@
+// The clouds' extinction coefficient (1/km) at a point: a weather map over a repeating tile
+// (coverage, cloud type, precipitation, cirrus: skydome.clouds.weather), a height profile
+// per cloud type, and the shape and detail noises eroding it (the approach of seed 000 eqs.
+// 5.1-5.5, in the form of Schneider 2015/2017: the coverage remaps the base shape, the detail
+// erodes its edges). With UNIFORM_CLOUD (tests: the Monte Carlo slab) the main layer has the
+// constant extinction u_uniform_extinction and no cirrus.
+uniform vec4 u_cloud_shell;   // radii (km) from the planet's centre: layer bottom, top; cirrus bottom, top
+#ifdef UNIFORM_CLOUD
+uniform float u_uniform_extinction;  // 1/km
+#else
+uniform sampler2D u_weather;       // RGBA: coverage, type, precipitation, cirrus coverage
+uniform sampler3D u_shape_noise;   // RGBA: Perlin-Worley, Worley fBm x 3 frequencies
+uniform sampler3D u_detail_noise;  // RGB(A): Worley fBm x 3 frequencies
+uniform sampler2D u_curl_noise;    // RG: a divergence-free 2D field in [-1, 1]
+uniform vec3 u_noise_tiles_km;     // repeat lengths: weather map, shape noise, detail noise
+uniform vec3 u_cloud_offset_km;    // how far the wind has carried the clouds (east, north, up):
+                                   // the weather texture is moved already, the noise here
+uniform vec4 u_type_extinction;    // 1/km at density 1: stratus, stratocumulus, cumulus, cumulonimbus
+uniform float u_cirrus_extinction; // 1/km at density 1
+uniform float u_detail_erosion;    // how much the detail noise eats into the edges (0-1)
+#endif
+
+float remap(float v, float lo, float hi, float new_lo, float new_hi) {
+    return new_lo + (v - lo) / max(hi - lo, 1e-6) * (new_hi - new_lo);
+}
+
+// Where (km) on the weather tile a planet-centred point lies: the camera is above the tile's
+// origin (the x, y of the local tangent plane; the tile is small beside the planet).
+vec2 tile_position(vec3 p) { return p.xy; }
+
+#ifndef UNIFORM_CLOUD
+// The density of a cloud type (0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus)
+// at height fraction h of the layer: a rise from the base and a fall towards the top,
+// the four types' edges (fractions) interpolated.
+float height_profile(float h, float type) {
+    // rise start, rise end, fall start, fall end
+    const vec4 STRATUS = vec4(0.0, 0.10, 0.45, 0.75);
+    const vec4 STRATOCUMULUS = vec4(0.0, 0.12, 0.40, 0.80);
+    const vec4 CUMULUS = vec4(0.0, 0.08, 0.35, 0.95);
+    const vec4 CUMULONIMBUS = vec4(0.0, 0.05, 0.75, 1.0);
+    float t = clamp(type, 0.0, 1.0) * 3.0;
+    vec4 e = t < 1.0 ? mix(STRATUS, STRATOCUMULUS, t)
+           : t < 2.0 ? mix(STRATOCUMULUS, CUMULUS, t - 1.0) : mix(CUMULUS, CUMULONIMBUS, t - 2.0);
+    return smoothstep(e.x, e.y, h) * (1.0 - smoothstep(e.z, e.w, h));
+}
+
+float type_extinction(float type) {
+    float t = clamp(type, 0.0, 1.0) * 3.0;
+    return t < 1.0 ? mix(u_type_extinction.x, u_type_extinction.y, t)
+         : t < 2.0 ? mix(u_type_extinction.y, u_type_extinction.z, t - 1.0)
+                   : mix(u_type_extinction.z, u_type_extinction.w, t - 2.0);
+}
+#endif
+
+// Extinction (1/km) of the main layer at planet-centred p (km), radius r; `cheap` skips the
+// detail noise (light marches).
+float layer_extinction(vec3 p, float r, bool cheap) {
+    float h = (r - u_cloud_shell.x) / (u_cloud_shell.y - u_cloud_shell.x);
+    if (h <= 0.0 || h >= 1.0) return 0.0;
+#ifdef UNIFORM_CLOUD
+    return u_uniform_extinction;
+#else
+    vec2 xy = tile_position(p);
+    vec4 weather = texture(u_weather, xy / u_noise_tiles_km.x);
+    float coverage = weather.r;
+    if (coverage <= 0.0) return 0.0;
+    float profile = height_profile(h, weather.g);
+    if (profile <= 0.0) return 0.0;
+    vec3 q = vec3(xy - u_cloud_offset_km.xy, r - u_cloud_shell.x - u_cloud_offset_km.z);
+    vec4 shape = textureLod(u_shape_noise, q / u_noise_tiles_km.y, 0.0);
+    float low = shape.g * 0.625 + shape.b * 0.25 + shape.a * 0.125;
+    float base = clamp(remap(shape.r, low - 1.0, 1.0, 0.0, 1.0), 0.0, 1.0) * profile;
+    // the coverage keeps the top (1 - coverage) of the shape's range: 0 leaves nothing
+    float density = clamp(remap(base, 1.0 - coverage, 1.0, 0.0, 1.0), 0.0, 1.0) * coverage;
+    if (density <= 0.0) return 0.0;
+    if (!cheap) {
+        vec4 d = textureLod(u_detail_noise, q / u_noise_tiles_km.z, 0.0);
+        float high = d.r * 0.625 + d.g * 0.25 + d.b * 0.125;
+        // wispy at the base, billowy above (Schneider 2015)
+        high = mix(high, 1.0 - high, clamp(h * 5.0, 0.0, 1.0));
+        density = clamp(remap(density, high * u_detail_erosion, 1.0, 0.0, 1.0), 0.0, 1.0);
+    }
+    // rain-bearing cloud holds more water
+    return density * type_extinction(weather.g) * (1.0 + 2.0 * weather.b);
+#endif
+}
+
+// Extinction (1/km) of the cirrus sheet: streaks of the shape noise drawn out by the curl
+// field over the weather map's cirrus coverage.
+float cirrus_extinction(vec3 p, float r) {
+#ifdef UNIFORM_CLOUD
+    return 0.0;
+#else
+    float h = (r - u_cloud_shell.z) / max(u_cloud_shell.w - u_cloud_shell.z, 1e-6);
+    if (h <= 0.0 || h >= 1.0) return 0.0;
+    vec2 xy = tile_position(p);
+    float cover = texture(u_weather, xy / u_noise_tiles_km.x).a;
+    xy -= u_cloud_offset_km.xy;
+    if (cover <= 0.0) return 0.0;
+    vec2 curl = texture(u_curl_noise, xy / (0.5 * u_noise_tiles_km.x)).rg;
+    vec2 warped = xy + curl * 3.0;
+    vec4 shape = textureLod(u_shape_noise, vec3(warped.x * 0.25, warped.y, h * 2.0) / u_noise_tiles_km.y, 0.0);
+    float fbm = shape.g * 0.5 + shape.b * 0.3 + shape.a * 0.2;
+    float density = clamp(remap(fbm, 1.0 - cover, 1.0, 0.0, 1.0), 0.0, 1.0) * cover;
+    return density * 4.0 * h * (1.0 - h) * u_cirrus_extinction;
+#endif
+}
+
+float cloud_extinction(vec3 p, bool cheap) {
+    float r = length(p);
+    if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, cheap);
+    return cirrus_extinction(p, r);
+}

@@ -1,0 +1,94 @@
+// The clouds' light model (float64 twin: skydome.reference.cloud_slab, which derives it):
+// single scattering of the unscattered beam, the beam's forward peak scattered again, and the
+// delta-Eddington two-stream diffuse field of a conservative local slab (Joseph, Wiscombe &
+// Weinman 1976; Meador & Weaver 1980 Eddington coefficients at albedo 1, closed form).
+// Optical depths are dimensionless; results are per unit irradiance (1/sr).
+#include "common/phase_functions.glsl"
+
+// The cloud phase function: CLOUD_LOBES Henyey-Greenstein lobes (skydome.clouds.phase).
+uniform float u_cloud_lobe_g[CLOUD_LOBES];
+uniform float u_cloud_lobe_weight[CLOUD_LOBES];
+uniform vec3 u_cloud_moments;  // (g, f = second moment, g' = (g - f) / (1 - f))
+
+float cloud_phase(float nu) {
+    float p = 0.0;
+    for (int j = 0; j < CLOUD_LOBES; ++j)
+        p += u_cloud_lobe_weight[j] * henyey_greenstein_phase(nu, u_cloud_lobe_g[j]);
+    return p;
+}
+
+// (I0, I1) of the diffuse field at scaled depth tau below the top of a slab of scaled
+// thickness tau_total lit at its top by a beam of cosine mu0 (unit irradiance normal to it),
+// over a ground of albedo A: the net flux F_up - F_down = mu0 exp(-tau/mu0) + c1 is constant
+// but for the beam, F_up + F_down = a exp(-tau/mu0) + 2 gamma c1 tau + c2.
+vec2 direct_field(float tau, float tau_total, float mu0, float g_scaled, float albedo) {
+    float gamma = 0.75 * (1.0 - g_scaled);
+    float gamma3 = (2.0 - 3.0 * g_scaled * mu0) * 0.25;
+    float a = -mu0 * (2.0 * gamma * mu0 + 1.0 - 2.0 * gamma3);
+    float e_total = exp(-tau_total / mu0);
+    float c1 = (1.0 - albedo) * (a * (1.0 - e_total) - mu0 * (1.0 + e_total))
+             / (2.0 + 2.0 * gamma * tau_total * (1.0 - albedo));
+    float c2 = mu0 + c1 - a;
+    float e = exp(-tau / mu0);
+    float net = mu0 * e + c1;
+    float total = a * e + 2.0 * gamma * c1 * tau + c2;
+    return vec2(total / (2.0 * PI), 3.0 * net / (4.0 * PI));
+}
+
+// The same per unit diffuse (isotropic) irradiance on the slab's top.
+vec2 diffuse_field(float tau, float tau_total, float g_scaled, float albedo) {
+    float gamma = 0.75 * (1.0 - g_scaled);
+    float c1 = -2.0 * (1.0 - albedo) / (2.0 + 2.0 * gamma * tau_total * (1.0 - albedo));
+    return vec2((2.0 * gamma * c1 * tau + 2.0 + c1) / (2.0 * PI), 3.0 * c1 / (4.0 * PI));
+}
+
+// The source of every order >= 2 from the Monte Carlo table (skydome.clouds.ms_table, built by
+// tools/build_cloud_ms_table.py; its NumPy twin ms_source interpolates the same way): per
+// (scattered direction's upward cosine: a block of 24 depth texels in x), (depth in the slab,
+// optical thickness, light cosine) interpolated trilinearly, RGB = the cosine Fourier
+// coefficients in the azimuth from the light's.
+uniform sampler3D u_cloud_ms_table;  // (12 x 24, 10, 8)
+const float MS_MU[12] = float[12](-1.0, -0.85, -0.65, -0.45, -0.25, -0.08, 0.08, 0.25, 0.45,
+                                  0.65, 0.85, 1.0);
+
+vec3 ms_coefficients(int mu_index, vec3 xyz) {
+    return texture(u_cloud_ms_table, vec3((float(mu_index) * 24.0 + xyz.x + 0.5) / 288.0,
+                                          (xyz.y + 0.5) / 10.0, (xyz.z + 0.5) / 8.0)).rgb;
+}
+
+float ms_source(float tau_top, float tau_total, float mu0, float mu_up, float cos_phi) {
+    float u = clamp(tau_top / max(tau_total, 1e-6), 0.0, 1.0);
+    float s = acos(1.0 - 2.0 * u) / PI;
+    vec3 xyz = vec3(clamp(s * 24.0 - 0.5, 0.0, 23.0),
+                    clamp(log2(max(tau_total, 1e-6)) + 2.0, 0.0, 9.0),
+                    clamp(7.0 * pow(max((mu0 - 0.02) / 0.98, 0.0), 2.0 / 3.0), 0.0, 7.0));
+    int i = 0;
+    while (i < 10 && MS_MU[i + 1] < mu_up) ++i;
+    float w = clamp((mu_up - MS_MU[i]) / (MS_MU[i + 1] - MS_MU[i]), 0.0, 1.0);
+    vec3 c = mix(ms_coefficients(i, xyz), ms_coefficients(i + 1, xyz), w);
+    float thin = min(tau_total / 0.25, 1.0);  // orders >= 2 vanish linearly in thin slabs
+    return max(c.x + c.y * cos_phi + c.z * (2.0 * cos_phi * cos_phi - 1.0), 0.0) * thin;
+}
+
+// The source J (1/sr) per unit of the light's irradiance and per unit of the sky's diffuse
+// irradiance (returned as x and y) at a point with slant optical depth tau_s towards the
+// light and tau_below across its local slab (the slab's top faces the light: tau_top =
+// tau_s mu0), for light scattered towards upward cosine mu_up (to the slab's normal) at
+// phase-angle cosine nu and azimuth cosine cos_phi from the light's, over a ground of
+// `albedo`: the exact single scattering, the table's orders >= 2 (a black ground), the
+// ground's reflected light as the two-stream field adds it, and the sky's two-stream field.
+vec2 cloud_source(float tau_s, float tau_below, float mu0, float mu_up, float nu, float cos_phi,
+                  float albedo) {
+    float g = u_cloud_moments.x, f = u_cloud_moments.y, gs = u_cloud_moments.z;
+    float k = 1.0 - f;
+    float tau_top = tau_s * mu0;
+    float tau_total = tau_top + tau_below;
+    float j = cloud_phase(nu) * exp(-tau_s) + ms_source(tau_top, tau_total, mu0, mu_up, cos_phi);
+    if (albedo > 0.0) {
+        vec2 lit = direct_field(k * tau_top, k * tau_total, mu0, gs, albedo)
+                 - direct_field(k * tau_top, k * tau_total, mu0, gs, 0.0);
+        j += lit.x + g * mu_up * lit.y;
+    }
+    vec2 sky = diffuse_field(k * tau_top, k * tau_total, gs, albedo);
+    return vec2(j, sky.x + g * mu_up * sky.y);
+}

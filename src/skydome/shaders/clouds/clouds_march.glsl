@@ -1,0 +1,210 @@
+// The clouds' ray march (skydome.clouds.layer): for each pixel, the light the clouds scatter
+// towards the camera and their transmittance, marched through the spherical shells of the
+// main layer and of the cirrus sheet (clouds/cloud_density.glsl) from any altitude (below,
+// inside, above, from space). Each sample is lit by the key light (the Sun, or the Moon at
+// night) through a light march towards it and a march across its local slab
+// (clouds/cloud_lighting.glsl), and by the sky's irradiance from the atmosphere's tables.
+// Energy-conserving integration of each step (Hillaire 2016): J (1 - exp(-sigma dt)).
+//   location 0: the clouds' radiance (R, G, B, scotopic; cd/m^2), not yet seen through the air;
+//   location 1: (transmittance, mean distance km of the light, cloud shadow on the ground
+//               where the ray ends there (1 = lit), 1).
+// With CLOUDS_ALONE (tests) the key light has the irradiance u_test_irradiance at every point
+// and there is no sky light. NO_JITTER starts every ray's samples at the steps' middles
+// (tests); otherwise the 4x4 ordered offsets of seed 000 eq. 5.14, turned each frame by
+// u_frame_jitter (the interactive mode's temporal accumulation).
+#include "common/camera.glsl"
+#include "common/ground_shading.glsl"
+#include "clouds/cloud_lighting.glsl"
+#include "clouds/cloud_density.glsl"
+
+uniform vec3 u_camera_position;   // km, planet-centred
+uniform vec3 u_light_direction;   // the key light (unit, ENU)
+uniform vec4 u_light_scale;       // its scale per output channel relative to the tables' Sun
+uniform vec3 u_march;             // (view steps per km, most view steps, shortest step km)
+uniform vec2 u_light_march_km;    // lengths of the march towards the light and across the slab
+uniform float u_cloud_albedo_below; // the ground's albedo seen by the clouds' two-stream slab
+uniform float u_frame_jitter;     // added to the ordered offset (0 for still frames)
+#ifdef CLOUDS_ALONE
+uniform vec4 u_test_irradiance;
+#endif
+
+layout(location = 0) out vec4 frag_radiance;
+layout(location = 1) out vec4 frag_cloud;
+
+const int LIGHT_STEPS = 6;
+const int SLAB_STEPS = 4;
+
+// Seed 000 eq. 5.14 (its 0.22 read as the Bayer matrix's 0.25).
+float ordered_offset(ivec2 xy) {
+    const float M[16] = float[16](0.0, 0.5, 0.125, 0.625, 0.75, 0.25, 0.875, 0.375,
+                                  0.1875, 0.6875, 0.0625, 0.5625, 0.9375, 0.4375, 0.8125, 0.3125);
+    return M[(xy.y & 3) * 4 + (xy.x & 3)];
+}
+
+// The part [t0, t1] of the ray inside the shell between radii r_lo and r_hi, before the
+// ground (t_ground) and t_max; false if none.
+bool shell_segment(vec3 o, vec3 d, float r_lo, float r_hi, float t_ground, out vec2 seg) {
+    vec2 outer = ray_sphere(o, d, r_hi);
+    if (outer.y <= 0.0) return false;
+    float t0 = max(outer.x, 0.0), t1 = outer.y;
+    vec2 inner = ray_sphere(o, d, r_lo);
+    if (inner.y > 0.0) {
+        if (length(o) < r_lo) t0 = max(t0, inner.y);  // below: from where it leaves the inner sphere
+        else t1 = min(t1, inner.x);                   // above or inside: until it meets it
+    }
+    t1 = min(t1, t_ground);
+    seg = vec2(t0, t1);
+    return t1 > t0;
+}
+
+// Optical depth from p along unit d over `length_km`, `n` steps growing geometrically
+// (samples at each step's middle; exact for a uniform medium).
+float optical_depth_along(vec3 p, vec3 d, float length_km, int n, bool geometric) {
+    float tau = 0.0, t = 0.0;
+    float total = geometric ? float((1 << n) - 1) : float(n);
+    for (int i = 0; i < n; ++i) {
+        float dt = length_km * (geometric ? float(1 << i) : 1.0) / total;
+        tau += cloud_extinction(p + d * (t + 0.5 * dt), true) * dt;
+        t += dt;
+    }
+    return tau;
+}
+
+// The distance from p (inside the shell r_lo..r_hi) along unit d to the shell's boundary.
+float distance_in_shell(vec3 p, vec3 d, float r_lo, float r_hi) {
+    float t = ray_sphere(p, d, r_hi).y;
+    vec2 inner = ray_sphere(p, d, r_lo);
+    if (inner.x > 0.0) t = min(t, inner.x);
+    return max(t, 0.0);
+}
+
+// The key light's irradiance normal to its beam and the sky's on a horizontal surface at p
+// (R, G, B, scotopic; lx).
+void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
+#ifdef CLOUDS_ALONE
+    light = u_test_irradiance;
+    sky = vec4(0.0);
+#else
+    vec3 up = normalize(p);
+    vec3 q = up * max(length(p), u_bottom_radius + 1e-3);
+    SurfaceLight beam = surface_light(q, u_light_direction, u_light_direction);
+    SurfaceLight flat = surface_light(q, up, u_light_direction);
+    light = vec4(0.0);
+    sky = vec4(0.0);
+    for (int g = 0; g < NUM_GROUPS; ++g) {
+        light += u_spectral_to_rgbs[g] * sun_irradiance_group(g, beam);
+        sky += u_spectral_to_rgbs[g] * sky_irradiance_group(g, flat);
+    }
+    light *= u_light_scale;
+    sky *= u_light_scale;
+#endif
+}
+
+// March one shell's segment, accumulating radiance, transmittance and the light-weighted
+// distance.
+#ifdef DEBUG_SOURCE
+vec4 dbg = vec4(-1.0);
+#endif
+void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
+                 inout vec4 radiance, inout float transmittance, inout vec2 depth) {
+    float len = seg.y - seg.x;
+    int n = int(clamp(ceil(len * u_march.x), 4.0, u_march.y));
+    float dt = max(len / float(n), min(u_march.z, len));
+    n = int(ceil(len / dt));
+    vec4 light0, sky0, light1, sky1;
+    irradiance_at(o + d * seg.x, light0, sky0);
+    irradiance_at(o + d * seg.y, light1, sky1);
+    vec3 L = u_light_direction;
+    float nu = dot(d, L);
+    for (int i = 0; i < n; ++i) {
+        float t = seg.x + (float(i) + offset) * dt;
+        if (t >= seg.y) break;
+        vec3 p = o + d * t;
+        float sigma = cloud_extinction(p, false);
+        if (sigma <= 0.0) continue;
+        vec3 up = normalize(p);
+        float mu_l = dot(up, L);
+        // the local slab faces the light: its top is towards the light
+        vec3 n_slab = mu_l >= 0.0 ? up : -up;
+        float mu0 = max(abs(mu_l), 0.03);
+        float to_light = min(distance_in_shell(p, L, r_lo, r_hi), u_light_march_km.x);
+        float tau_s = optical_depth_along(p, L, to_light, LIGHT_STEPS, true);
+        float across = min(distance_in_shell(p, -n_slab, r_lo, r_hi), u_light_march_km.y);
+        float tau_far = optical_depth_along(p, -n_slab, across, SLAB_STEPS, false);
+        // the azimuth of the scattered light (travelling along -d) from the light's, about
+        // the slab's normal
+        vec3 a = -d - dot(-d, n_slab) * n_slab, b = L - mu_l * up;
+        float ab = length(a) * length(b);
+        float cos_phi = ab > 1e-6 ? dot(a, b) / ab : 1.0;
+        vec2 j = cloud_source(tau_s, tau_far, mu0, dot(-d, n_slab), nu, cos_phi,
+                              u_cloud_albedo_below);
+        float w = clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
+        vec4 source = mix(light0, light1, w) * j.x + mix(sky0, sky1, w) * j.y;
+        float a = 1.0 - exp(-sigma * dt);
+#ifdef DEBUG_SOURCE
+        if (i == 0) dbg = vec4(j.x, nu, mu0, tau_s);
+#endif
+        radiance += transmittance * a * source;
+        depth += vec2(transmittance * a * t, transmittance * a);
+        transmittance *= 1.0 - a;
+        if (transmittance < 0.003) { transmittance = 0.0; break; }
+    }
+}
+
+// Transmittance towards the light from a point on the ground through both shells (its
+// cloud shadow), from the extinction where the light's path crosses each shell's middle
+// (seed 000 ch. 5.4.3's soft shadow, with the thickness of the crossing).
+float ground_shadow(vec3 p) {
+    vec3 L = u_light_direction;
+    float tau = 0.0;
+    for (int s = 0; s < 2; ++s) {
+        float r_lo = s == 0 ? u_cloud_shell.x : u_cloud_shell.z;
+        float r_hi = s == 0 ? u_cloud_shell.y : u_cloud_shell.w;
+        vec2 seg;
+        if (!shell_segment(p, L, r_lo, r_hi, 1e30, seg)) continue;
+        tau += optical_depth_along(p + L * seg.x, L, seg.y - seg.x, 4, false);
+    }
+    return exp(-tau);
+}
+
+void main() {
+    frag_radiance = vec4(0.0);
+    frag_cloud = vec4(1.0, 0.0, 1.0, 1.0);
+    vec3 d;
+    if (!camera_ray(gl_FragCoord.xy, d)) return;
+    vec3 o = u_camera_position;
+    vec2 ground = ray_sphere(o, d, u_bottom_radius);
+    float t_ground = ground.x > 0.0 ? ground.x : 1e30;
+#ifdef NO_JITTER
+    float offset = 0.5;
+#else
+    float offset = fract(ordered_offset(ivec2(gl_FragCoord.xy + u_tile_offset)) + u_frame_jitter);
+#endif
+    vec4 radiance = vec4(0.0);
+    float transmittance = 1.0;
+    vec2 depth = vec2(0.0);
+    vec2 seg_main, seg_cirrus;
+    bool main_hit = shell_segment(o, d, u_cloud_shell.x, u_cloud_shell.y, t_ground, seg_main);
+    bool cirrus_hit = u_cloud_shell.w > u_cloud_shell.z
+                      && shell_segment(o, d, u_cloud_shell.z, u_cloud_shell.w, t_ground, seg_cirrus);
+    // near to far
+    bool cirrus_first = cirrus_hit && (!main_hit || seg_cirrus.x < seg_main.x);
+    for (int k = 0; k < 2; ++k) {
+        bool cirrus = (k == 0) == cirrus_first;
+        if (cirrus ? !cirrus_hit : !main_hit) continue;
+        if (transmittance <= 0.0) break;
+        if (cirrus)
+            march_shell(o, d, seg_cirrus, u_cloud_shell.z, u_cloud_shell.w, offset, radiance,
+                        transmittance, depth);
+        else
+            march_shell(o, d, seg_main, u_cloud_shell.x, u_cloud_shell.y, offset, radiance,
+                        transmittance, depth);
+    }
+    float mean_km = depth.y > 0.0 ? depth.x / depth.y : 0.0;
+    float shadow = t_ground < 1e29 ? ground_shadow(o + d * t_ground) : 1.0;
+    frag_radiance = radiance;
+#ifdef DEBUG_SOURCE
+    frag_radiance = dbg;
+#endif
+    frag_cloud = vec4(transmittance, mean_km, shadow, 1.0);
+}
