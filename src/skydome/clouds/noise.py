@@ -46,7 +46,7 @@ SHAPE_WORLEY_PERIODS = (4, 8, 16)
 DETAIL_WORLEY_PERIODS = (2, 4, 8)
 #: Curl texture: the potential's first period (cells per tile) and octaves.
 CURL_PERIOD = 4
-CURL_OCTAVES = 4
+CURL_OCTAVES = 3
 
 #: Default sizes (texels per axis), as in Nubis: 128^3 shape, 32^3 detail, 128^2 curl.
 DEFAULT_SHAPE_SIZE = 128
