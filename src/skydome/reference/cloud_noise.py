@@ -81,10 +81,12 @@ def perlin_noise(p: np.ndarray, period, salt: int) -> np.ndarray:
     out = np.zeros(p.shape[:-1])
     for corner in np.ndindex(2, 2, 2):
         o = np.array(corner[::-1])  # (x, y, z) offsets
+        weight = np.prod(np.where(o == 1, w, 1.0 - w), axis=-1)
+        if not weight.any():  # e.g. the far corners of a slice on a lattice plane
+            continue
         h = _hash_cells(_wrap(c + o, period), salt)[..., 0]
         g = GRADIENTS[(h >> _U32(16)) % _U32(12)]
         value = np.sum(g * (f - o), axis=-1)
-        weight = np.prod(np.where(o == 1, w, 1.0 - w), axis=-1)
         out += weight * value
     return out
 
