@@ -63,7 +63,10 @@ def test_shape_and_detail_match_the_twin(shape, detail):
     idx, u = _texels(rng, N, 300)
     got = shape[idx[:, 2], idx[:, 1], idx[:, 0]]
     np.testing.assert_allclose(got, _twin_shape(u, 7), atol=TOL_F32, rtol=0)
-    r, g, b = (ref.worley_fbm(u, p, 7, s) for p, s in zip(cn.DETAIL_WORLEY_PERIODS, (64, 80, 96)))
+    r, g, b = (
+        ref.worley_fbm(u, p, 7, s)
+        for p, s in zip(cn.DETAIL_WORLEY_PERIODS, (64, 80, 96), strict=True)
+    )
     want = np.stack([r, g, b, 0.625 * r + 0.25 * g + 0.125 * b], axis=-1)
     np.testing.assert_allclose(detail[idx[:, 2], idx[:, 1], idx[:, 0]], want, atol=TOL_F32)
 

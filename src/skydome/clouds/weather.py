@@ -286,7 +286,11 @@ class AnimatedWeather:
         weather_map: the map at the reference time t = 0.
         wind_m_s: (east, north) wind, m/s: the map moves by wind * t (wrapping around).
         flow_m_s: peak speed of the flow field (curl noise, divergence-free) that churns the
-            map in the frame moving with the wind, m/s; 0 for none.
+            map in the frame moving with the wind, m/s; 0 for none. A flow map distorts the
+            map locally, it does not carry clouds across the tile: each of two phases drifts
+            along the flow and fades out before it restarts (their weighted displacements
+            cancel), so features swirl within about flow_m_s * flow_period_s / 2 of where
+            they started. The wind does the transport.
         flow_period_s: the flow map's cycle, s: each of its two phases displaces by up to
             flow_m_s * flow_period_s / 2 before it fades out and restarts.
         evolution_s: time over which the clouds grow and decay noticeably, s (the noise that
