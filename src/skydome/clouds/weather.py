@@ -188,7 +188,7 @@ class WeatherMap:
         the same way to a mean of ``cirrus``.
 
         The generation is NumPy, not GLSL: a weather map is host data made once per seed and
-        parameters (512^2 in about a second), and the threshold is a global search over the
+        parameters (512^2 in 2 s on 2 CPU cores), and the threshold is a global search over the
         whole array. Its noise is the float64 twin of the shaders' (same hash and lattice).
         """
         from skydome.reference import cloud_noise as twin
