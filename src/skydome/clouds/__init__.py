@@ -1,0 +1,1 @@
+"""Volumetric clouds: noise, weather maps, cloud types, the cloud layer."""
