@@ -1,0 +1,114 @@
+"""The phase function of cloud droplets, as a mixture of Henyey-Greenstein lobes.
+
+A water cloud's phase function (Mie theory for droplets of r_eff ~ 10 um in the visible) has a
+diffraction peak a degree wide that holds about half of the scattered light, a broad forward
+lobe, a minimum near 100 deg, the cloudbow at ~140 deg and the glory at 180 deg. The renderer
+and the Monte Carlo reference (:mod:`skydome.reference.clouds_mc`) both use it as
+
+    P(cos theta) = sum_j w_j HG(cos theta, g_j),   w_j >= 0,  sum_j w_j = 1,
+
+(1/sr, normalised to 1 over the sphere), a form that is cheap in GLSL (weights and asymmetries
+as uniforms) and exactly sampled by choosing a lobe by weight and inverting its CDF. The HG
+lobes are monotone in angle: they keep the peak, the forward lobe and the first moment of the
+Mie phase function but not the cloudbow nor the glory (see ``tools/build_cloud_phase.py``).
+
+:data:`CLOUD_PHASE` is the mixture fitted to the Mie phase function of a gamma distribution of
+water droplets (r_eff 10 um, v_eff 0.1, m = 1.333, 550 nm), read from the packaged
+``cloud_droplet_phase.csv``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from skydome.atmosphere.phase import MAX_LOBES, henyey_greenstein
+from skydome.errors import ParameterError
+from skydome.io.packaged import read_packaged_csv
+
+__all__ = ["CLOUD_PHASE", "LobePhase", "PHASE_CSV", "load_cloud_phase", "sample_hg"]
+
+#: The packaged table of :data:`CLOUD_PHASE` (built by ``tools/build_cloud_phase.py``).
+PHASE_CSV = "cloud_droplet_phase.csv"
+
+
+def sample_hg(g, u) -> np.ndarray:
+    """Cosines of scattering angles drawn from HG(g) by inverting its CDF at uniform deviates
+    ``u`` in [0, 1) (``g`` and ``u`` broadcast):
+    cos = (1 + g^2 - ((1 - g^2) / (1 - g + 2 g u))^2) / (2 g), and 2 u - 1 where |g| < 1e-6."""
+    g = np.asarray(g, float)
+    u = np.asarray(u, float)
+    small = np.abs(g) < 1e-6
+    gs = np.where(small, 0.5, g)  # placeholder where isotropic, result replaced below
+    s = (1.0 - gs * gs) / (1.0 - gs + 2.0 * gs * u)
+    mu = (1.0 + gs * gs - s * s) / (2.0 * gs)
+    return np.clip(np.where(small, 2.0 * u - 1.0, mu), -1.0, 1.0)
+
+
+@dataclass(frozen=True)
+class LobePhase:
+    """A phase function sum_j w_j HG(g_j): non-negative ``weights`` summing to 1 (within 1e-9;
+    stored normalised) and asymmetries ``g`` in (-1, 1), 1 to ``MAX_LOBES`` (12) lobes."""
+
+    weights: tuple[float, ...]
+    g: tuple[float, ...]
+
+    def __post_init__(self):
+        w = np.asarray(self.weights, float).ravel()
+        g = np.asarray(self.g, float).ravel()
+        if w.size != g.size or not 1 <= w.size <= MAX_LOBES:
+            raise ParameterError(
+                f"a lobe phase function needs 1 to {MAX_LOBES} weights and as many asymmetries, "
+                f"got {w.size} weights and {g.size} asymmetries"
+            )
+        if not np.all(np.isfinite(w)) or np.any(w < 0.0):
+            raise ParameterError(f"lobe weights must be finite and >= 0, got {tuple(w)}")
+        if abs(w.sum() - 1.0) > 1e-9:
+            raise ParameterError(f"lobe weights must sum to 1 (within 1e-9), got {w.sum()!r}")
+        if not np.all(np.isfinite(g)) or np.any(np.abs(g) >= 1.0):
+            raise ParameterError(f"lobe asymmetries must lie in (-1, 1), got {tuple(g)}")
+        object.__setattr__(self, "weights", tuple(float(v) for v in w / w.sum()))
+        object.__setattr__(self, "g", tuple(float(v) for v in g))
+
+    @classmethod
+    def henyey_greenstein(cls, g: float) -> LobePhase:
+        """One HG lobe of asymmetry ``g`` (g = 0: isotropic, 1/(4 pi) sr^-1)."""
+        return cls((1.0,), (float(g),))
+
+    @property
+    def asymmetry(self) -> float:
+        """First moment <cos theta> = sum_j w_j g_j (the HG lobe's Legendre moments are g^l)."""
+        return float(np.dot(self.weights, self.g))
+
+    @property
+    def second_moment(self) -> float:
+        """Second Legendre moment sum_j w_j g_j^2: the fraction f that the delta-M method
+        (Wiscombe 1977) moves into the forward delta peak at its lowest (Eddington) order."""
+        return float(np.dot(self.weights, np.square(self.g)))
+
+    def value(self, cos_theta) -> np.ndarray:
+        """P(cos theta) in 1/sr (integrates to 1 over the sphere), the shape of ``cos_theta``."""
+        mu = np.asarray(cos_theta, float)
+        out = np.zeros_like(mu)
+        for w, g in zip(self.weights, self.g, strict=True):
+            if w > 0.0:
+                out += w * henyey_greenstein(mu, g)
+        return out
+
+    def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
+        """``n`` cosines of scattering angles drawn from P: a lobe chosen by weight, then its
+        HG CDF inverted (:func:`sample_hg`)."""
+        lobe = np.searchsorted(np.cumsum(self.weights)[:-1], rng.random(n), side="right")
+        return sample_hg(np.asarray(self.g)[lobe], rng.random(n))
+
+
+def load_cloud_phase() -> LobePhase:
+    """The cloud droplet phase function from the packaged ``cloud_droplet_phase.csv``."""
+    t = read_packaged_csv(PHASE_CSV, ("weight", "g"))
+    return LobePhase(tuple(t["weight"]), tuple(t["g"]))
+
+
+#: The phase function of a water-droplet cloud at 550 nm (r_eff 10 um, v_eff 0.1), HG lobes
+#: fitted to Mie theory by ``tools/build_cloud_phase.py``.
+CLOUD_PHASE: LobePhase = load_cloud_phase()
