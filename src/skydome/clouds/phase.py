@@ -87,6 +87,23 @@ class LobePhase:
         (Wiscombe 1977) moves into the forward delta peak at its lowest (Eddington) order."""
         return float(np.dot(self.weights, np.square(self.g)))
 
+    def delta_truncated(self, peak_g: float = 0.98) -> tuple[LobePhase, float]:
+        """The phase function with its forward peak taken out (delta-M, Wiscombe 1977, J.
+        Atmos. Sci. 34, 1408, keeping the first moment): each lobe with g_j >= ``peak_g`` is
+        split as g_j delta + (1 - g_j) HG(0). Returns (the remaining lobes plus the
+        isotropic part, renormalised; f = sum of w_j g_j over those lobes, the fraction of
+        scattering the peak sends straight on: extinction scales by 1 - f at albedo 1)."""
+        w = np.asarray(self.weights)
+        g = np.asarray(self.g)
+        peak = g >= peak_g
+        f = float(np.sum(w[peak] * g[peak]))
+        if f <= 0.0:
+            return self, 0.0
+        iso = float(np.sum(w[peak] * (1.0 - g[peak])))
+        rest_w = np.append(w[~peak], iso)
+        rest_g = np.append(g[~peak], 0.0)
+        return LobePhase(tuple(rest_w / rest_w.sum()), tuple(rest_g)), f
+
     def value(self, cos_theta) -> np.ndarray:
         """P(cos theta) in 1/sr (integrates to 1 over the sphere), the shape of ``cos_theta``."""
         mu = np.asarray(cos_theta, float)

@@ -143,16 +143,9 @@ def delta_scaled(
     (same weight, same asymmetry). With f = sum of w_j g_j over those lobes, returns (the
     remaining lobes plus the isotropic part, renormalised; (1 - ssa f) tau;
     (1 - f) ssa / (1 - ssa f)). The similarity parameter tau (1 - ssa g) is unchanged."""
-    w = np.asarray(phase.weights)
-    g = np.asarray(phase.g)
-    peak = g >= peak_g
-    f = float(np.sum(w[peak] * g[peak]))
+    rest, f = phase.delta_truncated(peak_g)
     if f <= 0.0:
         return phase, tau, ssa
-    iso = float(np.sum(w[peak] * (1.0 - g[peak])))
-    rest_w = np.append(w[~peak], iso)
-    rest_g = np.append(g[~peak], 0.0)
-    rest = LobePhase(tuple(rest_w / rest_w.sum()), tuple(rest_g))
     return rest, (1.0 - ssa * f) * tau, (1.0 - f) * ssa / (1.0 - ssa * f)
 
 
