@@ -19,18 +19,22 @@ from skydome.clouds.params import CIRRUS_EXTINCTION_PER_M, Clouds
 from skydome.errors import ParameterError
 from skydome.scene.layer import DrawContext, Layer
 
-#: Ray-march settings: view steps per km of ray in a shell, most view steps, shortest step
-#: (km); lengths (km) of the march towards the light and across the local slab; the march's
-#: resolution relative to the frame.
+#: Ray-march settings: the view step as a fraction of the distance, most samples per shell,
+#: shortest step (km); lengths (km) of the march towards the light and across the local
+#: slab; the march's resolution relative to the frame.
 QUALITY = {
-    "full": {"march": (40.0, 160.0, 0.02), "light_km": (6.0, 4.0), "scale": 1},
-    "interactive": {"march": (10.0, 40.0, 0.05), "light_km": (4.0, 3.0), "scale": 2},
+    "full": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1,
+             "steps": (6, 2)},
+    "interactive": {"march": (0.02, 64.0, 0.06), "light_km": (4.0, 3.0), "scale": 2,
+                    "steps": (4, 1)},
 }
 #: Repeat lengths (km) of the shape and detail noises.
-SHAPE_TILE_KM = 12.0
-DETAIL_TILE_KM = 1.6
+SHAPE_TILE_KM = 6.0
+DETAIL_TILE_KM = 0.8
 #: How far the detail noise erodes the shapes' edges (Schneider 2015's 0.2-0.4).
 DETAIL_EROSION = 0.35
+#: Lobes of the phase function at least this forward are the diffraction peak (delta-M).
+PEAK_G = 0.98
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
 MOON_KEY_BELOW_DEG = -8.0
 
@@ -62,7 +66,11 @@ class CloudLayer(Layer):
             from skydome.clouds.phase import CLOUD_PHASE
 
             phase = CLOUD_PHASE
-        self.phase = phase
+        #: The phase function the march uses and the factor on the extinction: the
+        #: droplets' diffraction peak (lobes with g >= PEAK_G) taken out by delta-M, its light
+        #: counted as unscattered (it leaves within about a degree of its direction).
+        self.phase, peak = phase.delta_truncated(PEAK_G)
+        self.extinction_scale = 1.0 - peak
         self.noise = None
         self.weather = None
         self._targets: dict = {}
@@ -157,8 +165,10 @@ class CloudLayer(Layer):
             ),  # fmt: skip
             "u_noise_tiles_km": (c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
             "u_cloud_offset_km": offset_km,
-            "u_type_extinction": c.type_extinctions_per_km(),
-            "u_cirrus_extinction": CIRRUS_EXTINCTION_PER_M * 1e3,
+            "u_type_extinction": tuple(
+                e * self.extinction_scale for e in c.type_extinctions_per_km()
+            ),
+            "u_cirrus_extinction": CIRRUS_EXTINCTION_PER_M * 1e3 * self.extinction_scale,
             "u_detail_erosion": DETAIL_EROSION,
             "u_cloud_lobe_g": [float(v) for v in self.phase.g],
             "u_cloud_lobe_weight": [float(v) for v in self.phase.weights],
@@ -172,7 +182,13 @@ class CloudLayer(Layer):
     def defines(self, frame: DrawContext, extra: tuple[str, ...] = ()) -> dict:
         atmosphere = self._atmosphere()
         lights = atmosphere.lights
-        d = {**atmosphere.renderer.tables.defines(), "CLOUD_LOBES": len(self.phase.g)}
+        light, slab = QUALITY[self.quality]["steps"]
+        d = {
+            **atmosphere.renderer.tables.defines(),
+            "CLOUD_LOBES": len(self.phase.g),
+            "LIGHT_STEPS": light,
+            "SLAB_STEPS": slab,
+        }
         if np.any(np.asarray(lights.get("light2_scale", 0.0), dtype=float) > 0):
             d["HAS_LIGHT2"] = 1
         for name in extra:
@@ -243,7 +259,8 @@ class CloudLayer(Layer):
         (H, W, 4) of the clouds' radiance (cd/m^2, not yet seen through the air) and of
         (transmittance, distance km, ground shadow, 1), top row first. For tests:
         ``test_irradiance`` lights every point with that irradiance (lx, all channels) and no
-        sky; ``uniform_extinction_per_m`` fills the main layer with a constant extinction;
+        sky; ``uniform_extinction_per_m`` fills the main layer with a constant extinction (of the
+        droplets, diffraction included: the march scales it by ``extinction_scale``);
         both march with the samples at the steps' middles (no jitter)."""
         ctx = self.graph.ctx
         frame = DrawContext(
@@ -259,11 +276,15 @@ class CloudLayer(Layer):
             uniforms["u_cloud_albedo_below"] = 0.0  # black ground below, as the references
         if uniform_extinction_per_m is not None:
             extra.append("UNIFORM_CLOUD")
-            uniforms["u_uniform_extinction"] = float(uniform_extinction_per_m) * 1e3
+            uniforms["u_uniform_extinction"] = (
+                float(uniform_extinction_per_m) * 1e3 * self.extinction_scale
+            )
         if extra:
             extra.append("NO_JITTER")
             import os
             if os.environ.get("DBG"): extra.append("DEBUG_SOURCE")
+        import os
+        if os.environ.get("DBGC"): extra.append("DEBUG_COUNT")
         textures = self.textures(noise=uniform_extinction_per_m is None)
         rad, data = self.march(frame, uniforms, textures, tuple(extra))
         out = []

@@ -20,6 +20,8 @@ uniform float u_cirrus_extinction; // 1/km at density 1
 uniform float u_detail_erosion;    // how much the detail noise eats into the edges (0-1)
 #endif
 
+const float CELL_FILL = 0.8;
+
 float remap(float v, float lo, float hi, float new_lo, float new_hi) {
     return new_lo + (v - lo) / max(hi - lo, 1e-6) * (new_hi - new_lo);
 }
@@ -68,14 +70,22 @@ float layer_extinction(vec3 p, float r, bool cheap) {
     if (profile <= 0.0) return 0.0;
     vec3 q = vec3(xy - u_cloud_offset_km.xy, r - u_cloud_shell.x - u_cloud_offset_km.z);
     vec4 shape = textureLod(u_shape_noise, q / u_noise_tiles_km.y, 0.0);
+    // the base shape: the Perlin-Worley channel and the Worley fBm, each stretched from its
+    // 1st to 99th percentile (skydome.clouds.noise at the defaults: 0.45-0.97 and
+    // 0.25-0.72) to [0, 1], so that the coverage threshold below meets the whole range
     float low = shape.g * 0.625 + shape.b * 0.25 + shape.a * 0.125;
-    float base = clamp(remap(shape.r, low - 1.0, 1.0, 0.0, 1.0), 0.0, 1.0) * profile;
-    // the coverage keeps the top (1 - coverage) of the shape's range: 0 leaves nothing
+    float base = clamp(0.65 * remap(shape.r, 0.45, 0.97, 0.0, 1.0)
+                       + 0.35 * remap(low, 0.25, 0.72, 0.0, 1.0), 0.0, 1.0) * profile;
+    // the coverage keeps the top (1 - coverage) of the shape's range: 0 leaves nothing; a
+    // fully covered texel of the map still leaves the noise's lowest part clear (CELL_FILL:
+    // cumulus cells, breaks in a deck)
+    coverage *= CELL_FILL;
     float density = clamp(remap(base, 1.0 - coverage, 1.0, 0.0, 1.0), 0.0, 1.0) * coverage;
     if (density <= 0.0) return 0.0;
     if (!cheap) {
-        vec4 d = textureLod(u_detail_noise, q / u_noise_tiles_km.z, 0.0);
-        float high = d.r * 0.625 + d.g * 0.25 + d.b * 0.125;
+        // the detail's own fBm (its alpha), stretched as the shape's (0.3-0.66)
+        float high = clamp(remap(textureLod(u_detail_noise, q / u_noise_tiles_km.z, 0.0).a,
+                                 0.3, 0.66, 0.0, 1.0), 0.0, 1.0);
         // wispy at the base, billowy above (Schneider 2015)
         high = mix(high, 1.0 - high, clamp(h * 5.0, 0.0, 1.0));
         density = clamp(remap(density, high * u_detail_erosion, 1.0, 0.0, 1.0), 0.0, 1.0);
@@ -106,7 +116,13 @@ float cirrus_extinction(vec3 p, float r) {
 #endif
 }
 
+#ifdef DEBUG_COUNT
+float debug_fetches = 0.0;
+#endif
 float cloud_extinction(vec3 p, bool cheap) {
+#ifdef DEBUG_COUNT
+    debug_fetches += cheap ? 1.0 : 2.0;
+#endif
     float r = length(p);
     if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, cheap);
     return cirrus_extinction(p, r);

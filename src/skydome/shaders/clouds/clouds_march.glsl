@@ -31,8 +31,13 @@ uniform vec4 u_test_irradiance;
 layout(location = 0) out vec4 frag_radiance;
 layout(location = 1) out vec4 frag_cloud;
 
-const int LIGHT_STEPS = 6;
-const int SLAB_STEPS = 4;
+// Samples of the march towards the light and across the slab (the layer's quality sets them).
+#ifndef LIGHT_STEPS
+#define LIGHT_STEPS 6
+#endif
+#ifndef SLAB_STEPS
+#define SLAB_STEPS 2
+#endif
 
 // Seed 000 eq. 5.14 (its 0.22 read as the Bayer matrix's 0.25).
 float ordered_offset(ivec2 xy) {
@@ -88,12 +93,12 @@ void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
     vec3 up = normalize(p);
     vec3 q = up * max(length(p), u_bottom_radius + 1e-3);
     SurfaceLight beam = surface_light(q, u_light_direction, u_light_direction);
-    SurfaceLight flat = surface_light(q, up, u_light_direction);
+    SurfaceLight level = surface_light(q, up, u_light_direction);
     light = vec4(0.0);
     sky = vec4(0.0);
     for (int g = 0; g < NUM_GROUPS; ++g) {
         light += u_spectral_to_rgbs[g] * sun_irradiance_group(g, beam);
-        sky += u_spectral_to_rgbs[g] * sky_irradiance_group(g, flat);
+        sky += u_spectral_to_rgbs[g] * sky_irradiance_group(g, level);
     }
     light *= u_light_scale;
     sky *= u_light_scale;
@@ -101,27 +106,51 @@ void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
 }
 
 // March one shell's segment, accumulating radiance, transmittance and the light-weighted
-// distance.
-#ifdef DEBUG_SOURCE
-vec4 dbg = vec4(-1.0);
-#endif
+// distance. Steps grow with the distance (a fraction u_march.x of it, at least u_march.z
+// km: a pixel's footprint grows so); through empty air they are COARSE times longer, and on
+// meeting a cloud the march steps back and goes on finely until it has seen EMPTY_STEPS
+// empty samples in a row.
+const float COARSE = 4.0;
+const int EMPTY_STEPS = 3;
 void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
                  inout vec4 radiance, inout float transmittance, inout vec2 depth) {
     float len = seg.y - seg.x;
-    int n = int(clamp(ceil(len * u_march.x), 4.0, u_march.y));
-    float dt = max(len / float(n), min(u_march.z, len));
-    n = int(ceil(len / dt));
     vec4 light0, sky0, light1, sky1;
     irradiance_at(o + d * seg.x, light0, sky0);
     irradiance_at(o + d * seg.y, light1, sky1);
     vec3 L = u_light_direction;
     float nu = dot(d, L);
-    for (int i = 0; i < n; ++i) {
-        float t = seg.x + (float(i) + offset) * dt;
+    bool fine = false;
+    int empty = 0;
+    float stay_fine = 0.0;
+    float t = seg.x;
+    float dt = max(u_march.x * t, u_march.z);
+    t += offset * dt;  // the first sample's offset, fine or coarse alike
+    for (int i = 0; i < int(u_march.y); ++i) {
         if (t >= seg.y) break;
+        dt = max(u_march.x * t, u_march.z);
         vec3 p = o + d * t;
+        if (!fine) {
+            if (cloud_extinction(p, true) <= 0.0) {
+                t += COARSE * dt;
+                continue;
+            }
+            // a cloud: back to where the coarse step came from, finely, at least up to here
+            fine = true;
+            empty = 0;
+            stay_fine = t + dt;
+            t = max(t - (COARSE - 1.0) * dt, seg.x + offset * dt);
+            continue;
+        }
         float sigma = cloud_extinction(p, false);
-        if (sigma <= 0.0) continue;
+        // the step's length, clipped at the segment's end
+        float step = min(dt, seg.y - t + 0.5 * dt);
+        if (sigma <= 0.0) {
+            if (++empty >= EMPTY_STEPS && t > stay_fine) fine = false;
+            t += dt;
+            continue;
+        }
+        empty = 0;
         vec3 up = normalize(p);
         float mu_l = dot(up, L);
         // the local slab faces the light: its top is towards the light
@@ -133,21 +162,22 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         float tau_far = optical_depth_along(p, -n_slab, across, SLAB_STEPS, false);
         // the azimuth of the scattered light (travelling along -d) from the light's, about
         // the slab's normal
-        vec3 a = -d - dot(-d, n_slab) * n_slab, b = L - mu_l * up;
-        float ab = length(a) * length(b);
-        float cos_phi = ab > 1e-6 ? dot(a, b) / ab : 1.0;
+        vec3 across_out = -d - dot(-d, n_slab) * n_slab, across_light = L - mu_l * up;
+        float norms = length(across_out) * length(across_light);
+        float cos_phi = norms > 1e-6 ? dot(across_out, across_light) / norms : 1.0;
         vec2 j = cloud_source(tau_s, tau_far, mu0, dot(-d, n_slab), nu, cos_phi,
                               u_cloud_albedo_below);
         float w = clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
         vec4 source = mix(light0, light1, w) * j.x + mix(sky0, sky1, w) * j.y;
-        float a = 1.0 - exp(-sigma * dt);
+        float a = 1.0 - exp(-sigma * step);
 #ifdef DEBUG_SOURCE
-        if (i == 0) dbg = vec4(j.x, nu, mu0, tau_s);
+        if (dbg.x < 0.0) dbg = vec4(j.x, nu, mu0, tau_s);
 #endif
         radiance += transmittance * a * source;
         depth += vec2(transmittance * a * t, transmittance * a);
         transmittance *= 1.0 - a;
-        if (transmittance < 0.003) { transmittance = 0.0; break; }
+        if (transmittance < 0.01) { transmittance = 0.0; break; }
+        t += dt;
     }
 }
 
@@ -207,4 +237,7 @@ void main() {
     frag_radiance = dbg;
 #endif
     frag_cloud = vec4(transmittance, mean_km, shadow, 1.0);
+#ifdef DEBUG_COUNT
+    frag_radiance = vec4(debug_fetches);
+#endif
 }
