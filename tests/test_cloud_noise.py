@@ -244,12 +244,14 @@ def test_default_textures_and_caches(ctx, monkeypatch):
     assert noise.shape.size == (128, 128, 128) and noise.shape.components == 4
     assert noise.detail.size == (32, 32, 32) and noise.detail.components == 4
     assert noise.curl.size == (128, 128) and noise.curl.components == 2
+    # the volumes in 8 bits (the noise lies in [0, 1]), the curl (in [-1, 1]) in float
+    assert noise.shape.dtype == noise.detail.dtype == "f1" and noise.curl.dtype == "f4"
     for tex in (noise.shape, noise.detail, noise.curl):
-        assert tex.dtype == "f4" and tex.repeat_x and tex.repeat_y
+        assert tex.repeat_x and tex.repeat_y
         assert tex.filter == (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
     assert noise.shape.repeat_z and noise.detail.repeat_z
     assert cn.cloud_noise(ctx, 11) is noise
-    texels = np.frombuffer(noise.shape.read(), np.float32).reshape(128, 128, 128, 4)
+    texels = np.frombuffer(noise.shape.read(), np.uint8).reshape(128, 128, 128, 4)
     cn._MEMORY.clear()
 
     def no_draw(*args, **kwargs):
@@ -260,7 +262,7 @@ def test_default_textures_and_caches(ctx, monkeypatch):
     again = cn.cloud_noise(ctx, 11)
     assert again.from_cache and again is not noise
     assert np.array_equal(
-        np.frombuffer(again.shape.read(), np.float32).reshape(texels.shape), texels
+        np.frombuffer(again.shape.read(), np.uint8).reshape(texels.shape), texels
     )
     again.release()
     assert cn._MEMORY.get(again._key) is None

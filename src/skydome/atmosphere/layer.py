@@ -170,11 +170,20 @@ class AtmosphereLayer(Layer):
         plan = r.frame_plan(frame.camera, frame.frame_size, altitude_m=frame.altitude_m, **lights)
         behind = dict(self._behind)
         textures = {**plan.textures, **frame.textures, "u_behind": frame.behind}
+        shafts = plan.sky_view and "u_shadow_map" in frame.textures and lights["sun_scale"] > 0
+        if shafts:  # another layer's shadow lengths (the clouds' light shafts)
+            radius_km = plan.uniforms["u_view_radius"]
+            textures.update(
+                r.sky_view.aerial_textures(
+                    "sun", radius_km, tuple(plan.uniforms["u_sun_direction"]), r.uniforms,
+                    r.textures,
+                )
+            )  # fmt: skip
         if plan.sky_view:
             radius_km = plan.uniforms["u_view_radius"]
             behind.update(self._view_transmittance_uniforms(radius_km))
             textures["u_view_transmittance"] = self._view_transmittance(radius_km, plan)
-        extra = (*plan.extra, "COMPOSITE_BEHIND")
+        extra = (*plan.extra, "COMPOSITE_BEHIND", *(("HAS_SHADOW_MAP",) if shafts else ()))
         if frame.behind_smooth is not None:  # the smooth space layers' light, reduced
             extra = (*extra, "BEHIND_SMOOTH")
             textures["u_behind_smooth"] = frame.behind_smooth

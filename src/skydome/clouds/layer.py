@@ -25,7 +25,7 @@ from skydome.scene.layer import DrawContext, Layer
 QUALITY = {
     "full": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1,
              "steps": (6, 2)},
-    "interactive": {"march": (0.02, 64.0, 0.06), "light_km": (4.0, 3.0), "scale": 2,
+    "interactive": {"march": (0.02, 64.0, 0.06), "light_km": (4.0, 3.0), "scale": 4,
                     "steps": (4, 1)},
 }
 #: Repeat lengths (km) of the shape and detail noises.
@@ -33,6 +33,10 @@ SHAPE_TILE_KM = 6.0
 DETAIL_TILE_KM = 0.8
 #: How far the detail noise erodes the shapes' edges (Schneider 2015's 0.2-0.4).
 DETAIL_EROSION = 0.35
+#: The light shafts' pass runs at 1/SHAFT_SCALE of the resolution over the first SHAFT_KM (km)
+#: of each ray.
+SHAFT_SCALE = 4
+SHAFT_KM = 40.0
 #: Lobes of the phase function at least this forward are the diffraction peak (delta-M).
 PEAK_G = 0.98
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
@@ -48,13 +52,15 @@ class CloudLayer(Layer):
             resolution, for the viewer).
         phase: the phase function (default: the Mie-fitted droplet lobes,
             skydome.clouds.phase.CLOUD_PHASE).
+        shafts: light shafts: the air in the clouds' shadow scatters no sunlight (the
+            atmosphere's shadow-length input).
     """
 
     name = "clouds"
     stage = "volume"
 
     def __init__(self, clouds: Clouds | str = "fair", *, quality: str = "full", phase=None,
-                 enabled: bool = True):  # fmt: skip
+                 shafts: bool = True, enabled: bool = True):  # fmt: skip
         super().__init__(enabled=enabled)
         self.clouds = Clouds(clouds) if isinstance(clouds, str) else clouds
         if not isinstance(self.clouds, Clouds):
@@ -62,6 +68,7 @@ class CloudLayer(Layer):
         if quality not in QUALITY:
             raise ParameterError(f"cloud quality {quality!r} must be one of {', '.join(QUALITY)}")
         self.quality = quality
+        self.shafts = bool(shafts)
         if phase is None:
             from skydome.clouds.phase import CLOUD_PHASE
 
@@ -75,6 +82,8 @@ class CloudLayer(Layer):
         self.weather = None
         self._targets: dict = {}
         self._ms_texture = None
+        self._frame_index = 0
+        self._history_key = self._history_camera = self._history_time = None
         self._state = None
         self._t0_jd: float | None = None
         self.time_s = 0.0
@@ -179,6 +188,27 @@ class CloudLayer(Layer):
             "u_frame_jitter": 0.0,
         }
 
+    def _aerial(self, uniforms: dict) -> tuple[dict, dict] | None:
+        """(uniforms, textures) of the atmosphere's aerial-perspective tables for the air's
+        lights seen from this camera (render/sky_view.py), or None where there are none (a
+        camera above the atmosphere: the march looks the 4D tables up instead)."""
+        renderer = self._atmosphere().renderer
+        radius_km = float(uniforms["u_camera_position"][2])
+        if renderer.sky_view is None or radius_km >= renderer.params.top_radius_m / 1e3:
+            return None
+        views = renderer.sky_view
+        textures = views.aerial_textures(
+            "sun", radius_km, uniforms["u_sun_direction"], renderer.uniforms, renderer.textures
+        )
+        if any(s > 0 for s in uniforms["u_light2_scale"]):
+            textures.update(
+                views.aerial_textures(
+                    "light2", radius_km, uniforms["u_light2_direction"], renderer.uniforms,
+                    renderer.textures,
+                )
+            )  # fmt: skip
+        return views.uniforms(radius_km), textures
+
     def defines(self, frame: DrawContext, extra: tuple[str, ...] = ()) -> dict:
         atmosphere = self._atmosphere()
         lights = atmosphere.lights
@@ -230,15 +260,19 @@ class CloudLayer(Layer):
 
     # ------------------------------------------------------------------ drawing
 
+    def _make_target(self, w: int, h: int):
+        """Two RGBA float textures (radiance, data), bilinear and clamped, and their framebuffer."""
+        ctx = self.graph.ctx
+        texs = [ctx.texture((w, h), 4, dtype="f4") for _ in range(2)]
+        for t in texs:
+            t.filter = (ctx.LINEAR, ctx.LINEAR)
+            t.repeat_x = t.repeat_y = False
+        return texs, ctx.framebuffer(color_attachments=texs)
+
     def _march_target(self, w: int, h: int):
         key = (w, h)
         if key not in self._targets:
-            ctx = self.graph.ctx
-            texs = [ctx.texture((w, h), 4, dtype="f4") for _ in range(2)]
-            for t in texs:
-                t.filter = (ctx.LINEAR, ctx.LINEAR)
-                t.repeat_x = t.repeat_y = False
-            self._targets[key] = (texs, ctx.framebuffer(color_attachments=texs))
+            self._targets[key] = self._make_target(w, h)
         return self._targets[key]
 
     def march(self, frame: DrawContext, uniforms: dict, textures: dict, extra=()):
@@ -247,6 +281,13 @@ class CloudLayer(Layer):
         _, _, tw, th = frame.tile
         (rad, data), fbo = self._march_target(tw, th)
         fbo.viewport = (0, 0, tw, th)
+        aerial = None if "CLOUDS_ALONE" in extra else self._aerial(uniforms)
+        if aerial is not None:
+            extra = (*extra, "AERIAL_TABLES")
+            uniforms = {**uniforms, **aerial[0]}
+            textures = {**textures, **aerial[1]}
+        import os
+        extra = (*extra, *[e for e in os.environ.get("CLOUD_DEFS", "").split(",") if e])
         fpass = self.full_screen_pass(
             frame.ctx, "clouds/clouds_march.glsl", frame.camera, self.defines(frame, extra)
         )
@@ -299,8 +340,12 @@ class CloudLayer(Layer):
             return
         uniforms = self.uniforms(frame)
         textures = {**self.textures(), **frame.textures}
-        rad, data = self.march(frame, uniforms, textures)
         _, _, tw, th = frame.tile
+        whole = frame.tile == (0, 0, *frame.frame_size)
+        if self.quality == "interactive" and whole:
+            rad, data = self._interactive(frame, uniforms, textures)
+        else:
+            rad, data = self.march(frame, uniforms, textures)
         composite = self.full_screen_pass(
             frame.ctx, "clouds/clouds_composite.glsl", frame.camera, self.defines(frame)
         )
@@ -309,6 +354,106 @@ class CloudLayer(Layer):
             {**uniforms, "u_cloud_map": (1.0 / tw, 1.0 / th, 0.0, 0.0)},
             {**textures, "u_behind": frame.behind, "u_cloud_radiance": rad, "u_cloud_data": data},
         )
+
+    def inputs(self, frame: DrawContext) -> dict:
+        """The light shafts: the shadow length (km) of each pixel's air in the clouds' shadow
+        (clouds/cloud_shafts.glsl at 1/SHAFT_SCALE of the resolution, upsampled), for the
+        atmosphere's HAS_SHADOW_MAP input; none without a sunlit cloud layer."""
+        if not self.shafts or self.clouds.empty:
+            return {}
+        uniforms = self.uniforms(frame)
+        sun = uniforms["u_sun_direction"]
+        if math.degrees(math.asin(max(-1.0, min(1.0, sun[2])))) < -2.0:
+            return {}
+        x0, y0, tw, th = frame.tile
+        w, h = frame.frame_size
+        lw, lh = max(1, math.ceil(tw / SHAFT_SCALE)), max(1, math.ceil(th / SHAFT_SCALE))
+        ctx = frame.ctx
+        small, full = self._shaft_targets(lw, lh, tw, th)
+        small[1].viewport = (0, 0, lw, lh)
+        fpass = self.full_screen_pass(ctx, "clouds/cloud_shafts.glsl", frame.camera, self.defines(frame))
+        low = {
+            **uniforms,
+            **frame.camera.uniforms(w / SHAFT_SCALE, h / SHAFT_SCALE),
+            "u_tile_offset": (x0 / SHAFT_SCALE, y0 / SHAFT_SCALE),
+            "u_shaft_km": SHAFT_KM,
+        }
+        fpass.draw(small[1], low, self.textures())
+        up = self.full_screen_pass(ctx, "clouds/upsample.glsl", frame.camera)
+        full[1].viewport = (0, 0, tw, th)
+        up.draw(full[1], {"u_scale": (lw / tw, lh / th)}, {"u_source": small[0]})
+        return {"u_shadow_map": full[0]}
+
+    def _shaft_targets(self, lw: int, lh: int, tw: int, th: int):
+        key = ("shafts", lw, lh, tw, th)
+        if key not in self._targets:
+            ctx = self.graph.ctx
+            pair = []
+            for w, h in ((lw, lh), (tw, th)):
+                tex = ctx.texture((w, h), 1, dtype="f4")
+                tex.filter = (ctx.LINEAR, ctx.LINEAR)
+                tex.repeat_x = tex.repeat_y = False
+                pair.append(([tex], ctx.framebuffer(color_attachments=[tex])))
+            self._targets[key] = pair
+        (small_tex, small_fbo), (full_tex, full_fbo) = self._targets[key]
+        return (small_tex[0], small_fbo), (full_tex[0], full_fbo)
+
+    def _interactive(self, frame: DrawContext, uniforms: dict, textures: dict):
+        """The interactive mode: the march at 1/scale of the resolution with a new sub-pixel
+        and step offset each frame, blended into a reprojected history (clouds_temporal.glsl).
+        Returns the accumulated (radiance, data) textures at the reduced size."""
+        w, h = frame.frame_size
+        scale = QUALITY["interactive"]["scale"]
+        lw, lh = max(1, math.ceil(w / scale)), max(1, math.ceil(h / scale))
+        n = self._frame_index
+        self._frame_index += 1
+        # a 4-frame rotation of sub-pixel offsets (a quarter pixel either way) and step offsets
+        sub = ((0.25, 0.25), (-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25))[n % 4]
+        low = {
+            **uniforms,
+            **frame.camera.uniforms(lw, lh),
+            "u_tile_offset": sub,
+            "u_frame_jitter": (n % 4) * 0.25 + 0.125,
+        }
+        small = DrawContext(
+            frame.ctx, frame.camera, (lw, lh), (0, 0, lw, lh), None, low, frame.textures,
+            frame.altitude_m, frame.basis,
+        )  # fmt: skip
+        cur_rad, cur_data = self.march(small, low, textures)
+        history = self._history_targets(lw, lh)
+        prev, nxt = history[n % 2], history[(n + 1) % 2]
+        key = (frame.camera.model, lw, lh, round(frame.altitude_m, 1))
+        camera = frame.camera
+        same_view = self._history_key == key and self._history_camera == camera
+        if self._history_key != key or not (camera.model == 0 or same_view):
+            blend = 1.0  # no usable history: a new size, altitude or a turned fisheye
+        else:
+            blend = 0.25 if same_view and self._history_time == self.time_s else 0.5
+        prev_cam = self._history_camera if self._history_camera is not None else camera
+        temporal = self.full_screen_pass(frame.ctx, "clouds/clouds_temporal.glsl", camera)
+        extra = {}
+        if camera.model == 0:
+            pu = prev_cam.uniforms(lw, lh)
+            extra = {"u_prev_basis": pu["u_camera_basis"], "u_prev_tan_half_fov": pu["u_tan_half_fov"]}
+        (nrad, ndata), fbo = nxt
+        fbo.viewport = (0, 0, lw, lh)
+        temporal.draw(
+            fbo,
+            {**camera.uniforms(lw, lh), "u_tile_offset": (0.0, 0.0), "u_blend": blend, **extra},
+            {
+                "u_current_radiance": cur_rad, "u_current_data": cur_data,
+                "u_history_radiance": prev[0][0], "u_history_data": prev[0][1],
+            },
+        )  # fmt: skip
+        self._history_key, self._history_camera, self._history_time = key, camera, self.time_s
+        return nrad, ndata
+
+    def _history_targets(self, w: int, h: int):
+        """Two (textures, framebuffer) pairs of the interactive history, ping-ponged."""
+        key = ("history", w, h)
+        if key not in self._targets:
+            self._targets[key] = [self._make_target(w, h), self._make_target(w, h)]
+        return self._targets[key]
 
     def _copy_behind(self, frame: DrawContext) -> None:
         from skydome.gpu import FullscreenPass
@@ -330,11 +475,13 @@ class CloudLayer(Layer):
 
     def release(self) -> None:
         super().release()
-        for texs, fbo in self._targets.values():
-            fbo.release()
-            for t in texs:
-                t.release()
+        for value in self._targets.values():
+            for texs, fbo in value if isinstance(value, list) else [value]:
+                fbo.release()
+                for t in texs:
+                    t.release()
         self._targets.clear()
+        self._history_key = None
         if self._ms_texture is not None:
             self._ms_texture.release()
             self._ms_texture = None

@@ -331,19 +331,21 @@ class AnimatedWeather:
         #: The flow field's texels (flow_size, flow_size, 2), [j, i, (east, north)], in [-1, 1].
         self.flow_texels = render_curl(ctx, self.seed, flow_size)
         self._flow = self._texture(self.flow_texels, 2)
-        self._out = self._texture(None, 4, size=(w, h))
+        # 8-bit normalised (every channel lies in [0, 1]): a CPU rasterizer filters it several
+        # times faster than float32 in the clouds' march, which reads it at every step
+        self._out = self._texture(None, 4, size=(w, h), dtype="f1")
         self._fbo = ctx.framebuffer(color_attachments=[self._out])
         self._pass = FullscreenPass(ctx, "clouds/weather_animate.glsl")
         self._time: float | None = None
         self.draws = 0  # passes drawn (a cache-hit counter for tests)
 
-    def _texture(self, data, components: int, size=None):
+    def _texture(self, data, components: int, size=None, dtype: str = "f4"):
         if data is not None:
             h, w = data.shape[:2]
             data = np.ascontiguousarray(data, np.float32)
         else:
             w, h = size
-        tex = self.ctx.texture((w, h), components, data, dtype="f4")
+        tex = self.ctx.texture((w, h), components, data, dtype=dtype)
         tex.repeat_x = tex.repeat_y = True
         tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
         return tex
@@ -366,8 +368,8 @@ class AnimatedWeather:
         }
 
     def texture_at(self, time_s: float) -> moderngl.Texture:
-        """The map at ``time_s`` seconds from the reference time: an RGBA32F texture, repeat
-        wrap, linear filter. The same texture object is redrawn for each new time (the same
+        """The map at ``time_s`` seconds from the reference time: an RGBA8 (normalised)
+        texture, repeat wrap, linear filter. The same texture object is redrawn for each new time (the same
         time returns it without drawing)."""
         try:
             t = float(time_s)
@@ -386,10 +388,12 @@ class AnimatedWeather:
         return self._out
 
     def array_at(self, time_s: float) -> np.ndarray:
-        """The map at ``time_s`` read back: (H, W, 4) float32, rows south to north."""
+        """The map at ``time_s`` read back: (H, W, 4) float32 in steps of 1/255, rows south
+        to north."""
         w, h = self.weather_map.size
         tex = self.texture_at(time_s)
-        return np.frombuffer(tex.read(), dtype=np.float32).reshape(h, w, 4).copy()
+        texels = np.frombuffer(tex.read(), dtype=np.uint8).reshape(h, w, 4)
+        return texels.astype(np.float32) / np.float32(255.0)
 
     def release(self) -> None:
         for obj in (self._fbo, self._out, self._map, self._flow, self._pass):

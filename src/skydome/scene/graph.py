@@ -215,6 +215,12 @@ class FrameGraph:
         finally:
             ctx.disable(ctx.BLEND)
             ctx.blend_func = ctx.ONE, ctx.ZERO
+        # What the volume layers give one another for this tile (e.g. light shafts).
+        provided: dict = {}
+        for layer in volume:
+            provided.update(layer.inputs(context(fbos[current])))
+        if provided:
+            textures = {**(textures or {}), **provided}
         for i, layer in enumerate(volume):
             # A volume layer writes every pixel of its target (its light and what it lets
             # through from behind): no clear.

@@ -171,6 +171,12 @@ class Layer:
         finally:
             frame.fbo.scissor = None
 
+    def inputs(self, frame: DrawContext) -> dict:
+        """Per-pixel textures this layer provides to the volume layers of this tile before
+        any of them draws (sampler name -> texture, e.g. the clouds' shadow lengths for the
+        atmosphere's light shafts, ``u_shadow_map``); called for the volume layers only."""
+        return {}
+
     def draw(self, frame: DrawContext) -> None:
         raise NotImplementedError
 

@@ -45,13 +45,7 @@ uniform sampler3D u_sun_aerial_single_mie;
 uniform sampler3D u_light2_aerial_scattering;
 uniform sampler3D u_light2_aerial_single_mie;
 #endif
-
-vec4 aerial_from_table(sampler3D scattering, sampler3D single_mie, vec3 unit, float nu,
-                       float distance, float ray_length_km) {
-    vec3 uvw = vec3(sky_view_texcoords(unit, u_aerial_size.xy), aerial_w(distance, ray_length_km));
-    return texture(scattering, uvw) * rayleigh_phase(nu)
-         + texture(single_mie, uvw) * mie_phase_channels(nu);
-}
+#include "atmosphere/aerial_lookup.glsl"
 #endif
 #ifdef HAS_DEPTH_MAP
 uniform sampler2D u_depth_map;  // distance to the user's scene along each ray, km (<= 0: none)

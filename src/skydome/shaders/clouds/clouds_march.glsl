@@ -5,17 +5,35 @@
 // night) through a light march towards it and a march across its local slab
 // (clouds/cloud_lighting.glsl), and by the sky's irradiance from the atmosphere's tables.
 // Energy-conserving integration of each step (Hillaire 2016): J (1 - exp(-sigma dt)).
-//   location 0: the clouds' radiance (R, G, B, scotopic; cd/m^2), not yet seen through the air;
-//   location 1: (transmittance, mean distance km of the light, cloud shadow on the ground
-//               where the ray ends there (1 = lit), 1).
+//   location 0: what the clouds add to the light from behind them, seen through the air:
+//               (1 - T_c) S(0 -> d) + T(0 -> d) L_c, less the ground's direct light lost in
+//               their shadow where the ray ends on the ground (R, G, B, scotopic; cd/m^2:
+//               may be negative there), with L_c and T_c the clouds' radiance and
+//               transmittance, d their light-weighted distance, S(0 -> d) the air's light in
+//               front of them and T(0 -> d) its transmittance (the atmosphere's tables:
+//               the aerial-perspective tables with AERIAL_TABLES, else the 4D tables). The
+//               light behind (the atmosphere and space: S(0 -> d) + T(0 -> d) X) becomes
+//               S + T (L_c + T_c X) by clouds/clouds_composite.glsl's behind T_c + this;
+//   location 1: (T_c, d km, the cloud shadow on the ground (1 = lit), 1).
+// With CLOUDS_ALONE (the tests' probe) location 0 is the clouds' own radiance L_c.
 // With CLOUDS_ALONE (tests) the key light has the irradiance u_test_irradiance at every point
 // and there is no sky light. NO_JITTER starts every ray's samples at the steps' middles
 // (tests); otherwise the 4x4 ordered offsets of seed 000 eq. 5.14, turned each frame by
 // u_frame_jitter (the interactive mode's temporal accumulation).
 #include "common/camera.glsl"
-#include "common/ground_shading.glsl"
+#include "atmosphere/surface_radiance.glsl"
+#ifdef AERIAL_TABLES
+#include "atmosphere/sky_view_mapping.glsl"
+#include "atmosphere/aerial_lookup.glsl"
+uniform sampler3D u_sun_aerial_scattering;
+uniform sampler3D u_sun_aerial_single_mie;
+#ifdef HAS_LIGHT2
+uniform sampler3D u_light2_aerial_scattering;
+uniform sampler3D u_light2_aerial_single_mie;
+#endif
+#endif
 #include "clouds/cloud_lighting.glsl"
-#include "clouds/cloud_density.glsl"
+#include "clouds/cloud_paths.glsl"
 
 uniform vec3 u_camera_position;   // km, planet-centred
 uniform vec3 u_light_direction;   // the key light (unit, ENU)
@@ -24,7 +42,13 @@ uniform vec3 u_march;             // (view steps per km, most view steps, shorte
 uniform vec2 u_light_march_km;    // lengths of the march towards the light and across the slab
 uniform float u_cloud_albedo_below; // the ground's albedo seen by the clouds' two-stream slab
 uniform float u_frame_jitter;     // added to the ordered offset (0 for still frames)
-#ifdef CLOUDS_ALONE
+uniform vec3 u_sun_direction;     // the air's lights (aerial perspective)
+uniform float u_sun_scale;
+#ifdef HAS_LIGHT2
+uniform vec3 u_light2_direction;
+uniform vec4 u_light2_scale;
+#endif
+#if defined(CLOUDS_ALONE) || defined(SKIP_IRR)
 uniform vec4 u_test_irradiance;
 #endif
 
@@ -46,47 +70,10 @@ float ordered_offset(ivec2 xy) {
     return M[(xy.y & 3) * 4 + (xy.x & 3)];
 }
 
-// The part [t0, t1] of the ray inside the shell between radii r_lo and r_hi, before the
-// ground (t_ground) and t_max; false if none.
-bool shell_segment(vec3 o, vec3 d, float r_lo, float r_hi, float t_ground, out vec2 seg) {
-    vec2 outer = ray_sphere(o, d, r_hi);
-    if (outer.y <= 0.0) return false;
-    float t0 = max(outer.x, 0.0), t1 = outer.y;
-    vec2 inner = ray_sphere(o, d, r_lo);
-    if (inner.y > 0.0) {
-        if (length(o) < r_lo) t0 = max(t0, inner.y);  // below: from where it leaves the inner sphere
-        else t1 = min(t1, inner.x);                   // above or inside: until it meets it
-    }
-    t1 = min(t1, t_ground);
-    seg = vec2(t0, t1);
-    return t1 > t0;
-}
-
-// Optical depth from p along unit d over `length_km`, `n` steps growing geometrically
-// (samples at each step's middle; exact for a uniform medium).
-float optical_depth_along(vec3 p, vec3 d, float length_km, int n, bool geometric) {
-    float tau = 0.0, t = 0.0;
-    float total = geometric ? float((1 << n) - 1) : float(n);
-    for (int i = 0; i < n; ++i) {
-        float dt = length_km * (geometric ? float(1 << i) : 1.0) / total;
-        tau += cloud_extinction(p + d * (t + 0.5 * dt), true) * dt;
-        t += dt;
-    }
-    return tau;
-}
-
-// The distance from p (inside the shell r_lo..r_hi) along unit d to the shell's boundary.
-float distance_in_shell(vec3 p, vec3 d, float r_lo, float r_hi) {
-    float t = ray_sphere(p, d, r_hi).y;
-    vec2 inner = ray_sphere(p, d, r_lo);
-    if (inner.x > 0.0) t = min(t, inner.x);
-    return max(t, 0.0);
-}
-
 // The key light's irradiance normal to its beam and the sky's on a horizontal surface at p
 // (R, G, B, scotopic; lx).
 void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
-#ifdef CLOUDS_ALONE
+#if defined(CLOUDS_ALONE) || defined(SKIP_IRR)
     light = u_test_irradiance;
     sky = vec4(0.0);
 #else
@@ -116,8 +103,7 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
                  inout vec4 radiance, inout float transmittance, inout vec2 depth) {
     float len = seg.y - seg.x;
     vec4 light0, sky0, light1, sky1;
-    irradiance_at(o + d * seg.x, light0, sky0);
-    irradiance_at(o + d * seg.y, light1, sky1);
+    bool lit = false;  // the irradiances at the segment's ends, on its first cloud
     vec3 L = u_light_direction;
     float nu = dot(d, L);
     bool fine = false;
@@ -151,6 +137,11 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             continue;
         }
         empty = 0;
+        if (!lit) {
+            irradiance_at(o + d * seg.x, light0, sky0);
+            irradiance_at(o + d * seg.y, light1, sky1);
+            lit = true;
+        }
         vec3 up = normalize(p);
         float mu_l = dot(up, L);
         // the local slab faces the light: its top is towards the light
@@ -181,28 +172,15 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     }
 }
 
-// Transmittance towards the light from a point on the ground through both shells (its
-// cloud shadow), from the extinction where the light's path crosses each shell's middle
-// (seed 000 ch. 5.4.3's soft shadow, with the thickness of the crossing).
-float ground_shadow(vec3 p) {
-    vec3 L = u_light_direction;
-    float tau = 0.0;
-    for (int s = 0; s < 2; ++s) {
-        float r_lo = s == 0 ? u_cloud_shell.x : u_cloud_shell.z;
-        float r_hi = s == 0 ? u_cloud_shell.y : u_cloud_shell.w;
-        vec2 seg;
-        if (!shell_segment(p, L, r_lo, r_hi, 1e30, seg)) continue;
-        tau += optical_depth_along(p + L * seg.x, L, seg.y - seg.x, 4, false);
-    }
-    return exp(-tau);
-}
-
 void main() {
     frag_radiance = vec4(0.0);
     frag_cloud = vec4(1.0, 0.0, 1.0, 1.0);
     vec3 d;
     if (!camera_ray(gl_FragCoord.xy, d)) return;
     vec3 o = u_camera_position;
+#ifdef EARLY_OUT
+    frag_cloud = vec4(1.0, 0.0, 1.0, 1.0); return;
+#endif
     vec2 ground = ray_sphere(o, d, u_bottom_radius);
     float t_ground = ground.x > 0.0 ? ground.x : 1e30;
 #ifdef NO_JITTER
@@ -231,12 +209,58 @@ void main() {
                         transmittance, depth);
     }
     float mean_km = depth.y > 0.0 ? depth.x / depth.y : 0.0;
-    float shadow = t_ground < 1e29 ? ground_shadow(o + d * t_ground) : 1.0;
+#ifdef SKIP_SHADOW
+    float shadow = 1.0;
+#else
+    float shadow = t_ground < 1e29 ? light_transmittance(o + d * t_ground, u_light_direction, 4)
+                                   : 1.0;
+#endif
+    frag_cloud = vec4(transmittance, mean_km, shadow, 1.0);
+#ifdef CLOUDS_ALONE
     frag_radiance = radiance;
+#else
+    frag_radiance = vec4(0.0);
+    vec3 entry = o;
+    float r, rmu;
+    if (enter_atmosphere(entry, d, r, rmu)) {
+        float mu = clamp_cosine(rmu / r);
+        bool hits_ground = ray_hits_ground(r, mu);
+        if (transmittance < 1.0) {
+            float along = max(mean_km - length(entry - o), 0.0);
+            vec4 t_air = output_transmittance(column_along_ray(r, mu, along, hits_ground));
+#ifdef AERIAL_TABLES
+            float ray_km = ray_length(r, mu, hits_ground);
+            vec3 sun_unit = sky_view_unit(azimuth_from_light(d, u_sun_direction), d.z, hits_ground);
+            vec4 air = u_sun_scale * aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
+                                                       sun_unit, dot(d, u_sun_direction), along, ray_km);
+#ifdef HAS_LIGHT2
+            vec3 l2_unit = sky_view_unit(azimuth_from_light(d, u_light2_direction), d.z, hits_ground);
+            air += u_light2_scale * aerial_from_table(u_light2_aerial_scattering,
+                                                      u_light2_aerial_single_mie, l2_unit,
+                                                      dot(d, u_light2_direction), along, ray_km);
+#endif
+#else
+            vec3 point = o + d * max(mean_km, 1e-3);
+            vec4 air = u_sun_scale * sky_radiance_to_point(o, point, 0.0, u_sun_direction);
+#ifdef HAS_LIGHT2
+            air += u_light2_scale * sky_radiance_to_point(o, point, 0.0, u_light2_direction);
+#endif
+#endif
+            frag_radiance = (1.0 - transmittance) * air + t_air * radiance;
+        }
+        if (shadow < 1.0 && hits_ground) {
+            // the ground's direct light only (common/ground_shading.glsl), seen through the air
+            float d_ground = distance_to_bottom(r, mu);
+            vec3 n = normalize(entry + d * d_ground);
+            vec4 direct = u_light_scale * lambertian_ground(n * u_bottom_radius, n, u_light_direction,
+                                                            column_along_ray(r, mu, d_ground, true), false);
+            frag_radiance -= transmittance * (1.0 - shadow) * direct;
+        }
+    }
+#endif
 #ifdef DEBUG_SOURCE
     frag_radiance = dbg;
 #endif
-    frag_cloud = vec4(transmittance, mean_km, shadow, 1.0);
 #ifdef DEBUG_COUNT
     frag_radiance = vec4(debug_fetches);
 #endif

@@ -1,0 +1,88 @@
+"""The clouds' costs: a still frame at full quality, and the interactive mode (a reduced,
+temporally accumulated march) over a turning camera, with the image error it costs.
+
+Usage: python benchmarks/bench_clouds.py [--repeats 5] [--size 1280x720] [--frames 30]
+
+Prints the GL device, then:
+- ``full``: ``Sky.render`` of fair-weather cumulus (preset "fair", seed 3) over Valletta at
+  2021-06-21 09:00 UTC (the Sun 60 deg up), a 90 deg perspective camera 15 deg up, read
+  back; with the clouds' march alone (``CloudLayer.probe``) and the frame without clouds;
+- ``interactive``: ``Sky.draw`` into an offscreen framebuffer (no read-back) while the camera
+  turns 0.5 deg per frame, median over ``--frames`` frames; then, with the camera still, the
+  relative error of the interactive frame's luminance after 16 frames against the full-
+  quality frame (median and 95th percentile over the pixels, and the mean bias).
+Budgets (llvmpipe): full <= 2 s, interactive <= 100 ms per frame at 1280 x 720.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+from timing import median_ms
+
+from skydome import Sky
+from skydome.clouds.layer import CloudLayer
+from skydome.clouds.params import Clouds
+from skydome.gpu import gl_info
+from skydome.render.cameras import PerspectiveCamera
+
+PLACE = (35.8989, 14.5146, 56.0)
+TIME = "2021-06-21T09:00Z"
+
+
+def sky_with(quality: str) -> Sky:
+    return Sky(PLACE, TIME, night=False, clouds=CloudLayer(Clouds("fair", seed=3), quality=quality))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--size", default="1280x720")
+    ap.add_argument("--frames", type=int, default=30)
+    args = ap.parse_args()
+    w, h = (int(v) for v in args.size.split("x"))
+    full = sky_with("full")
+    ctx = full.graph.ctx
+    print(f"# device: {gl_info(ctx).describe()}")
+    yaw = full.state.sun.azimuth_deg + 40.0
+    cam = PerspectiveCamera(fov_deg=90.0, yaw_deg=yaw, pitch_deg=15.0)
+    ms = median_ms(lambda: full.render(cam, w, h, exposure=None), args.repeats, warmup=1)
+    print(f"full {w}x{h}: {ms:.0f} ms per frame (median of {args.repeats})")
+    layer = full.layer("clouds")
+    full.graph.update(full.state)
+    march = median_ms(lambda: layer.probe(cam, w, h, 57.7), args.repeats, warmup=1)
+    print(f"  the clouds' march alone: {march:.0f} ms")
+    layer.enabled = False
+    bare = median_ms(lambda: full.render(cam, w, h, exposure=None), args.repeats, warmup=1)
+    print(f"  the frame without clouds: {bare:.0f} ms")
+    layer.enabled = True
+    reference = full.render(cam, w, h, exposure=None).data[..., 1]
+
+    inter = sky_with("interactive")
+    tex = ctx.texture((w, h), 4, dtype="f1")
+    fbo = ctx.framebuffer(color_attachments=[tex])
+    times = []
+    for i in range(args.frames + 3):
+        moving = PerspectiveCamera(fov_deg=90.0, yaw_deg=yaw + 0.5 * i, pitch_deg=15.0)
+        t0 = time.perf_counter()
+        inter.draw(fbo, moving, size=(w, h), exposure=15.0)
+        ctx.finish()
+        if i >= 3:
+            times.append((time.perf_counter() - t0) * 1e3)
+    print(f"interactive {w}x{h}, turning 0.5 deg/frame: {statistics.median(times):.0f} ms per "
+          f"frame (median of {len(times)})")
+    for _ in range(16):
+        frame = inter.render(cam, w, h, exposure=None)
+    rel = np.abs(frame.data[..., 1] - reference) / np.maximum(reference, 1e-3)
+    bias = float(np.mean(frame.data[..., 1]) / np.mean(reference) - 1.0)
+    print(f"  error against full quality after 16 still frames: median {np.median(rel):.1%}, "
+          f"95th percentile {np.percentile(rel, 95):.1%}, mean luminance {bias:+.1%}")
+    fbo.release()
+    tex.release()
+
+
+if __name__ == "__main__":
+    main()

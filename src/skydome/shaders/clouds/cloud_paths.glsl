@@ -1,0 +1,58 @@
+// Paths through the clouds' shells (clouds/cloud_density.glsl): the part of a ray inside a
+// shell, optical depths along a path, the transmittance towards a light. Shared by the march
+// (clouds/clouds_march.glsl), the light shafts (clouds/cloud_shafts.glsl) and the shadow query
+// (clouds/cloud_shadow_query.glsl). Needs ray_sphere (common/atmosphere_common.glsl).
+#include "clouds/cloud_density.glsl"
+
+// The part [t0, t1] of the ray from o along unit d inside the shell between radii r_lo and
+// r_hi (km), before the ground at t_ground; false if none.
+bool shell_segment(vec3 o, vec3 d, float r_lo, float r_hi, float t_ground, out vec2 seg) {
+    vec2 outer = ray_sphere(o, d, r_hi);
+    if (outer.y <= 0.0) return false;
+    float t0 = max(outer.x, 0.0), t1 = outer.y;
+    vec2 inner = ray_sphere(o, d, r_lo);
+    if (inner.y > 0.0) {
+        if (length(o) < r_lo) t0 = max(t0, inner.y);  // below: from where it leaves the inner sphere
+        else t1 = min(t1, inner.x);                   // above or inside: until it meets it
+    }
+    t1 = min(t1, t_ground);
+    seg = vec2(t0, t1);
+    return t1 > t0;
+}
+
+// Optical depth from p along unit d over `length_km`, `n` steps growing geometrically
+// (samples at each step's middle; exact for a uniform medium).
+float optical_depth_along(vec3 p, vec3 d, float length_km, int n, bool geometric) {
+    float tau = 0.0, t = 0.0;
+    float total = geometric ? float((1 << n) - 1) : float(n);
+    for (int i = 0; i < n; ++i) {
+        float dt = length_km * (geometric ? float(1 << i) : 1.0) / total;
+        tau += cloud_extinction(p + d * (t + 0.5 * dt), true) * dt;
+        t += dt;
+    }
+    return tau;
+}
+
+// The distance from p (inside the shell r_lo..r_hi) along unit d to the shell's boundary.
+float distance_in_shell(vec3 p, vec3 d, float r_lo, float r_hi) {
+    float t = ray_sphere(p, d, r_hi).y;
+    vec2 inner = ray_sphere(p, d, r_lo);
+    if (inner.x > 0.0) t = min(t, inner.x);
+    return max(t, 0.0);
+}
+
+// Transmittance towards the light L from a point p through both shells (its cloud shadow):
+// `steps` samples of the shapes (no detail) along each crossing (seed 000 ch. 5.4.3's soft
+// shadows, from the whole crossing rather than one sample).
+float light_transmittance(vec3 p, vec3 L, int steps) {
+    float tau = 0.0;
+    for (int s = 0; s < 2; ++s) {
+        float r_lo = s == 0 ? u_cloud_shell.x : u_cloud_shell.z;
+        float r_hi = s == 0 ? u_cloud_shell.y : u_cloud_shell.w;
+        vec2 seg;
+        if (!shell_segment(p, L, r_lo, r_hi, 1e30, seg)) continue;
+        tau += optical_depth_along(p + L * seg.x, L, seg.y - seg.x, steps, false);
+    }
+    return exp(-tau);
+}
+
