@@ -219,12 +219,13 @@ class ViewerScene:
         what it measured. The auto exposure is read back (one texel) and applied as a fixed
         scale, as ``Sky.render`` does: cheaper per pixel on a CPU rasterizer.
 
-        A view that has not changed since the last frame is not drawn again: the frame is
-        tone-mapped into the scene's own 8-bit target and copied from there (a blit) while
-        the time, the place, the camera, the size and the layers stay the same; only the
-        post passes run again when just the display changed (an exposure, the tone map,
-        night vision, overlays), from the float frame kept on the GPU (see
-        :class:`FrameCache`)."""
+        A view that has not changed since the last frame is not drawn again (see
+        :class:`FrameCache`): a new view (time, place, camera, size or layers changed) is
+        drawn and tone-mapped straight into ``framebuffer``; when the next frame has the
+        same view, its float frame, kept on the GPU, is tone-mapped into the scene's own
+        8-bit target, which is copied (a blit) into ``framebuffer`` for as long as nothing
+        changes. When only the display changes (an exposure, the tone map, night vision,
+        overlays) the post passes alone run again, from the kept float frame."""
         from skydome.display.exposure import scale_to_ev100
         from skydome.scene.sky import _exposure_scale
 
@@ -245,17 +246,19 @@ class ViewerScene:
             if cache is not None:
                 cache.release()
             cache = self._cache = FrameCache(graph.ctx)
-        if cache.holds_view(graph, sky.state, view, size):
-            texture = cache.texture
-        else:
-            camera = s.camera()
-            texture = graph.frame_texture(sky.state, camera, *size, altitude_m=self.altitude_m())
+        moved = not cache.holds_view(graph, sky.state, view, size)
+        if moved:
+            texture = graph.frame_texture(
+                sky.state, s.camera(), *size, altitude_m=self.altitude_m()
+            )
             cache.keep_view(graph, sky.state, view, size, texture)
-        if not cache.holds_display(display, exposure):
-            fbo = cache.target(size)
+        if moved or not cache.holds_display(display, exposure):
+            # A new view goes straight to the screen (a moving view pays no copy); a view
+            # that stays is tone-mapped into the kept image, shown from there from now on.
+            target = framebuffer if moved else cache.target(size)
             scale = graph.draw(
                 sky.state,
-                fbo,
+                target,
                 s.camera(),
                 altitude_m=self.altitude_m(),
                 size=size,
@@ -264,13 +267,12 @@ class ViewerScene:
                 tonemap=s.tonemap,
                 measure=adapt,
                 read_back=True,
-                texture=texture,
+                texture=cache.texture,
             )
             luminance = graph.exposure_pass().read() if adapt else None
-            cache.keep_display(display, exposure, scale, luminance, graph)
-        cache.show(framebuffer, size)
-        if adapt and cache.luminance is not None:
-            self.eye.update(min(cache.luminance, 1e12), max(float(dt_s), 0.0))
+            cache.keep_display(display, exposure, scale, luminance, graph, kept=not moved)
+        if not moved:
+            cache.show(framebuffer, size)
         #: The EV100 of the exposure applied (compensation included).
         self.last_ev100 = None if cache.scale is None else scale_to_ev100(cache.scale)
 
@@ -368,11 +370,15 @@ class FrameCache:
             return exposure == self._exposure
         return abs(float(exposure) - float(self._exposure)) < self.EXPOSURE_HOLD_EV
 
-    def keep_display(self, display: tuple, exposure, scale, luminance, graph) -> None:
-        """The kept image was tone-mapped with these settings (the exposure scale used and
-        the measured log-average luminance, cd/m^2, when known); the post passes left the
-        float texture as it was."""
-        self._display, self._exposure = display, exposure
+    def keep_display(
+        self, display: tuple, exposure, scale, luminance, graph, *, kept: bool = True
+    ) -> None:
+        """The kept view was tone-mapped with these settings (the exposure scale used and
+        the measured log-average luminance, cd/m^2, when known) into the kept image, or
+        (``kept`` False) elsewhere: the kept image is then not its. The post passes left
+        the float texture as it was."""
+        self._display = display if kept else None
+        self._exposure = exposure
         self.scale, self.luminance = scale, luminance
         self._generation = graph.generation
 
