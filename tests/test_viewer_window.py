@@ -259,4 +259,8 @@ def test_a_still_view_is_kept_and_a_display_change_reruns_only_the_post_passes(w
     assert graph.generation > g
     scene.controls.set(ev100=13.5)
     assert np.array_equal(shot("g.png"), reference)  # drawn again, not the equirect's
+    g = graph.generation
+    scene.invalidate()  # e.g. after a script changed a layer's parameters
+    assert np.array_equal(shot("h.png"), reference)
+    assert graph.generation > g
     scene.release()

@@ -276,6 +276,14 @@ class ViewerScene:
         #: The EV100 of the exposure applied (compensation included).
         self.last_ev100 = None if cache.scale is None else scale_to_ev100(cache.scale)
 
+    def invalidate(self) -> None:
+        """Forget the kept frame: the next :meth:`draw` draws the layers again. For a change
+        the view's key does not see (a layer's parameters set directly, e.g. by a script
+        between frames); the time, the place, the camera, the size, the layers' switches,
+        the display settings and a new atmosphere are seen."""
+        if self._cache is not None:
+            self._cache.release()
+
     def render(self, width: int, height: int, *, tonemap: bool = True) -> Frame:
         """The frame :meth:`draw` shows, read back: ``Frame.data`` in cd/m^2 and (with
         ``tonemap``) ``Frame.image``, at the exposure in use now (the adapt mode's current
