@@ -9,12 +9,15 @@ time per pass (ms). The scene is Valletta, 2018-03-09 06:00 UTC (the Sun 7 deg a
 Moon 33 deg up, as benchmarks/bench_scene.py), ``night=False`` (the atmosphere, the Sun and
 the Moon), auto exposure, filmic, looking at the Sun with a 90 deg field of view:
 
-- ``static``: the time stands still, no panel;
+- ``static``: the time stands still, no panel (the viewer shows its kept frame: one blit);
 - ``static + panel``: with the control panel drawn;
-- ``playing 1 min/s``: the time runs (a new SkyState and re-aimed tables every frame);
-- ``playing 1 day/s``;
-- ``static, GPU timing``: with the per-pass GPU timer queries (each pass finished before
-  its query ends: the cost of knowing).
+- ``turning``: the camera turns by 0.05 deg a frame, as while dragging the view (a new view
+  every frame: the layers, the exposure and the tone map drawn; the tables not re-aimed);
+- ``playing 1 min/s``: the time runs (a new SkyState and re-aimed tables each time the Sun
+  or the Moon has moved by half a pixel, about every 0.14 s; the kept frame in between);
+- ``playing 1 day/s`` (a new SkyState and re-aimed tables every frame);
+- ``turning, GPU timing``: ``turning`` with the per-pass GPU timer queries (each pass
+  finished before its query ends: the cost of knowing).
 
 The target is >= 30 fps at 1280 x 720 on llvmpipe (aim: 60).
 """
@@ -30,9 +33,13 @@ from skydome.gpu import gl_info
 
 PLACE = (35.8989, 14.5146, 56.0)
 TIME = "2018-03-09T06:00Z"
+#: The turning cases' turn per frame (deg).
+TURN_DEG = 0.05
 
 
-def measure(size, seconds: float, *, panel: bool, speed: float | None, gpu: bool):
+def measure(
+    size, seconds: float, *, panel: bool, speed: float | None, gpu: bool, turn: bool = False
+):
     from skydome.viewer.app import ViewerWindow
     from skydome.viewer.controls import Controls
     from skydome.viewer.frame_timer import FrameTimer
@@ -47,10 +54,15 @@ def measure(size, seconds: float, *, panel: bool, speed: float | None, gpu: bool
         scene = ViewerScene(sky, Controls(initial_state(sky, **fields)))
         if panel:
             win.panel.configure(atmosphere=sky.layer("atmosphere").params)
+
+        def turning(_win, _i):
+            scene.controls.set(yaw_deg=scene.controls.state.yaw_deg + TURN_DEG)
+
+        on_frame = turning if turn else None
         win.timer = FrameTimer(win.ctx, gpu=gpu)
-        win.run(scene, duration_s=1.0)  # warm-up: shaders, targets
+        win.run(scene, duration_s=1.0, on_frame=on_frame)  # warm-up: shaders, targets
         win.timer = FrameTimer(win.ctx, gpu=gpu, window=1_000_000)
-        timer = win.run(scene, duration_s=seconds)
+        timer = win.run(scene, duration_s=seconds, on_frame=on_frame)
         frames = len(timer.frame_ms)
         median = statistics.median(timer.frame_ms)
         report = timer.report()
@@ -74,9 +86,10 @@ def main() -> None:
         cases = [
             ("static", dict(panel=False, speed=None, gpu=False)),
             ("static + panel", dict(panel=True, speed=None, gpu=False)),
+            ("turning", dict(panel=False, speed=None, gpu=False, turn=True)),
             ("playing 1 min/s", dict(panel=False, speed=60.0, gpu=False)),
             ("playing 1 day/s", dict(panel=False, speed=86400.0, gpu=False)),
-            ("static, GPU timing", dict(panel=False, speed=None, gpu=True)),
+            ("turning, GPU timing", dict(panel=False, speed=None, gpu=True, turn=True)),
         ]
         printed = False
         for name, kw in cases:

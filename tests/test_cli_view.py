@@ -37,6 +37,42 @@ def test_bad_input_is_one_line_and_status_2(tmp_path, args, words):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("--place", "Valletta", "--time", "2018-03-01T12:00Z", "--sun-elevation", "10"),
+        ("--time", "2018-03-01T12:00Z"),
+        ("--look", "moon"),
+        ("--lat", "35"),
+        ("--place", "Valletta", "--time", "tomorrow"),
+        ("--sun-elevation", "95"),
+        ("--place", "Valletta", "--time", "2018-03-01T12:00Z", "--look", "up"),
+    ],
+)
+def test_view_and_render_check_place_time_and_sun_alike(tmp_path, args):
+    """One helper (cli.place_options.place_time_sun) checks these flags for both commands:
+    the same bad flags give the same one-line message."""
+    view = run_cli("view", *args, "--frames", "1", cwd=tmp_path)
+    render = run_cli("render", *args, "--size", "16x8", cwd=tmp_path)
+    assert view.returncode == render.returncode == 2, (view, render)
+    assert view.stderr == render.stderr and len(view.stderr.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_view_without_time_takes_now_where_render_asks_for_it():
+    from datetime import datetime, timezone
+
+    from skydome.cli.place_options import place_time_sun
+    from skydome.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="a place needs --time"):
+        place_time_sun("Valletta", None, None, None, None, None, None, None)
+    pts = place_time_sun("Valletta", None, None, None, None, None, None, None, default_now=True)
+    now = datetime.now(timezone.utc).timestamp() / 86400.0 + 2440587.5  # Unix epoch = JD
+    assert abs(float(pts.time.jd_utc) - now) < 60.0 / 86400.0  # within a minute of now
+    assert not pts.abstract and pts.sun_elevation_deg == 30.0
+
+
 def test_without_glfw_it_says_what_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "glfw", None)  # import glfw -> ImportError
     r = run_cli("view", *PLACE, "--frames", "1")

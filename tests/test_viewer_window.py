@@ -210,3 +210,57 @@ def test_a_failing_context_stops_with_a_clear_message(window):
     with pytest.raises(GLError, match="OpenGL context failed"):
         window.run(scene, frames=2, on_frame=fail)
     scene.release()
+
+
+def test_a_still_view_is_kept_and_a_display_change_reruns_only_the_post_passes(window, tmp_path):
+    """While nothing moves, frames are the kept image (no layer draws: the graph's
+    generation stays put) and equal the first; a new EV reruns the tone map alone (the
+    same generation) and the screen then equals the headless render at that EV to within 1
+    code value; a turn of the camera draws the layers again."""
+    scene = _scene(window, "Valletta", "2018-03-01T12:00Z", night=False, yaw_deg=170.0,
+                   pitch_deg=20.0, exposure_mode="ev", ev100=14.0)  # fmt: skip
+    graph = scene.base.graph
+
+    def shot(name):
+        png = tmp_path / name
+        window.run(scene, frames=1, screenshot=[png])
+        return np.asarray(Image.open(png).convert("RGB")).astype(int)
+
+    first = shot("a.png")
+    g = graph.generation
+    window.run(scene, frames=3)
+    again = shot("b.png")
+    assert graph.generation == g  # no tile drawn for four frames
+    assert np.array_equal(again, first)
+    scene.controls.set(ev100=13.0)  # one stop brighter
+    brighter = shot("c.png")
+    assert graph.generation == g  # the float frame kept; the post passes ran
+    assert brighter.mean() > first.mean() + 10.0
+    headless, ctx = _headless("Valletta", "2018-03-01T12:00Z", night=False)
+    try:
+        s = scene.controls.state
+        frame = headless.render(s.camera(), W, H, exposure=13.0, tonemap=s.tonemap)
+        headless.graph.release()
+    finally:
+        ctx.__exit__(None, None, None)
+        window.make_current()
+    assert np.abs(brighter - frame.image.astype(int)).max() <= 1
+    scene.controls.set(yaw_deg=171.0)
+    shot("d.png")
+    assert graph.generation > g  # a new view: the layers drawn again
+    scene.controls.set(ev100=13.5)
+    reference = shot("e.png")
+    scene.controls.set(ev100=13.0)
+    shot("f.png")
+    g = graph.generation
+    from skydome.render.cameras import EquirectCamera
+
+    scene.base.render(EquirectCamera(), W, H)  # another view into the targets of this size
+    assert graph.generation > g
+    scene.controls.set(ev100=13.5)
+    assert np.array_equal(shot("g.png"), reference)  # drawn again, not the equirect's
+    g = graph.generation
+    scene.invalidate()  # e.g. after a script changed a layer's parameters
+    assert np.array_equal(shot("h.png"), reference)
+    assert graph.generation > g
+    scene.release()

@@ -66,7 +66,7 @@ from skydome.atmosphere.uniforms import (
 )
 from skydome.errors import CacheError, ParameterError
 from skydome.gpu import FullscreenPass
-from skydome.gpu.textures import copy_array_to_3d, linear_clamped
+from skydome.gpu.textures import copy_array_to_3d, linear_clamped, release_unbound
 from skydome.spectra import LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, spectral_to_rgbs_matrix
 
 __all__ = [
@@ -570,8 +570,8 @@ class _Precomputation:
             scat, mie, scale = st.run("single_scattering", 3.0, self._single_scattering)
             irr_s = st.run("irradiance", 0.5, self._irradiance, j_total is not None)
         finally:
-            for obj in self._released:
-                obj.release()
+            for obj in self._released:  # the last pass's framebuffer is still bound
+                release_unbound(obj)
         timings = dict(st.times)
         timings["total"] = sum(st.times.values())
         if self.stages.progress is not None:

@@ -7,6 +7,7 @@ import numpy as np
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.uniforms import geometry_uniforms, profile_defines
 from skydome.gpu import FullscreenPass
+from skydome.gpu.textures import release_unbound
 
 DEFAULT_SIZE = (1024, 256)
 #: Simpson intervals per texel (even).
@@ -40,7 +41,7 @@ class TransmittanceTable:
         fill.draw(fbo, {**geometry_uniforms(params), "u_transmittance_size": self.size})
         ctx.finish()
         fill.release()
-        fbo.release()
+        release_unbound(fbo)  # bound by the draw: unbind it (see release_unbound)
 
     def uniforms(self) -> dict[str, object]:
         return {"u_transmittance_size": self.size}

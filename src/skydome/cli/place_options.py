@@ -1,13 +1,15 @@
-"""Options shared by the commands that take a place and a time (``render``, ``timelapse``):
-parsing and checking them, with errors that name the flag."""
+"""Options shared by the commands that take a place and a time (``render``, ``view``,
+``timelapse``): parsing and checking them, with errors that name the flag."""
 
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
+from typing import Any
 
 import typer
 
-from skydome.errors import ParameterError, check_range
+from skydome.errors import ParameterError, check_choice, check_range
 
 #: Valid ranges of the place flags (the Observer's).
 LAT_RANGE = (-90.0, 90.0)
@@ -91,6 +93,73 @@ def parse_time(flag: str, text: str):
     if t.shape != ():
         raise ParameterError(f"{flag} {text!r} must be one instant")
     return t
+
+
+@dataclass(frozen=True)
+class PlaceTimeSun:
+    """What the place, time and Sun flags of ``render`` and ``view`` say.
+
+    Attributes:
+        observer: the Observer of the place flags, or None (the abstract mode).
+        time: the instant (``skydome.astro.Time``), None in the abstract mode.
+        sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (deg; 30 and 180 by
+            default, checked also with a place, where they are unused).
+        look: the ``--look`` target, or None.
+    """
+
+    observer: Any
+    time: Any
+    sun_elevation_deg: float
+    sun_azimuth_deg: float
+    look: str | None
+
+    @property
+    def abstract(self) -> bool:
+        """True without a place: a Sun alone at ``sun_elevation_deg``."""
+        return self.observer is None
+
+
+def place_time_sun(
+    place: str | None,
+    lat: float | None,
+    lon: float | None,
+    elevation: float | None,
+    when: str | None,
+    sun_elevation: float | None,
+    sun_azimuth: float | None,
+    look: str | None,
+    *,
+    default_now: bool = False,
+) -> PlaceTimeSun:
+    """Check the place, ``--time``, ``--sun-elevation``/``--sun-azimuth`` and ``--look``
+    flags together: a place sets the Sun (no Sun flags with it), a time needs a place, the
+    Moon needs a place. Without ``--time`` a place takes the current time when
+    ``default_now`` (the viewer), else it is an error (a render says when). Raises
+    ParameterError naming the flag."""
+    observer = observer_from_flags(place, lat, lon, elevation)
+    abstract = observer is None
+    if not abstract and (sun_elevation is not None or sun_azimuth is not None):
+        raise ParameterError("--place/--lat/--lon set the Sun: drop --sun-elevation/--sun-azimuth")
+    if abstract and when is not None:
+        raise ParameterError("--time needs a place: add --place NAME or --lat and --lon")
+    t = None
+    if not abstract:
+        if when is None and not default_now:
+            raise ParameterError("a place needs --time, e.g. --time 2018-03-01T19:00Z")
+        if when is None:
+            from datetime import datetime, timezone
+
+            when = datetime.now(timezone.utc).isoformat()
+        t = parse_time("--time", when)
+    if look is not None:
+        check_choice("--look", look, LOOKS, "view")
+        if abstract and look == "moon":
+            raise ParameterError("--look moon needs a place and a time (there is no Moon)")
+    el = 30.0 if sun_elevation is None else sun_elevation
+    az = 180.0 if sun_azimuth is None else sun_azimuth
+    check_range("--sun-elevation", el, -90.0, 90.0, "deg")
+    check_range("--sun-azimuth", az, -360.0, 360.0, "deg")
+    return PlaceTimeSun(observer, t, float(el), float(az), look)
 
 
 def parse_step(text: str) -> float:

@@ -9,14 +9,12 @@ import time
 import typer
 
 from skydome.cli.place_options import (
-    LOOKS,
     describe_state,
     elevation_option,
     lat_option,
     lon_option,
-    observer_from_flags,
-    parse_time,
     place_option,
+    place_time_sun,
 )
 from skydome.errors import ParameterError, check_choice, check_range
 
@@ -286,27 +284,9 @@ def register(app: typer.Typer) -> None:
         from skydome.spectra.grids import MODES
 
         # Validate everything before any work, so bad input writes nothing.
-        observer = observer_from_flags(place, lat, lon, elevation)
-        abstract = observer is None
-        if not abstract and (sun_elevation is not None or sun_azimuth is not None):
-            raise ParameterError(
-                "--place/--lat/--lon with --time set the Sun: drop --sun-elevation/--sun-azimuth"
-            )
-        if abstract and when is not None:
-            raise ParameterError("--time needs a place: add --place NAME or --lat and --lon")
-        if not abstract and when is None:
-            raise ParameterError("a place needs --time, e.g. --time 2018-03-01T19:00Z")
-        t = parse_time("--time", when) if when is not None else None
-        if look is not None:
-            check_choice("--look", look, LOOKS, "view")
-            if abstract and look == "moon":
-                raise ParameterError("--look moon needs a place and a time (there is no Moon)")
-        el = check_range(
-            "--sun-elevation", 30.0 if sun_elevation is None else sun_elevation, -90.0, 90.0, "deg"
-        )
-        az = check_range(
-            "--sun-azimuth", 180.0 if sun_azimuth is None else sun_azimuth, -360.0, 360.0, "deg"
-        )
+        pts = place_time_sun(place, lat, lon, elevation, when, sun_elevation, sun_azimuth, look)
+        observer, t, abstract = pts.observer, pts.time, pts.abstract
+        el, az = pts.sun_elevation_deg, pts.sun_azimuth_deg
         width, height = parse_size(size)
         ev = parse_exposure(exposure)
         check_range("--exposure-compensation", compensation, -20.0, 20.0, "EV")

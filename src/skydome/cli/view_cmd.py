@@ -5,13 +5,11 @@ from __future__ import annotations
 import typer
 
 from skydome.cli.place_options import (
-    LOOKS,
     elevation_option,
     lat_option,
     lon_option,
-    observer_from_flags,
-    parse_time,
     place_option,
+    place_time_sun,
 )
 from skydome.cli.render_cmd import (
     MAX_ORDERS,
@@ -116,27 +114,11 @@ def register(app: typer.Typer) -> None:
             VIEW_PITCH_RANGE_DEG,
         )
 
-        observer = observer_from_flags(place, lat, lon, elevation)
-        abstract = observer is None
-        if not abstract and (sun_elevation is not None or sun_azimuth is not None):
-            raise ParameterError(
-                "--place/--lat/--lon set the Sun: drop --sun-elevation/--sun-azimuth"
-            )
-        if abstract and when is not None:
-            raise ParameterError("--time needs a place: add --place NAME or --lat and --lon")
-        t = None
-        if not abstract:
-            from datetime import datetime, timezone
-
-            t = parse_time("--time", when or datetime.now(timezone.utc).isoformat())
-        if look is not None:
-            check_choice("--look", look, LOOKS, "view")
-            if abstract and look == "moon":
-                raise ParameterError("--look moon needs a place and a time (there is no Moon)")
-        el = check_range("--sun-elevation", 30.0 if sun_elevation is None else sun_elevation,
-                         -90.0, 90.0, "deg")  # fmt: skip
-        az = check_range("--sun-azimuth", 180.0 if sun_azimuth is None else sun_azimuth,
-                         -360.0, 360.0, "deg")  # fmt: skip
+        pts = place_time_sun(
+            place, lat, lon, elevation, when, sun_elevation, sun_azimuth, look, default_now=True
+        )
+        observer, t, abstract = pts.observer, pts.time, pts.abstract
+        el, az = pts.sun_elevation_deg, pts.sun_azimuth_deg
         width, height = parse_size(size)
         from skydome.viewer.app import MAX_WINDOW_SIDE
 

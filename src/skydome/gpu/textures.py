@@ -3,6 +3,17 @@
 from __future__ import annotations
 
 
+def release_unbound(obj) -> None:
+    """Release a GL object; a framebuffer that is the context's bound one is unbound first
+    (the default framebuffer bound instead). moderngl rebinds its bound framebuffer after
+    it makes another one: bound to a deleted name, that rebind is GL_INVALID_OPERATION, a
+    flag the next ``ctx.error`` (a viewer's check of its context) would report."""
+    ctx = getattr(obj, "ctx", None)
+    if ctx is not None and ctx.fbo is obj:
+        (ctx.screen or ctx.detect_framebuffer(0)).use()
+    obj.release()
+
+
 def linear_clamped(tex, ctx):
     """Set ``tex`` (2D, array or 3D) to linear filtering with clamped edges; returns it."""
     tex.filter = (ctx.LINEAR, ctx.LINEAR)

@@ -105,6 +105,10 @@ class FrameGraph:
         #: each pass of a frame (a layer's draw, the exposure, the display passes): the
         #: viewer's GPU timer queries (``viewer.frame_timer``).
         self.profiler = None
+        #: Counts the changes of the targets' contents (a tile drawn, targets freed): a
+        #: front end that keeps a drawn frame's texture (the viewer's static frames) knows it
+        #: still holds that frame while the count has not moved.
+        self.generation = 0
         self.basis = basis
         for layer in self.layers:  # a volume layer may bring the spectral basis (its tables)
             layer.prepare(self)
@@ -154,6 +158,7 @@ class FrameGraph:
         """Free the float targets of every tile size but ``keep`` (w, h), and the reduced
         targets of the smooth layers (made again at the next frame): a window that resizes
         keeps only its current size's."""
+        self.generation += 1
         for key in [k for k in self._targets if k != keep]:
             texs, fbos, depth = self._targets.pop(key)
             for obj in (*fbos, *texs, depth):
@@ -177,6 +182,7 @@ class FrameGraph:
     ):
         """Draw every enabled layer into one tile; returns the texture holding it (GL rows)."""
         x0, y0, tw, th = tile
+        self.generation += 1
         texs, fbos, _ = self._target(tw, th)
         uniforms = {**camera.uniforms(*frame_size), "u_tile_offset": (float(x0), float(y0))}
         ctx = self.ctx
@@ -416,6 +422,7 @@ class FrameGraph:
         tonemap: str = "filmic",
         measure: bool = False,
         read_back: bool = False,
+        texture=None,
     ) -> float | None:
         """Draw the frame into ``framebuffer`` (a moderngl framebuffer, e.g. a window's
         ``ctx.screen``), tone-mapped, with no read-back. ``size`` defaults to the
@@ -425,12 +432,16 @@ class FrameGraph:
         and ``read_back``, the measured log-average is read back (one texel) and applied
         as a fixed scale: the same exposure, without the per-pixel lookup of the
         AUTO_EXPOSURE tone map (which costs a CPU rasterizer more than the read-back).
+        ``texture``: the float frame of ``state`` and ``camera`` at this size, drawn already
+        (:meth:`frame_texture`): only the post passes run (a viewer's static view shown at a
+        new exposure).
         Returns the exposure scale used (m^2/cd) when it is known on the CPU, else None."""
         from skydome.display.gpu_tonemap import GpuToneMapper
 
         w, h = size or tuple(framebuffer.viewport[2:]) or framebuffer.size
-        self.update(state)
-        texture = self.draw_tile(camera, (w, h), (0, 0, w, h), altitude_m)
+        if texture is None:
+            self.update(state)
+            texture = self.draw_tile(camera, (w, h), (0, 0, w, h), altitude_m)
         if self._post is None:
             self._post = GpuToneMapper(self.ctx, quantize=False)
         if exposure == "auto" or measure:
@@ -522,6 +533,7 @@ class FrameGraph:
 
     def release(self) -> None:
         """Free the targets, the post passes and every layer's GPU resources."""
+        self.generation += 1
         for texs, fbos, depth in self._targets.values():
             for obj in (*fbos, *texs, depth):
                 if obj is not None:

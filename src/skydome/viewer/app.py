@@ -318,8 +318,7 @@ class ViewerWindow:
         self.scene = scene
         self.make_current()
         scene.base.graph.profiler = self.timer
-        # A flag left by earlier work (the atmosphere's precomputation leaves a
-        # GL_INVALID_OPERATION on llvmpipe) is not this loop's failure: take it first.
+        # A flag left by work done before the loop is not this loop's failure: take it.
         self.ctx.error  # noqa: B018
         glfw = self.glfw
         last = time.perf_counter()

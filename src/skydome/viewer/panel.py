@@ -7,8 +7,12 @@ atmosphere knobs' clamp (:func:`skydome.viewer.rebuild.clamp_knobs`), and slider
 end. A change of the atmosphere starts a background rebuild (``viewer.rebuild``) with a
 progress bar; the old tables stay on screen until the new ones are ready.
 
-``Panel.rects`` holds the screen rectangle (window units) of the last frame's named
-widgets, so that scripts and tests can click them.
+``Panel.rects`` holds the screen rectangle (window units: the pointer's, not framebuffer
+pixels on a HiDPI screen) of the last frame's named widgets, so that scripts and tests can
+click them: "panel" (the whole panel), "header:NAME" (a section's header), "play",
+"jump_KIND", "projection" and "preset" (combo boxes; while one is open, each item as
+"projection:fisheye", "preset:hazy"), "fov" and "ev100" (slider frames),
+"exposure:MODE" (radio buttons), "screenshot".
 """
 
 from __future__ import annotations
@@ -112,18 +116,20 @@ class Panel:
         imgui.begin("skydome")
         try:
             self._status(scene, timer)
-            if imgui.collapsing_header("Time", imgui.TreeNodeFlags_.default_open):
+            if self._header("Time", open_=True):
                 self._time(scene)
-            if imgui.collapsing_header("Place"):
+            if self._header("Place"):
                 self._place(scene)
-            if imgui.collapsing_header("Camera", imgui.TreeNodeFlags_.default_open):
+            if self._header("Camera", open_=True):
                 self._camera(scene)
-            if imgui.collapsing_header("Atmosphere"):
+            if self._header("Atmosphere"):
                 self._atmosphere(scene)
-            if imgui.collapsing_header("Display"):
+            if self._header("Display"):
                 self._display(scene)
-            if imgui.collapsing_header("Frame times"):
+            if self._header("Frame times"):
                 self._times(timer)
+            pos, size = imgui.get_window_pos(), imgui.get_window_size()
+            self.rects["panel"] = (pos.x, pos.y, pos.x + size.x, pos.y + size.y)
         finally:
             imgui.end()
         imgui.render()
@@ -141,6 +147,33 @@ class Panel:
         a, b = imgui.get_item_rect_min(), imgui.get_item_rect_max()
         x1 = a.x + imgui.calc_item_width() if frame else b.x
         self.rects[name] = (a.x, a.y, x1, b.y)
+
+    def _header(self, label: str, open_: bool = False) -> bool:
+        """A collapsing header (its rectangle kept as ``rects["header:" + label]``)."""
+        imgui = self.imgui
+        flags = imgui.TreeNodeFlags_.default_open if open_ else 0
+        shown = imgui.collapsing_header(label, flags)
+        self._mark(f"header:{label}")
+        return shown
+
+    def _combo(self, label: str, current: int, items: list[str], name: str):
+        """A combo box as ``imgui.combo`` (returns (changed, index)), whose frame is kept as
+        ``rects[name]`` and, while it is open, each item as ``rects[f"{name}:{item}"]``."""
+        imgui = self.imgui
+        preview = items[current] if 0 <= current < len(items) else ""
+        opened = imgui.begin_combo(label, preview)
+        self._mark(name, frame=True)
+        changed, index = False, current
+        if opened:
+            for i, item in enumerate(items):
+                picked, _ = imgui.selectable(item, i == current)
+                self._mark(f"{name}:{item}")
+                if picked and i != current:
+                    changed, index = True, i
+                if i == current:
+                    imgui.set_item_default_focus()
+            imgui.end_combo()
+        return changed, index
 
     # ------------------------------------------------------------------ sections
 
@@ -281,7 +314,9 @@ class Panel:
         imgui = self.imgui
         c = scene.controls
         s = c.state
-        changed, i = imgui.combo("projection", PROJECTIONS.index(s.projection), list(PROJECTIONS))
+        changed, i = self._combo(
+            "projection", PROJECTIONS.index(s.projection), list(PROJECTIONS), "projection"
+        )
         if changed:
             c.set(projection=PROJECTIONS[i])
         if s.projection == "perspective":
@@ -326,7 +361,8 @@ class Panel:
 
         names = list(PRESETS)
         edited = False
-        changed, i = imgui.combo("preset", names.index(k.preset) if k.preset in names else 0, names)
+        current = names.index(k.preset) if k.preset in names else 0
+        changed, i = self._combo("preset", current, names, "preset")
         if changed:
             self.knobs = k = Knobs.of_preset(names[i])
             edited = True
@@ -385,10 +421,12 @@ class Panel:
         for mode in EXPOSURE_MODES:
             if imgui.radio_button(mode, s.exposure_mode == mode):
                 c.set(exposure_mode=mode)
+            self._mark(f"exposure:{mode}")
             imgui.same_line()
         imgui.new_line()
         if s.exposure_mode == "ev":
             changed, v = imgui.slider_float("EV100", s.ev100, *EV_RANGE, "%.2f", _clamp(imgui))
+            self._mark("ev100", frame=True)
             if changed:
                 c.set(ev100=v)
         changed, v = imgui.slider_float(

@@ -76,6 +76,7 @@ class ViewerScene:
         self.view_width_px: int | None = None
         #: The exposure (EV100) of the last frame drawn, and its tone map.
         self.last_ev100: float | None = None
+        self._cache: FrameCache | None = None
 
     # ------------------------------------------------------------------ the sky now
 
@@ -216,30 +217,72 @@ class ViewerScene:
         """Draw the state's frame into ``framebuffer`` over ``size`` (w, h) pixels,
         tone-mapped; in the adapt mode, then let the eye adapt for ``dt_s`` real seconds to
         what it measured. The auto exposure is read back (one texel) and applied as a fixed
-        scale, as ``Sky.render`` does: cheaper per pixel on a CPU rasterizer."""
+        scale, as ``Sky.render`` does: cheaper per pixel on a CPU rasterizer.
+
+        A view that has not changed since the last frame is not drawn again (see
+        :class:`FrameCache`): a new view (time, place, camera, size or layers changed) is
+        drawn and tone-mapped straight into ``framebuffer``; when the next frame has the
+        same view, its float frame, kept on the GPU, is tone-mapped into the scene's own
+        8-bit target, which is copied (a blit) into ``framebuffer`` for as long as nothing
+        changes. When only the display changes (an exposure, the tone map, night vision,
+        overlays) the post passes alone run again, from the kept float frame."""
         from skydome.display.exposure import scale_to_ev100
+        from skydome.scene.sky import _exposure_scale
 
         s = self.controls.state
         self.view_width_px = int(size[0])
         sky = self.sky()
+        graph = sky.graph
         exposure, comp = self.exposure()
         adapt = s.exposure_mode == "adapt"
-        scale = sky.draw(
-            framebuffer,
-            s.camera(),
-            size=size,
-            altitude_m=self.altitude_m(),
-            exposure=exposure,
-            compensation_ev=comp,
-            tonemap=s.tonemap,
-            measure=adapt,
-            read_back=True,
-        )
-        if adapt:
-            luminance = sky.graph.exposure_pass().read()
-            self.eye.update(min(luminance, 1e12), max(float(dt_s), 0.0))
+        size = (int(size[0]), int(size[1]))
+        view = (
+            s.projection, s.yaw_deg, s.pitch_deg, s.fov_deg, self.altitude_m(),
+            tuple(layer.enabled for layer in graph.layers),
+        )  # fmt: skip
+        display = (s.tonemap, s.night_vision, tuple(s.overlays), s.exposure_mode, comp)
+        cache = self._cache
+        if cache is None or cache.ctx is not graph.ctx:
+            if cache is not None:
+                cache.release()
+            cache = self._cache = FrameCache(graph.ctx)
+        moved = not cache.holds_view(graph, sky.state, view, size)
+        if moved:
+            texture = graph.frame_texture(
+                sky.state, s.camera(), *size, altitude_m=self.altitude_m()
+            )
+            cache.keep_view(graph, sky.state, view, size, texture)
+        if moved or not cache.holds_display(display, exposure):
+            # A new view goes straight to the screen (a moving view pays no copy); a view
+            # that stays is tone-mapped into the kept image, shown from there from now on.
+            target = framebuffer if moved else cache.target(size)
+            scale = graph.draw(
+                sky.state,
+                target,
+                s.camera(),
+                altitude_m=self.altitude_m(),
+                size=size,
+                exposure=_exposure_scale(exposure, comp),
+                compensation_ev=comp,
+                tonemap=s.tonemap,
+                measure=adapt,
+                read_back=True,
+                texture=cache.texture,
+            )
+            luminance = graph.exposure_pass().read() if adapt else None
+            cache.keep_display(display, exposure, scale, luminance, graph, kept=not moved)
+        if not moved:
+            cache.show(framebuffer, size)
         #: The EV100 of the exposure applied (compensation included).
-        self.last_ev100 = None if scale is None else scale_to_ev100(scale)
+        self.last_ev100 = None if cache.scale is None else scale_to_ev100(cache.scale)
+
+    def invalidate(self) -> None:
+        """Forget the kept frame: the next :meth:`draw` draws the layers again. For a change
+        the view's key does not see (a layer's parameters set directly, e.g. by a script
+        between frames); the time, the place, the camera, the size, the layers' switches,
+        the display settings and a new atmosphere are seen."""
+        if self._cache is not None:
+            self._cache.release()
 
     def render(self, width: int, height: int, *, tonemap: bool = True) -> Frame:
         """The frame :meth:`draw` shows, read back: ``Frame.data`` in cd/m^2 and (with
@@ -273,5 +316,102 @@ class ViewerScene:
             old.graph.release()
 
     def release(self) -> None:
-        """Free the GPU resources of the sky shown."""
+        """Free the GPU resources of the sky shown (and of the kept frame)."""
+        if self._cache is not None:
+            self._cache.release()
+            self._cache = None
         self.base.graph.release()
+
+
+class FrameCache:
+    """The last frame a viewer drew, kept on the GPU: which view its float texture holds (a
+    frame graph's target, valid while the graph's ``generation`` stays where it was after
+    the draw), and the 8-bit image tone-mapped from it (in a target of its own) with the
+    display settings and exposure used.
+
+    A view is the same when the SkyState object, the graph, the camera fields, the altitude,
+    the layers' switches and the size are; an exposure when it is the same string ("auto":
+    the frame's own measure) or the same EV100 to within EXPOSURE_HOLD_EV (the adapt mode's
+    eye creeps towards its target for ever: a change of 1.4e-4 EV scales linear values by
+    1e-4, under 0.03 of an 8-bit code value after the sRGB encoding).
+    """
+
+    #: The EV100 change below which a kept image is shown again.
+    EXPOSURE_HOLD_EV = 1.4e-4
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.texture = None
+        self.scale: float | None = None
+        self.luminance: float | None = None
+        self._view: tuple | None = None
+        self._display: tuple | None = None
+        self._exposure = None
+        self._generation: int | None = None
+        self._graph = None
+        self._state = None
+        self._target = None  # (size, texture, framebuffer)
+
+    def holds_view(self, graph, state, view: tuple, size: tuple[int, int]) -> bool:
+        """Whether the kept float texture is the frame of this view."""
+        return (
+            self.texture is not None
+            and graph is self._graph
+            and state is self._state
+            and graph.generation == self._generation
+            and (view, size) == self._view
+        )
+
+    def keep_view(self, graph, state, view: tuple, size: tuple[int, int], texture) -> None:
+        """``texture`` (just drawn by ``graph``) is the frame of this view; the kept image
+        is not its tone map."""
+        self._graph, self._state, self._view = graph, state, (view, size)
+        self.texture = texture
+        self._generation = graph.generation
+        self._display = None
+
+    def holds_display(self, display: tuple, exposure) -> bool:
+        """Whether the kept image is the kept view's under these display settings."""
+        if self._display != display:
+            return False
+        if isinstance(exposure, str) or isinstance(self._exposure, str):
+            return exposure == self._exposure
+        return abs(float(exposure) - float(self._exposure)) < self.EXPOSURE_HOLD_EV
+
+    def keep_display(
+        self, display: tuple, exposure, scale, luminance, graph, *, kept: bool = True
+    ) -> None:
+        """The kept view was tone-mapped with these settings (the exposure scale used and
+        the measured log-average luminance, cd/m^2, when known) into the kept image, or
+        (``kept`` False) elsewhere: the kept image is then not its. The post passes left
+        the float texture as it was."""
+        self._display = display if kept else None
+        self._exposure = exposure
+        self.scale, self.luminance = scale, luminance
+        self._generation = graph.generation
+
+    def target(self, size: tuple[int, int]):
+        """The 8-bit framebuffer (RGBA8, GL rows) the image is kept in, of ``size``."""
+        if self._target is None or self._target[0] != size:
+            self._release_target()
+            tex = self.ctx.texture(size, 4, dtype="f1")
+            self._target = (size, tex, self.ctx.framebuffer(color_attachments=[tex]))
+        return self._target[2]
+
+    def show(self, framebuffer, size: tuple[int, int]) -> None:
+        """Copy the kept image into ``framebuffer`` (a window's screen) over ``size``, and
+        leave ``framebuffer`` bound (what is drawn next, the panel, goes over it)."""
+        framebuffer.viewport = (0, 0, *size)
+        self.ctx.copy_framebuffer(framebuffer, self._target[2])
+        framebuffer.use()
+
+    def _release_target(self) -> None:
+        if self._target is not None:
+            self._target[2].release()
+            self._target[1].release()
+            self._target = None
+
+    def release(self) -> None:
+        """Free the 8-bit target; forget the kept frame."""
+        self._release_target()
+        self.texture = self._graph = self._state = self._view = self._display = None
