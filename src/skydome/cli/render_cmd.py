@@ -8,6 +8,18 @@ import time
 
 import typer
 
+from skydome.cli.cloud_options import (
+    CloudFlags,
+    cirrus_option,
+    cloud_base_option,
+    cloud_seed_option,
+    cloud_thickness_option,
+    cloud_type_option,
+    clouds_option,
+    coverage_option,
+    weather_option,
+    wind_option,
+)
 from skydome.cli.place_options import (
     describe_state,
     elevation_option,
@@ -250,6 +262,15 @@ def register(app: typer.Typer) -> None:
             "--overlay",
             help="Draw over the image, comma separated: lines (constellations), labels, grid.",
         ),
+        clouds: str = clouds_option(),
+        coverage: float = coverage_option(),
+        cloud_base: float = cloud_base_option(),
+        cloud_thickness: float = cloud_thickness_option(),
+        cloud_type: str = cloud_type_option(),
+        cirrus: float = cirrus_option(),
+        wind: str = wind_option(),
+        cloud_seed: int = cloud_seed_option(),
+        weather: str = weather_option(),
         output: list[str] = typer.Option(
             ["sky.png"],
             "-o",
@@ -329,6 +350,12 @@ def register(app: typer.Typer) -> None:
             raise ParameterError(
                 "--night-vision and --overlay need the default model (a sky of the scene)"
             )
+        sky_clouds = CloudFlags(
+            clouds, coverage, cloud_base, cloud_thickness, cloud_type, cirrus, wind, cloud_seed,
+            weather,
+        ).clouds()
+        if model == "single" and sky_clouds is not None:
+            raise ParameterError("--clouds needs the default model (a sky of the scene)")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         paths = [check_output_path(p) for p in output]
         if len({str(p.resolve()) for p in paths}) != len(paths):
@@ -381,9 +408,12 @@ def register(app: typer.Typer) -> None:
                 display = {"night_vision": night_vision, "overlays": overlays}
                 if abstract:
                     layers = [la for la in layers if la.name != "moon"]
-                    sky = Sky(sun_elevation_deg=el, sun_azimuth_deg=az, layers=layers, **display)
+                    sky = Sky(
+                        sun_elevation_deg=el, sun_azimuth_deg=az, layers=layers,
+                        clouds=sky_clouds, **display,
+                    )  # fmt: skip
                 else:
-                    sky = Sky(observer, t, layers=layers, **display)
+                    sky = Sky(observer, t, layers=layers, clouds=sky_clouds, **display)
             for line in describe_state(sky.state):
                 console.print(line)
             if not abstract and sky.state.sun.elevation_deg < -12.0:

@@ -4,6 +4,18 @@ from __future__ import annotations
 
 import typer
 
+from skydome.cli.cloud_options import (
+    CloudFlags,
+    cirrus_option,
+    cloud_base_option,
+    cloud_seed_option,
+    cloud_thickness_option,
+    cloud_type_option,
+    clouds_option,
+    coverage_option,
+    weather_option,
+    wind_option,
+)
 from skydome.cli.place_options import (
     elevation_option,
     lat_option,
@@ -81,6 +93,15 @@ def register(app: typer.Typer) -> None:
         ),
         night_vision: bool = typer.Option(False, "--night-vision", help="Night vision on."),
         overlay: str = typer.Option(None, "--overlay", help="lines,labels,grid."),
+        clouds: str = clouds_option(),
+        coverage: float = coverage_option(),
+        cloud_base: float = cloud_base_option(),
+        cloud_thickness: float = cloud_thickness_option(),
+        cloud_type: str = cloud_type_option(),
+        cirrus: float = cirrus_option(),
+        wind: str = wind_option(),
+        cloud_seed: int = cloud_seed_option(),
+        weather: str = weather_option(),
         play: bool = typer.Option(False, "--play", help="Start with the time running."),
         speed: float = typer.Option(
             60.0, "--speed", help="Time speed, simulated seconds per second (-864000..864000)."
@@ -159,6 +180,10 @@ def register(app: typer.Typer) -> None:
         if shots and frames is None:
             raise ParameterError("--screenshot saves the last of --frames N frames: add --frames")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
+        sky_clouds = CloudFlags(
+            clouds, coverage, cloud_base, cloud_thickness, cloud_type, cirrus, wind, cloud_seed,
+            weather,
+        ).clouds()
         try:
             import glfw  # noqa: F401
 
@@ -182,6 +207,10 @@ def register(app: typer.Typer) -> None:
                 air = AtmosphereLayer(params, config=config, progress=report)
                 layers = default_layers(air, night=night and not abstract, light_pollution=bortle)
                 display = {"night_vision": night_vision, "overlays": overlays}
+                if sky_clouds is not None:  # the interactive march (skydome.clouds.layer)
+                    from skydome.clouds.layer import CloudLayer
+
+                    display["clouds"] = CloudLayer(sky_clouds, quality="interactive")
                 if abstract:
                     layers = [la for la in layers if la.name != "moon"]
                     sky = Sky(sun_elevation_deg=el, sun_azimuth_deg=az, layers=layers,

@@ -60,7 +60,7 @@ class CloudLayer(Layer):
     stage = "volume"
 
     def __init__(self, clouds: Clouds | str = "fair", *, quality: str = "full", phase=None,
-                 shafts: bool = True, enabled: bool = True):  # fmt: skip
+                 shafts: bool = False, enabled: bool = True):  # fmt: skip
         super().__init__(enabled=enabled)
         self.clouds = Clouds(clouds) if isinstance(clouds, str) else clouds
         if not isinstance(self.clouds, Clouds):
@@ -286,8 +286,6 @@ class CloudLayer(Layer):
             extra = (*extra, "AERIAL_TABLES")
             uniforms = {**uniforms, **aerial[0]}
             textures = {**textures, **aerial[1]}
-        import os
-        extra = (*extra, *[e for e in os.environ.get("CLOUD_DEFS", "").split(",") if e])
         fpass = self.full_screen_pass(
             frame.ctx, "clouds/clouds_march.glsl", frame.camera, self.defines(frame, extra)
         )
@@ -322,10 +320,6 @@ class CloudLayer(Layer):
             )
         if extra:
             extra.append("NO_JITTER")
-            import os
-            if os.environ.get("DBG"): extra.append("DEBUG_SOURCE")
-        import os
-        if os.environ.get("DBGC"): extra.append("DEBUG_COUNT")
         textures = self.textures(noise=uniform_extinction_per_m is None)
         rad, data = self.march(frame, uniforms, textures, tuple(extra))
         out = []
@@ -333,6 +327,59 @@ class CloudLayer(Layer):
             a = np.frombuffer(tex.read(), dtype="f4").reshape(height, width, 4)
             out.append(a[::-1].copy())
         return out[0], out[1]
+
+    def light_transmittance(self, points_m) -> np.ndarray:
+        """The clouds' transmittance towards the key light (the Sun, or the Moon at night) at
+        points of a user's scene: ``points_m`` (..., 3) in metres, east, north and up from the
+        place's ground (the tangent plane: within tens of km the curvature is negligible
+        here), at this layer's last time. Returns (...) in [0, 1]: 1 in full light, 0 in a
+        cloud's full shadow (a shadow map for compositing a scene under the clouds)."""
+        from skydome.gpu import FullscreenPass
+
+        p = np.asarray(points_m, dtype=np.float64)
+        if p.shape[-1:] != (3,) or not np.all(np.isfinite(p)):
+            raise ParameterError("points_m must be finite (..., 3) east, north, up in metres")
+        if self.graph is None or self._state is None:
+            raise ParameterError("light_transmittance needs the layer in a sky with a time")
+        if self.clouds.empty:
+            return np.ones(p.shape[:-1])
+        flat = p.reshape(-1, 3)
+        n = flat.shape[0]
+        bottom_km = self._atmosphere().params.bottom_radius_m / 1e3
+        km = np.column_stack([flat[:, 0] / 1e3, flat[:, 1] / 1e3, bottom_km + flat[:, 2] / 1e3])
+        width = min(n, 4096)
+        height = -(-n // width)
+        texels = np.zeros((height * width, 4), dtype=np.float32)
+        texels[:n, :3] = km
+        ctx = self.graph.ctx
+        points = ctx.texture((width, height), 4, texels.tobytes(), dtype="f4")
+        out = ctx.texture((width, height), 1, dtype="f4")
+        fbo = ctx.framebuffer(color_attachments=[out])
+        try:
+            key = ("query",)
+            if key not in self._passes:
+                d = {**self._atmosphere().renderer.tables.defines()}
+                self._passes[key] = FullscreenPass(ctx, "clouds/cloud_shadow_query.glsl", d)
+            frame = DrawContext(ctx, None, (width, height), (0, 0, width, height), None, {}, {},
+                                0.0, self.graph.basis)  # fmt: skip
+            uniforms = self._query_uniforms(frame)
+            fbo.viewport = (0, 0, width, height)
+            self._passes[key].draw(fbo, uniforms, {**self.textures(), "u_points": points})
+            t = np.frombuffer(out.read(), dtype=np.float32)[:n]
+        finally:
+            for obj in (fbo, out, points):
+                obj.release()
+        return t.astype(np.float64).reshape(p.shape[:-1])
+
+    def _query_uniforms(self, frame: DrawContext) -> dict:
+        """The march's uniforms without a camera (the shadow query)."""
+        from skydome.render.cameras import PerspectiveCamera
+
+        camera = PerspectiveCamera()
+        w, h = frame.frame_size
+        frame.camera = camera
+        frame.uniforms = camera.uniforms(w, h)
+        return self.uniforms(frame)
 
     def draw(self, frame: DrawContext) -> None:
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is

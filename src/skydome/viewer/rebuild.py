@@ -202,9 +202,10 @@ class AtmosphereRebuild:
 
 
 def build_sky(template, params, config=None, *, night: bool = True, light_pollution=None):
-    """A Sky like ``template`` (its place, time, context and display settings) with the
-    atmosphere ``params``: its tables load from the cache when a rebuild put them there."""
+    """A Sky like ``template`` (its place, time, context, display settings and clouds) with
+    the atmosphere ``params``: its tables load from the cache when a rebuild put them there."""
     from skydome.atmosphere.layer import AtmosphereLayer
+    from skydome.clouds.layer import CloudLayer
     from skydome.scene.sky import Sky, default_layers
 
     air = AtmosphereLayer(params, config=config)
@@ -215,6 +216,9 @@ def build_sky(template, params, config=None, *, night: bool = True, light_pollut
         "overlays": template.overlays,
         "ctx": template.graph.ctx,
     }
+    clouds = next((la for la in template.layers if isinstance(la, CloudLayer)), None)
+    if clouds is not None:
+        display["clouds"] = CloudLayer(clouds.clouds, quality=clouds.quality, shafts=clouds.shafts)
     if abstract:
         layers = [la for la in layers if la.name != "moon"]
         sun = template.state.sun

@@ -116,13 +116,7 @@ float cirrus_extinction(vec3 p, float r) {
 #endif
 }
 
-#ifdef DEBUG_COUNT
-float debug_fetches = 0.0;
-#endif
 float cloud_extinction(vec3 p, bool cheap) {
-#ifdef DEBUG_COUNT
-    debug_fetches += cheap ? 1.0 : 2.0;
-#endif
     float r = length(p);
     if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, cheap);
     return cirrus_extinction(p, r);

@@ -2,7 +2,8 @@
 // clouds' shadow, for the atmosphere's HAS_SHADOW_MAP input (atmosphere/sky_view.glsl takes
 // the light scattered along that length off the sky: Bruneton's shadow length, which puts the
 // shadowed part next to the camera). Marched over the first u_shaft_km of the ray, or to the
-// ground, in SHAFT_STEPS steps with the ordered offset; each sample's shadow from
+// ground, in SHAFT_STEPS equal steps sampled at their middles (shafts are smooth: the pass
+// runs at a reduced resolution, read bilinearly); each sample's shadow from
 // light_transmittance (clouds/cloud_paths.glsl) with 3 samples per shell crossing.
 #include "common/camera.glsl"
 #include "atmosphere/precomputed_lookup.glsl"
@@ -14,7 +15,7 @@ uniform float u_shaft_km;
 
 layout(location = 0) out vec4 frag;
 
-const int SHAFT_STEPS = 16;
+const int SHAFT_STEPS = 24;
 
 void main() {
     frag = vec4(0.0);
@@ -27,9 +28,7 @@ void main() {
     end = min(end, max(top.y, 0.0));
     if (end <= 0.0) return;
     float dt = end / float(SHAFT_STEPS);
-    const float M[4] = float[4](0.0, 0.5, 0.75, 0.25);
-    ivec2 xy = ivec2(gl_FragCoord.xy);
-    float t = dt * (M[(xy.x & 1) + 2 * (xy.y & 1)] + 0.125);
+    float t = 0.5 * dt;
     float shadowed = 0.0;
     for (int i = 0; i < SHAFT_STEPS; ++i, t += dt)
         shadowed += (1.0 - light_transmittance(o + d * t, u_sun_direction, 3)) * dt;

@@ -48,7 +48,7 @@ uniform float u_sun_scale;
 uniform vec3 u_light2_direction;
 uniform vec4 u_light2_scale;
 #endif
-#if defined(CLOUDS_ALONE) || defined(SKIP_IRR)
+#ifdef CLOUDS_ALONE
 uniform vec4 u_test_irradiance;
 #endif
 
@@ -73,7 +73,7 @@ float ordered_offset(ivec2 xy) {
 // The key light's irradiance normal to its beam and the sky's on a horizontal surface at p
 // (R, G, B, scotopic; lx).
 void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
-#if defined(CLOUDS_ALONE) || defined(SKIP_IRR)
+#ifdef CLOUDS_ALONE
     light = u_test_irradiance;
     sky = vec4(0.0);
 #else
@@ -161,9 +161,6 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         float w = clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
         vec4 source = mix(light0, light1, w) * j.x + mix(sky0, sky1, w) * j.y;
         float a = 1.0 - exp(-sigma * step);
-#ifdef DEBUG_SOURCE
-        if (dbg.x < 0.0) dbg = vec4(j.x, nu, mu0, tau_s);
-#endif
         radiance += transmittance * a * source;
         depth += vec2(transmittance * a * t, transmittance * a);
         transmittance *= 1.0 - a;
@@ -178,9 +175,6 @@ void main() {
     vec3 d;
     if (!camera_ray(gl_FragCoord.xy, d)) return;
     vec3 o = u_camera_position;
-#ifdef EARLY_OUT
-    frag_cloud = vec4(1.0, 0.0, 1.0, 1.0); return;
-#endif
     vec2 ground = ray_sphere(o, d, u_bottom_radius);
     float t_ground = ground.x > 0.0 ? ground.x : 1e30;
 #ifdef NO_JITTER
@@ -209,12 +203,8 @@ void main() {
                         transmittance, depth);
     }
     float mean_km = depth.y > 0.0 ? depth.x / depth.y : 0.0;
-#ifdef SKIP_SHADOW
-    float shadow = 1.0;
-#else
     float shadow = t_ground < 1e29 ? light_transmittance(o + d * t_ground, u_light_direction, 4)
                                    : 1.0;
-#endif
     frag_cloud = vec4(transmittance, mean_km, shadow, 1.0);
 #ifdef CLOUDS_ALONE
     frag_radiance = radiance;
@@ -257,11 +247,5 @@ void main() {
             frag_radiance -= transmittance * (1.0 - shadow) * direct;
         }
     }
-#endif
-#ifdef DEBUG_SOURCE
-    frag_radiance = dbg;
-#endif
-#ifdef DEBUG_COUNT
-    frag_radiance = vec4(debug_fetches);
 #endif
 }
