@@ -51,11 +51,15 @@ def main() -> None:
     ap.add_argument("--scene", action="store_true", help="only the place-and-time views")
     ap.add_argument("--night", action="store_true", help="only the night-sky views")
     ap.add_argument("--mars", action="store_true", help="only Mars at noon and at sunset")
+    ap.add_argument("--clouds", action="store_true", help="only the cloud views")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     OUT.mkdir(parents=True, exist_ok=True)
     if args.mars:
         mars_views(w, h)
+        return
+    if args.clouds:
+        cloud_views(w, h)
         return
     if args.scene or args.night:
         if args.scene:
@@ -222,6 +226,55 @@ def mars_views(w: int, h: int) -> None:
     path = OUT / "mars-noon-sunset.png"
     atomic_write(path, lambda tmp: write_png(tmp, np.concatenate(mars, axis=1), {"views": "mars"}))
     print(f"{path.relative_to(OUT.parents[1])}")
+
+
+def cloud_views(w: int, h: int) -> None:
+    """Clouds (issue 12), full quality, auto exposure: fair-weather cumulus at noon, a sunset
+    under stratocumulus lit from below, overcast, a storm, cirrus alone, a moonlit cloudy
+    night, the view from 10 km above the clouds, and crepuscular rays (light shafts)."""
+    from skydome.clouds.layer import CloudLayer
+    from skydome.clouds.params import Clouds
+    from skydome.render.cameras import PerspectiveCamera as Cam
+    from skydome.scene import Sky
+
+    valletta = (35.8989, 14.5146, 56.0)
+    # name: (time, clouds, look (yaw from the Sun's azimuth, pitch), fov, altitude m, shafts, note)
+    views = {
+        "clouds-fair-noon": ("2021-06-21T10:00Z", Clouds("fair", seed=3), (60, 20), 90, None,
+                             False, "fair-weather cumulus, Valletta 2021-06-21 10:00 UTC"),
+        "clouds-sunset-stratocumulus": (
+            "2021-06-21T18:12Z", Clouds("overcast", coverage=0.75, base_m=1800, seed=4), (0, 6),
+            90, None, False, "sunset under stratocumulus lit from below"),
+        "clouds-overcast": ("2021-06-21T10:00Z", Clouds("overcast", seed=5), (90, 15), 90, None,
+                            False, "overcast stratocumulus deck"),
+        "clouds-storm": ("2021-06-21T15:00Z", Clouds("storm", seed=6), (120, 15), 100, None,
+                         False, "cumulonimbus with rain"),
+        "clouds-cirrus": ("2021-06-21T08:00Z", Clouds("cirrus", seed=7), (40, 35), 90, None,
+                          False, "cirrus and cirrostratus alone"),
+        "clouds-above-10km": ("2021-06-21T09:00Z", Clouds("fair", coverage=0.55, seed=3),
+                              (60, -20), 100, 10_000.0, False, "fair cumulus seen from 10 km"),
+        "clouds-crepuscular-rays": (
+            "2021-06-21T17:50Z", Clouds("fair", coverage=0.6, seed=8), (0, 8), 80, None, True,
+            "light shafts through gaps: the shadowed air scatters no sunlight"),
+    }  # fmt: skip
+    for name, (time, clouds, (dyaw, pitch), fov, alt, shafts, note) in views.items():
+        sky = Sky(valletta, time, night=False,
+                  clouds=CloudLayer(clouds, shafts=shafts))  # fmt: skip
+        sun = sky.state.sun
+        cam = Cam(fov_deg=fov, yaw_deg=(sun.azimuth_deg + dyaw) % 360, pitch_deg=pitch)
+        frame = sky.render(cam, w, h, altitude_m=alt, tonemap="filmic")
+        path = OUT / f"{name}.png"
+        atomic_write(path, lambda tmp, f=frame: write_png(tmp, f.image, {"views": note}))
+        print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+        sky.graph.release()
+    # A moonlit cloudy night: Valletta, 2018-03-01 23:00 UTC, the full Moon 63 deg up.
+    sky = Sky("Valletta", "2018-03-01T23:00Z", clouds=Clouds("fair", coverage=0.5, seed=3))
+    moon = sky.state.moon
+    cam = Cam(fov_deg=100, yaw_deg=moon.azimuth_deg, pitch_deg=moon.elevation_deg - 25)
+    frame = sky.render(cam, w, h, tonemap="filmic", compensation_ev=-1.0)
+    path = OUT / "clouds-moonlit-night.png"
+    atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": "moonlit cumulus"}))
+    print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
 def scene_views(w: int, h: int) -> None:

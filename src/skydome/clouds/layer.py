@@ -23,10 +23,13 @@ from skydome.scene.layer import DrawContext, Layer
 #: shortest step (km); lengths (km) of the march towards the light and across the local
 #: slab; the march's resolution relative to the frame.
 QUALITY = {
-    "full": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1,
-             "steps": (6, 2)},
+    "best": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1,
+             "steps": (6, 1)},
+    # seed 000 (ch. 5.4) marches its clouds at half the resolution too
+    "full": {"march": (0.008, 256.0, 0.03), "light_km": (6.0, 4.0), "scale": 2,
+             "steps": (6, 2)},  # light march samples, light every n view steps
     "interactive": {"march": (0.02, 64.0, 0.06), "light_km": (4.0, 3.0), "scale": 4,
-                    "steps": (4, 1)},
+                    "steps": (4, 3)},
 }
 #: Repeat lengths (km) of the shape and detail noises.
 SHAPE_TILE_KM = 6.0
@@ -37,6 +40,8 @@ DETAIL_EROSION = 0.35
 #: of each ray.
 SHAFT_SCALE = 4
 SHAFT_KM = 40.0
+#: Julian Date (UTC) of J2000, the clouds' time origin.
+J2000_JD = 2451545.0
 #: Lobes of the phase function at least this forward are the diffraction peak (delta-M).
 PEAK_G = 0.98
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
@@ -48,8 +53,10 @@ class CloudLayer(Layer):
 
     Args:
         clouds: a ``Clouds`` or a preset name.
-        quality: "full" (still frames) or "interactive" (a coarser march at half the
-            resolution, for the viewer).
+        quality: "full" (still frames: the march at half the resolution, as seed 000 does,
+            read bilinearly), "best" (every pixel marched, finer steps: about 4x the cost) or
+            "interactive" (a coarser march at a quarter of the resolution accumulated over
+            frames, for the viewer).
         phase: the phase function (default: the Mie-fitted droplet lobes,
             skydome.clouds.phase.CLOUD_PHASE).
         shafts: light shafts: the air in the clouds' shadow scatters no sunlight (the
@@ -85,7 +92,8 @@ class CloudLayer(Layer):
         self._frame_index = 0
         self._history_key = self._history_camera = self._history_time = None
         self._state = None
-        self._t0_jd: float | None = None
+        #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
+        #: function of the time (0 in the abstract mode, which has none).
         self.time_s = 0.0
 
     # ------------------------------------------------------------------ stages
@@ -120,9 +128,7 @@ class CloudLayer(Layer):
     def update(self, state) -> None:
         self._state = state
         jd = _julian_day(state)
-        if self._t0_jd is None:
-            self._t0_jd = jd
-        self.time_s = 0.0 if jd is None else (jd - self._t0_jd) * 86400.0
+        self.time_s = 0.0 if jd is None else (jd - J2000_JD) * 86400.0
 
     # ------------------------------------------------------------------ uniforms
 
@@ -154,7 +160,10 @@ class CloudLayer(Layer):
         f = float(self.phase.second_moment)
         moon = lights.get("light2_direction")
         light2 = np.broadcast_to(np.asarray(lights.get("light2_scale", 0.0), dtype=float), (4,))
-        offset_km = tuple(float(v) * self.time_s / 1e3 for v in c.wind_m_s) + (0.0,)
+        # How far the wind has carried the noise, reduced (in float64) modulo a length over
+        # which every noise it moves repeats: float32 keeps its metres.
+        period = self._offset_period_km()
+        offset_km = tuple(float(v) * self.time_s / 1e3 % period for v in c.wind_m_s) + (0.0,)
         albedo = float(np.mean(atmosphere.renderer.uniforms["u_ground_albedo"]))
         return {
             **atmosphere.renderer.uniforms,
@@ -209,15 +218,27 @@ class CloudLayer(Layer):
             )  # fmt: skip
         return views.uniforms(radius_km), textures
 
+    def _offset_period_km(self) -> float:
+        """The least common multiple (km, to the metre) of the repeat lengths of what the wind
+        moves: the shape and detail noises and the cirrus's curl field (half the weather
+        tile)."""
+        from fractions import Fraction
+        from math import lcm
+
+        lengths = [Fraction(round(v * 1000), 1000) for v in
+                   (SHAPE_TILE_KM, DETAIL_TILE_KM, 0.5 * self.clouds.tile_km)]  # fmt: skip
+        denominator = lcm(*(f.denominator for f in lengths))
+        return lcm(*(int(f * denominator) for f in lengths)) / denominator
+
     def defines(self, frame: DrawContext, extra: tuple[str, ...] = ()) -> dict:
         atmosphere = self._atmosphere()
         lights = atmosphere.lights
-        light, slab = QUALITY[self.quality]["steps"]
+        light, every = QUALITY[self.quality]["steps"]
         d = {
             **atmosphere.renderer.tables.defines(),
             "CLOUD_LOBES": len(self.phase.g),
             "LIGHT_STEPS": light,
-            "SLAB_STEPS": slab,
+            "LIGHT_EVERY": every,
         }
         if np.any(np.asarray(lights.get("light2_scale", 0.0), dtype=float) > 0):
             d["HAS_LIGHT2"] = 1
@@ -388,19 +409,44 @@ class CloudLayer(Layer):
         uniforms = self.uniforms(frame)
         textures = {**self.textures(), **frame.textures}
         _, _, tw, th = frame.tile
+        scale = QUALITY[self.quality]["scale"]
         whole = frame.tile == (0, 0, *frame.frame_size)
         if self.quality == "interactive" and whole:
             rad, data = self._interactive(frame, uniforms, textures)
+        elif scale > 1:
+            small = self._reduced(frame, scale)
+            rad, data = self.march(small, {**uniforms, **small.uniforms}, textures)
         else:
+            scale = 1
             rad, data = self.march(frame, uniforms, textures)
+        # the march's texels cover scale x scale pixels (the last row and column may overhang)
+        lw, lh = rad.size
         composite = self.full_screen_pass(
             frame.ctx, "clouds/clouds_composite.glsl", frame.camera, self.defines(frame)
         )
         composite.draw(
             frame.fbo,
-            {**uniforms, "u_cloud_map": (1.0 / tw, 1.0 / th, 0.0, 0.0)},
+            {**uniforms, "u_cloud_map": (1.0 / (scale * lw), 1.0 / (scale * lh), 0.0, 0.0)},
             {**textures, "u_behind": frame.behind, "u_cloud_radiance": rad, "u_cloud_data": data},
         )
+
+    @staticmethod
+    def _reduced(frame: DrawContext, scale: int) -> DrawContext:
+        """``frame``'s tile at 1/scale of the resolution: the camera's uniforms for a frame of
+        (w, h) / scale, the tile's offset scaled (the texels' centres fall on the centres of
+        the scale x scale pixel blocks they cover)."""
+        x0, y0, tw, th = frame.tile
+        w, h = frame.frame_size
+        lw, lh = max(1, math.ceil(tw / scale)), max(1, math.ceil(th / scale))
+        uniforms = {
+            **frame.uniforms,
+            **frame.camera.uniforms(w / scale, h / scale),
+            "u_tile_offset": (x0 / scale, y0 / scale),
+        }
+        return DrawContext(
+            frame.ctx, frame.camera, (w, h), (0, 0, lw, lh), None, uniforms, frame.textures,
+            frame.altitude_m, frame.basis,
+        )  # fmt: skip
 
     def inputs(self, frame: DrawContext) -> dict:
         """The light shafts: the shadow length (km) of each pixel's air in the clouds' shadow

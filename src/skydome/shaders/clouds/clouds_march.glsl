@@ -55,12 +55,13 @@ uniform vec4 u_test_irradiance;
 layout(location = 0) out vec4 frag_radiance;
 layout(location = 1) out vec4 frag_cloud;
 
-// Samples of the march towards the light and across the slab (the layer's quality sets them).
+// Samples of the march towards the light, and how often (in steps of the view march) a
+// sample's light is computed afresh (the layer's quality sets both).
 #ifndef LIGHT_STEPS
 #define LIGHT_STEPS 6
 #endif
-#ifndef SLAB_STEPS
-#define SLAB_STEPS 2
+#ifndef LIGHT_EVERY
+#define LIGHT_EVERY 2
 #endif
 
 // Seed 000 eq. 5.14 (its 0.22 read as the Bayer matrix's 0.25).
@@ -104,6 +105,8 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     float len = seg.y - seg.x;
     vec4 light0, sky0, light1, sky1;
     bool lit = false;  // the irradiances at the segment's ends, on its first cloud
+    bool have_j = false;
+    vec2 j = vec2(0.0);
     vec3 L = u_light_direction;
     float nu = dot(d, L);
     bool fine = false;
@@ -142,22 +145,30 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             irradiance_at(o + d * seg.y, light1, sky1);
             lit = true;
         }
-        vec3 up = normalize(p);
-        float mu_l = dot(up, L);
-        // the local slab faces the light: its top is towards the light
-        vec3 n_slab = mu_l >= 0.0 ? up : -up;
-        float mu0 = max(abs(mu_l), 0.03);
-        float to_light = min(distance_in_shell(p, L, r_lo, r_hi), u_light_march_km.x);
-        float tau_s = optical_depth_along(p, L, to_light, LIGHT_STEPS, true);
-        float across = min(distance_in_shell(p, -n_slab, r_lo, r_hi), u_light_march_km.y);
-        float tau_far = optical_depth_along(p, -n_slab, across, SLAB_STEPS, false);
-        // the azimuth of the scattered light (travelling along -d) from the light's, about
-        // the slab's normal
-        vec3 across_out = -d - dot(-d, n_slab) * n_slab, across_light = L - mu_l * up;
-        float norms = length(across_out) * length(across_light);
-        float cos_phi = norms > 1e-6 ? dot(across_out, across_light) / norms : 1.0;
-        vec2 j = cloud_source(tau_s, tau_far, mu0, dot(-d, n_slab), nu, cos_phi,
-                              u_cloud_albedo_below);
+        // The light of this sample: recomputed on every LIGHT_EVERY-th step of the loop (the
+        // same steps for every pixel: neighbouring pixels run in lockstep on a CPU
+        // rasterizer, so a pixel's own schedule would not save them the work) and where a
+        // pixel has none yet; between, the last one (the light varies slowly along a ray).
+        if (!have_j || i % LIGHT_EVERY == 0) {
+            vec3 up = normalize(p);
+            float mu_l = dot(up, L);
+            // the local slab faces the light: its top is towards the light
+            vec3 n_slab = mu_l >= 0.0 ? up : -up;
+            float mu0 = max(abs(mu_l), 0.03);
+            float to_light = min(distance_in_shell(p, L, r_lo, r_hi), u_light_march_km.x);
+            float tau_s = optical_depth_along(p, L, to_light, LIGHT_STEPS, true);
+            // across the slab to its far face: this sample's extinction all the way (exact in
+            // a uniform layer; a cloud is most often a column)
+            float tau_far = sigma * min(distance_in_shell(p, -n_slab, r_lo, r_hi), u_light_march_km.y);
+            // the azimuth of the scattered light (travelling along -d) from the light's, about
+            // the slab's normal
+            vec3 across_out = -d - dot(-d, n_slab) * n_slab, across_light = L - mu_l * up;
+            float norms = length(across_out) * length(across_light);
+            float cos_phi = norms > 1e-6 ? dot(across_out, across_light) / norms : 1.0;
+            j = cloud_source(tau_s, tau_far, mu0, dot(-d, n_slab), nu, cos_phi,
+                             u_cloud_albedo_below);
+            have_j = true;
+        }
         float w = clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
         vec4 source = mix(light0, light1, w) * j.x + mix(sky0, sky1, w) * j.y;
         float a = 1.0 - exp(-sigma * step);
