@@ -20,7 +20,7 @@ uniform float u_cirrus_extinction; // 1/km at density 1
 uniform float u_detail_erosion;    // how much the detail noise eats into the edges (0-1)
 #endif
 
-const float CELL_FILL = 0.8;
+const float CELL_FILL = 0.75;
 
 float remap(float v, float lo, float hi, float new_lo, float new_hi) {
     return new_lo + (v - lo) / max(hi - lo, 1e-6) * (new_hi - new_lo);
@@ -77,9 +77,9 @@ float layer_extinction(vec3 p, float r, bool cheap) {
     float base = clamp(0.65 * remap(shape.r, 0.45, 0.97, 0.0, 1.0)
                        + 0.35 * remap(low, 0.25, 0.72, 0.0, 1.0), 0.0, 1.0) * profile;
     // the coverage keeps the top (1 - coverage) of the shape's range: 0 leaves nothing; a
-    // fully covered texel of the map still leaves the noise's lowest part clear (CELL_FILL:
-    // cumulus cells, breaks in a deck)
-    coverage *= CELL_FILL;
+    // fully covered texel of the map still leaves the noise's lowest part clear in heaped
+    // clouds (cumulus cells, the breaks of a stratocumulus deck), none in a stratus sheet
+    coverage *= mix(1.0, CELL_FILL, clamp(1.5 * weather.g, 0.0, 1.0));
     float density = clamp(remap(base, 1.0 - coverage, 1.0, 0.0, 1.0), 0.0, 1.0) * coverage;
     if (density <= 0.0) return 0.0;
     if (!cheap) {
