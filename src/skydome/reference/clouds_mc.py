@@ -7,6 +7,9 @@ Two geometries of constant density, single-scattering albedo ``ssa`` and any
 * :func:`slab_radiance` - a plane-parallel slab of optical thickness ``tau`` over a black
   ground, lit at its top by a collimated beam: a *forward* tracer (photons from the Sun) with the
   local estimate (next-event estimation towards each requested exit direction);
+* :func:`slab_source_function` - the same slab and tracer, the source function of the orders
+  >= 2 inside it by the collision estimator (the clouds' multiple-scattering table,
+  tools/build_cloud_ms_table.py);
 * :func:`sphere_radiance` - a sphere of extinction coefficient ``sigma_t_per_m`` and radius
   ``radius_m`` seen along given rays: a *backward* tracer (paths from the camera) with
   next-event estimation towards the Sun.
