@@ -14,7 +14,9 @@ Mie phase function but not the cloudbow nor the glory (see ``tools/build_cloud_p
 
 :data:`CLOUD_PHASE` is the mixture fitted to the Mie phase function of a gamma distribution of
 water droplets (r_eff 10 um, v_eff 0.1, m = 1.333, 550 nm), read from the packaged
-``cloud_droplet_phase.csv``.
+``cloud_droplet_phase.csv``. :data:`RENDER_PHASE` is what the renderer marches with: that
+mixture with its diffraction peak (the lobes of g >= 0.98) taken out as a forward delta
+(:meth:`LobePhase.delta_truncated`), the extinction scaled by 1 - :data:`PEAK_FRACTION`.
 """
 
 from __future__ import annotations
@@ -27,7 +29,15 @@ from skydome.atmosphere.phase import MAX_LOBES, henyey_greenstein
 from skydome.errors import ParameterError
 from skydome.io.packaged import read_packaged_csv
 
-__all__ = ["CLOUD_PHASE", "LobePhase", "PHASE_CSV", "load_cloud_phase", "sample_hg"]
+__all__ = [
+    "CLOUD_PHASE",
+    "LobePhase",
+    "PEAK_FRACTION",
+    "PHASE_CSV",
+    "RENDER_PHASE",
+    "load_cloud_phase",
+    "sample_hg",
+]
 
 #: The packaged table of :data:`CLOUD_PHASE` (built by ``tools/build_cloud_phase.py``).
 PHASE_CSV = "cloud_droplet_phase.csv"
@@ -129,3 +139,9 @@ def load_cloud_phase() -> LobePhase:
 #: The phase function of a water-droplet cloud at 550 nm (r_eff 10 um, v_eff 0.1), HG lobes
 #: fitted to Mie theory by ``tools/build_cloud_phase.py``.
 CLOUD_PHASE: LobePhase = load_cloud_phase()
+
+#: The phase function the renderer marches with (and the clouds' multiple-scattering table of
+#: skydome.clouds.ms_table is computed for): :data:`CLOUD_PHASE` without its diffraction peak,
+#: ``CLOUD_PHASE.delta_truncated(0.98)``; :data:`PEAK_FRACTION` is the fraction f of scattering
+#: the peak sends straight on (extinction and optical depths scale by 1 - f, ssa stays 1).
+RENDER_PHASE, PEAK_FRACTION = CLOUD_PHASE.delta_truncated(0.98)

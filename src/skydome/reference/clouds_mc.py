@@ -7,6 +7,9 @@ Two geometries of constant density, single-scattering albedo ``ssa`` and any
 * :func:`slab_radiance` - a plane-parallel slab of optical thickness ``tau`` over a black
   ground, lit at its top by a collimated beam: a *forward* tracer (photons from the Sun) with the
   local estimate (next-event estimation towards each requested exit direction);
+* :func:`slab_source_function` - the same slab and tracer, the source function of the orders
+  >= 2 inside it by the collision estimator (the clouds' multiple-scattering table,
+  tools/build_cloud_ms_table.py);
 * :func:`sphere_radiance` - a sphere of extinction coefficient ``sigma_t_per_m`` and radius
   ``radius_m`` seen along given rays: a *backward* tracer (paths from the camera) with
   next-event estimation towards the Sun.
@@ -69,6 +72,7 @@ __all__ = [
     "CLOUD_TABLE_SUN_ELEVATIONS_DEG",
     "cloud_table_directions",
     "slab_radiance",
+    "slab_source_function",
     "sphere_radiance",
 ]
 
@@ -147,6 +151,79 @@ def delta_scaled(
     if f <= 0.0:
         return phase, tau, ssa
     return rest, (1.0 - ssa * f) * tau, (1.0 - f) * ssa / (1.0 - ssa * f)
+
+
+class _SlabWalk:
+    """What :func:`_slab_collisions` tallies besides the collisions: per photon, the weight
+    that left through the top (``reflected``) and the bottom (``transmitted``); in all, the
+    weight absorbed, the weight still inside at ``max_order`` (``unfinished``), the number of
+    collisions (``events``) and the highest order reached (``top_order``)."""
+
+    def __init__(self, photons: int):
+        self.reflected = np.zeros(photons)
+        self.transmitted = np.zeros(photons)
+        self.absorbed = 0.0
+        self.unfinished = 0.0
+        self.events = 0
+        self.top_order = 0
+
+
+def _slab_collisions(
+    rng: np.random.Generator,
+    phase: LobePhase,
+    tau: float,
+    mu0: float,
+    ssa: float,
+    max_order: int,
+    walk: _SlabWalk,
+    chunk: int = CHUNK,
+):
+    """The forward slab tracer of the module docstring: photons (``walk``'s count) enter the
+    top of a slab of optical thickness ``tau`` travelling along (-sqrt(1 - mu0^2), 0, -mu0),
+    the first collision forced inside the slab, then scatter with ``phase`` until they leave
+    (analog escape, tallied in ``walk``), roulette when ``ssa`` < 1, at most ``max_order``
+    collisions each. Traced ``chunk`` photons at a time.
+
+    Yields, for each collision order of each chunk, (the chunk's first photon, the colliding
+    photons' indices, the order (1: first collision), their optical depths t from the top,
+    their directions before the collision (n, 3), their weights before the collision, in
+    units of the photon's initial weight 1); the consumer must not modify them."""
+    photons = walk.reflected.size
+    sin0 = math.sqrt(max(0.0, 1.0 - mu0 * mu0))
+    u0 = np.array([-sin0, 0.0, -mu0])
+    w0 = 1.0 - math.exp(-tau / mu0)  # weight of a photon after the forced first collision
+    for start in range(0, photons, chunk):
+        n = min(chunk, photons - start)
+        idx = np.arange(start, start + n)
+        # Forced first collision: slant optical path from the exponential truncated to the slab.
+        t = mu0 * -np.log1p(-rng.random(n) * w0)
+        u = np.broadcast_to(u0, (n, 3)).copy()
+        w = np.full(n, w0)
+        order = 0
+        while idx.size:
+            order += 1
+            walk.events += idx.size
+            yield start, idx, order, t, u, w
+            if ssa < 1.0:
+                walk.absorbed += float(np.sum(w) * (1.0 - ssa))
+                w = w * ssa
+                low = w < ROULETTE_WEIGHT * w0
+                if np.any(low):
+                    survive = rng.random(int(low.sum())) < ROULETTE_SURVIVAL
+                    wl = w[low]
+                    w[low] = np.where(survive, wl / ROULETTE_SURVIVAL, 0.0)
+            if order >= max_order:
+                walk.unfinished += float(np.sum(w))
+                break
+            u = _scatter(rng, phase, u)
+            t = t - u[:, 2] * -np.log(1.0 - rng.random(idx.size))  # t grows downwards
+            out_top = t < 0.0
+            out_bottom = t > tau
+            walk.reflected[idx[out_top]] += w[out_top]
+            walk.transmitted[idx[out_bottom]] += w[out_bottom]
+            stay = ~(out_top | out_bottom) & (w > 0.0)
+            idx, t, u, w = idx[stay], t[stay], u[stay], w[stay]
+        walk.top_order = max(walk.top_order, order)
 
 
 @dataclass(frozen=True)
@@ -255,53 +332,16 @@ def slab_radiance(
     rng = np.random.default_rng(seed)
     mu_v = np.abs(v[:, 2])
     up = v[:, 2] > 0.0
-    sin0 = math.sqrt(max(0.0, 1.0 - mu0 * mu0))
-    u0 = np.array([-sin0, 0.0, -mu0])
     direct_scaled = math.exp(-tau / mu0)
-    w0 = 1.0 - direct_scaled  # weight of a photon after the forced first collision
 
     per_photon = np.zeros((photons, v.shape[0]))
-    refl = np.zeros(photons)
-    trans = np.zeros(photons)
-    absorbed = 0.0
-    unfinished = 0.0
-    events = 0
-    top_order = 0
-    for start in range(0, photons, CHUNK):
-        n = min(CHUNK, photons - start)
-        idx = np.arange(start, start + n)
-        # Forced first collision: slant optical path from the exponential truncated to the slab.
-        t = mu0 * -np.log1p(-rng.random(n) * w0)
-        u = np.broadcast_to(u0, (n, 3)).copy()
-        w = np.full(n, w0)
-        order = 0
-        while idx.size:
-            order += 1
-            events += idx.size
-            # Local estimate towards every exit direction.
-            pv = _phase_value(phase, u @ v.T)
-            depth = np.where(up[None, :], t[:, None], tau - t[:, None])
-            per_photon[idx] += (w * ssa)[:, None] * pv * np.exp(-depth / mu_v) / mu_v
-            if ssa < 1.0:
-                absorbed += float(np.sum(w) * (1.0 - ssa))
-                w = w * ssa
-                low = w < ROULETTE_WEIGHT * w0
-                if np.any(low):
-                    survive = rng.random(int(low.sum())) < ROULETTE_SURVIVAL
-                    wl = w[low]
-                    w[low] = np.where(survive, wl / ROULETTE_SURVIVAL, 0.0)
-            if order >= max_order:
-                unfinished += float(np.sum(w))
-                break
-            u = _scatter(rng, phase, u)
-            t = t - u[:, 2] * -np.log(1.0 - rng.random(idx.size))  # t grows downwards
-            out_top = t < 0.0
-            out_bottom = t > tau
-            refl[idx[out_top]] += w[out_top]
-            trans[idx[out_bottom]] += w[out_bottom]
-            stay = ~(out_top | out_bottom) & (w > 0.0)
-            idx, t, u, w = idx[stay], t[stay], u[stay], w[stay]
-        top_order = max(top_order, order)
+    walk = _SlabWalk(photons)
+    for _, idx, _, t, u, w in _slab_collisions(rng, phase, tau, mu0, ssa, max_order, walk):
+        # Local estimate towards every exit direction.
+        pv = _phase_value(phase, u @ v.T)
+        depth = np.where(up[None, :], t[:, None], tau - t[:, None])
+        per_photon[idx] += (w * ssa)[:, None] * pv * np.exp(-depth / mu_v) / mu_v
+    refl, trans = walk.reflected, walk.transmitted
 
     scale = mu0  # L / E = mu0 / N * sum of the local estimates (module docstring)
     rad = scale * per_photon.mean(axis=0)
@@ -319,12 +359,124 @@ def slab_radiance(
         transmission_diffuse=trans_mean,
         transmission_diffuse_se=float(trans.std(ddof=1) / math.sqrt(photons)),
         transmission_direct=direct,
-        absorbed=absorbed / photons,
-        unfinished=unfinished / photons,
+        absorbed=walk.absorbed / photons,
+        unfinished=walk.unfinished / photons,
         photons=photons,
-        mean_order=events / photons,
-        max_order_reached=top_order,
+        mean_order=walk.events / photons,
+        max_order_reached=walk.top_order,
     )
+
+
+#: Bound on the per-photon accumulator of :func:`slab_source_function` (doubles: 128 MB).
+SOURCE_ACCUMULATOR_DOUBLES = 16_000_000
+
+
+def slab_source_function(
+    tau: float,
+    mu0: float,
+    depth_edges: ArrayLike,
+    directions: ArrayLike,
+    *,
+    phase: LobePhase,
+    photons: int = 100_000,
+    seed: int = 0,
+    min_order: int = 2,
+    max_order: int = 1_000_000,
+    combine: ArrayLike | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The source function of scattering orders ``min_order`` to ``max_order`` (default: every
+    order >= 2) in a conservative slab, by Monte Carlo (the tracer of :func:`slab_radiance`).
+
+    The slab (optical thickness ``tau``, single-scattering albedo 1, phase function ``phase``,
+    black ground, nothing above) is lit at its top by a beam of unit irradiance normal to it
+    at cosine ``mu0``, the photons travelling along (-sqrt(1 - mu0^2), 0, -mu0) (the Sun at
+    azimuth 0, +x). The source function J(t, v) is the radiance emitted per unit optical path
+    into direction v at vertical optical depth t (so that the radiance leaving the top is
+    int J(t, v) exp(-t / mu_v) dt / mu_v): in units of the incident irradiance, 1/sr.
+
+    Collision estimator, per depth bin k between ``depth_edges`` (vertical optical depths
+    from the top, increasing, within [0, tau]) and direction v of ``directions`` (K, 3; the
+    directions the scattered light travels in, normalised):
+
+        J(k, v) = (1 / dtau_k) sum over collisions in bin k of order n in [min_order,
+                  max_order] of  w P(u . v),
+
+    u the photon's direction before the collision, n the number of collisions so far
+    including this one (n = 1: the first, whose source is single scattering), w = mu0 / N
+    times the photon's weight (the power per unit horizontal area each of the N photons
+    carries). The density of first collisions per unit vertical depth is exp(-t / mu0) / mu0
+    per photon, so ``min_order=max_order=1`` gives P(u0 . v) exp(-t / mu0) averaged over each
+    bin, in the mean (the exact single-scattering source).
+
+    ``combine`` (K, M), when given, makes the estimates those of the M linear combinations
+    J @ combine of the directions' values (e.g. Fourier coefficients in azimuth): each photon's
+    contributions are combined before the variance, so their standard errors are exact.
+
+    Returns (J (nbins, K) or (nbins, M), its standard error, the same shape: the standard
+    deviation over photons of each photon's total, over sqrt(N))."""
+    tau = check_range("tau", tau, 1e-9, 1000.0)
+    mu0 = check_range("mu0", mu0, 1e-3, 1.0)
+    photons, min_order, max_order = int(photons), int(min_order), int(max_order)
+    if photons < 2 or not 1 <= min_order <= max_order:
+        raise ParameterError(
+            f"photons >= 2 and 1 <= min_order <= max_order, got {photons}, {min_order}, {max_order}"
+        )
+    edges = np.asarray(depth_edges, float).ravel()
+    if (
+        edges.size < 2
+        or not np.all(np.isfinite(edges))
+        or np.any(np.diff(edges) <= 0.0)
+        or edges[0] < 0.0
+        or edges[-1] > tau * (1.0 + 1e-12)
+    ):
+        raise ParameterError(
+            f"depth_edges: at least 2 increasing optical depths within [0, tau = {tau}], "
+            f"got {edges}"
+        )
+    v = _unit_rows(directions, "directions")
+    nbins, k = edges.size - 1, v.shape[0]
+    mix = np.eye(k)
+    if combine is not None:
+        mix = np.asarray(combine, float)
+        if mix.ndim != 2 or mix.shape[0] != k or not np.all(np.isfinite(mix)):
+            raise ParameterError(f"combine: a finite ({k}, M) matrix, got {np.shape(combine)}")
+    rng = np.random.default_rng(seed)
+    chunk = int(max(256, min(CHUNK, SOURCE_ACCUMULATOR_DOUBLES // (nbins * k))))
+    total = np.zeros((nbins, mix.shape[1]))
+    total_sq = np.zeros_like(total)
+    acc = np.zeros((chunk, nbins, k))  # per photon of the current chunk, per direction
+    current = 0
+    walk = _SlabWalk(photons)
+
+    def flush() -> None:
+        for b in range(nbins):
+            x = acc[:, b, :]
+            x = x[np.any(x != 0.0, axis=1)]  # the photons that collided in bin b
+            y = x if combine is None else x @ mix
+            total[b] += y.sum(axis=0)
+            total_sq[b] += np.square(y).sum(axis=0)
+        acc[:] = 0.0
+
+    for start, idx, order, t, u, w in _slab_collisions(
+        rng, phase, tau, mu0, 1.0, max_order, walk, chunk=chunk
+    ):
+        if start != current:
+            flush()
+            current = start
+        if order < min_order:
+            continue
+        b = np.searchsorted(edges, t, side="right") - 1
+        inside = (b >= 0) & (b < nbins)
+        if not np.all(inside):
+            idx, b, u, w = idx[inside], b[inside], u[inside], w[inside]
+        # one collision per photon and order: the (photon, bin) pairs are distinct
+        acc[idx - start, b] += w[:, None] * _phase_value(phase, u @ v.T)
+    flush()
+
+    scale = mu0 / np.diff(edges)[:, None]  # w = mu0 / N per photon, per unit optical depth
+    mean = total / photons
+    var = np.maximum(total_sq / photons - mean * mean, 0.0) * photons / (photons - 1)
+    return scale * mean, scale * np.sqrt(var / photons)
 
 
 # ------------------------------------------------------------------------------- the sphere

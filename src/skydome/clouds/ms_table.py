@@ -1,0 +1,183 @@
+"""The clouds' multiple-scattering source table: the source function of scattering orders >= 2
+in a plane-parallel slab, computed once by Monte Carlo and interpolated per sample.
+
+The renderer lights each cloud sample from a local slab facing the light (shaders/clouds/):
+the vertical optical depth ``tau_top`` of the sample below the slab's top, the slab's total
+optical thickness ``tau_total``, the light's cosine ``mu0`` to the slab's normal. Single
+scattering of the direct beam is computed exactly; the orders >= 2 come from this table,
+``skydome/data/cloud_ms_table.npz``, built by ``tools/build_cloud_ms_table.py`` with
+:func:`skydome.reference.clouds_mc.slab_source_function` (a conservative slab over a black
+ground, phase function :data:`~skydome.clouds.phase.RENDER_PHASE`, i.e. optical depths are
+the renderer's, scaled by 1 - :data:`~skydome.clouds.phase.PEAK_FRACTION`; the sibling
+``cloud_ms_table.txt`` describes it and its errors).
+
+The table ``J`` (10, 8, 24, 12, 3) holds, on the axes ``tau_total`` (0.25 ... 128, powers of
+2), ``mu0`` (0.02 + 0.98 (k / 7)^1.5), ``depth_s`` (bin centres of s, the fraction of the
+thickness from the top being u = (1 - cos(pi s)) / 2) and ``mu`` (upward cosines of the
+direction the scattered light travels in), the Fourier cosine coefficients in the azimuth phi
+of that direction from the light's: J2(phi) = J0 + J1 cos(phi) + J2 cos(2 phi), in 1/sr per
+unit irradiance normal to the beam (radiance emitted per unit optical path).
+
+:func:`ms_source` is the float64 twin of the GLSL lookup, written to the same specification
+(linear in every index, the indices as below), so that the two agree to float32 rounding.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass
+from functools import cache
+from importlib import resources
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from skydome.clouds.phase import RENDER_PHASE
+from skydome.errors import SkydomeError
+
+__all__ = ["MS_TABLE_FILE", "MSTable", "load_ms_table", "ms_source", "table_axes"]
+
+#: The packaged table (built by ``tools/build_cloud_ms_table.py``).
+MS_TABLE_FILE = "cloud_ms_table.npz"
+_TOOL = "tools/build_cloud_ms_table.py"
+#: Axis sizes: tau_total, mu0, depth bins, mu; Fourier coefficients.
+N_TAU, N_MU0, N_DEPTH, N_MU, N_FOURIER = 10, 8, 24, 12, 3
+#: The thinnest slab of the table; thinner ones scale its values by tau_total / TAU_MIN.
+TAU_MIN = 0.25
+
+
+def table_axes() -> dict[str, np.ndarray]:
+    """The table's axes as specified (float64): ``tau_total`` = 2^(-2 ... 7), ``mu0`` =
+    0.02 + 0.98 (k / 7)^1.5, ``depth_s`` = (k + 0.5) / 24, ``mu`` (12 upward cosines)."""
+    return {
+        "tau_total": 2.0 ** np.arange(-2, 8, dtype=float),
+        "mu0": 0.02 + 0.98 * (np.arange(N_MU0) / (N_MU0 - 1)) ** 1.5,
+        "depth_s": (np.arange(N_DEPTH) + 0.5) / N_DEPTH,
+        "mu": np.array(
+            [-1.0, -0.85, -0.65, -0.45, -0.25, -0.08, 0.08, 0.25, 0.45, 0.65, 0.85, 1.0]
+        ),
+    }
+
+
+@dataclass(frozen=True)
+class MSTable:
+    """The packaged table (see the module docstring): axes ``tau_total`` (10,), ``mu0`` (8,),
+    ``depth_s`` (24,), ``mu`` (12,); ``J`` (10, 8, 24, 12, 3) float32 Fourier coefficients
+    (1/sr); the phase function it is for (``phase_g``, ``phase_weights``: the lobes of
+    RENDER_PHASE); ``photons`` (10, 8) per run and the base ``seed`` of the runs."""
+
+    tau_total: np.ndarray
+    mu0: np.ndarray
+    depth_s: np.ndarray
+    mu: np.ndarray
+    J: np.ndarray
+    phase_g: np.ndarray
+    phase_weights: np.ndarray
+    photons: np.ndarray
+    seed: int
+
+
+def _read(raw: bytes) -> MSTable:
+    with np.load(io.BytesIO(raw), allow_pickle=False) as z:
+        d = {k: z[k] for k in z.files}
+    axes = table_axes()
+    for name, ref in axes.items():
+        if d[name].shape != ref.shape or not np.allclose(d[name], ref, rtol=0, atol=1e-12):
+            raise SkydomeError(f"axis {name} is not the specified one")
+    if d["J"].shape != (N_TAU, N_MU0, N_DEPTH, N_MU, N_FOURIER) or d["J"].dtype != np.float32:
+        raise SkydomeError(f"J has shape {d['J'].shape} and type {d['J'].dtype}")
+    if not np.all(np.isfinite(d["J"])):
+        raise SkydomeError("J is not finite")
+    if not (
+        np.allclose(d["phase_g"], RENDER_PHASE.g, rtol=0, atol=1e-12)
+        and np.allclose(d["phase_weights"], RENDER_PHASE.weights, rtol=0, atol=1e-12)
+    ):
+        raise SkydomeError(
+            "it was built for another phase function than skydome.clouds.phase.RENDER_PHASE"
+        )
+    return MSTable(
+        tau_total=d["tau_total"],
+        mu0=d["mu0"],
+        depth_s=d["depth_s"],
+        mu=d["mu"],
+        J=d["J"],
+        phase_g=d["phase_g"],
+        phase_weights=d["phase_weights"],
+        photons=d["photons"],
+        seed=int(d["seed"]),
+    )
+
+
+@cache
+def load_ms_table() -> MSTable:
+    """The packaged multiple-scattering table (read once per process). A missing, foreign or
+    stale file (other axes, shape, or a phase function other than RENDER_PHASE) raises
+    SkydomeError naming the tool that rebuilds it."""
+    try:
+        raw = resources.files("skydome.data").joinpath(MS_TABLE_FILE).read_bytes()
+        return _read(raw)
+    except Exception as exc:  # missing, truncated, foreign or stale file
+        raise SkydomeError(
+            f"the packaged cloud multiple-scattering table {MS_TABLE_FILE} cannot be used "
+            f"({exc}); rebuild it with {_TOOL}"
+        ) from exc
+
+
+def _linear(x: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(lower index, weight of the upper one) of a continuous index x in [0, n - 1]."""
+    i = np.clip(np.floor(x), 0, n - 2).astype(np.intp)
+    return i, x - i
+
+
+def ms_source(
+    tau_top: ArrayLike,
+    tau_total: ArrayLike,
+    mu0: ArrayLike,
+    mu_up: ArrayLike,
+    cos_phi: ArrayLike,
+    *,
+    table: MSTable | None = None,
+) -> np.ndarray:
+    """The source function of orders >= 2 (1/sr, per unit irradiance normal to the beam) at
+    vertical optical depth ``tau_top`` below the top of a slab of thickness ``tau_total``
+    (both in the renderer's scaled optical depth), lit at cosine ``mu0``, towards the
+    direction of upward cosine ``mu_up`` whose azimuth from the light's has cosine
+    ``cos_phi`` (arguments broadcast). Interpolation, as the GLSL does it:
+
+    - depth: u = clamp(tau_top / tau_total, 0, 1), s = acos(1 - 2 u) / pi, index
+      x = clamp(24 s - 0.5, 0, 23), linear;
+    - thickness: y = clamp(log2(tau_total) + 2, 0, 9), linear; below 0.25 the value is
+      scaled by tau_total / 0.25 (orders >= 2 vanish linearly in thin slabs);
+    - light: z = clamp(7 ((mu0 - 0.02) / 0.98)^(2/3), 0, 7), linear;
+    - direction: linear between the two ``mu`` entries around mu_up (clamped);
+    - J2 = c0 + c1 cos_phi + c2 (2 cos_phi^2 - 1) of the interpolated coefficients,
+      clamped >= 0.
+
+    A slab of tau_total <= 0 gives 0."""
+    t = load_ms_table() if table is None else table
+    tau_top, tau_total, mu0, mu_up, cos_phi = np.broadcast_arrays(
+        *(np.asarray(a, dtype=np.float64) for a in (tau_top, tau_total, mu0, mu_up, cos_phi))
+    )
+    positive = tau_total > 0.0
+    safe_total = np.where(positive, tau_total, 1.0)
+    u = np.clip(tau_top / safe_total, 0.0, 1.0)
+    s = np.arccos(1.0 - 2.0 * u) / np.pi
+    ix, fx = _linear(np.clip(s * N_DEPTH - 0.5, 0.0, N_DEPTH - 1.0), N_DEPTH)
+    iy, fy = _linear(np.clip(np.log2(safe_total) + 2.0, 0.0, N_TAU - 1.0), N_TAU)
+    z = 7.0 * (np.maximum(mu0 - 0.02, 0.0) / 0.98) ** (2.0 / 3.0)
+    iz, fz = _linear(np.clip(z, 0.0, N_MU0 - 1.0), N_MU0)
+    m = np.clip(mu_up, t.mu[0], t.mu[-1])
+    iw = np.clip(np.searchsorted(t.mu, m, side="right") - 1, 0, N_MU - 2)
+    fw = (m - t.mu[iw]) / (t.mu[iw + 1] - t.mu[iw])
+    coef = np.zeros(tau_top.shape + (N_FOURIER,))
+    J = t.J
+    for dy, wy in ((0, 1.0 - fy), (1, fy)):
+        for dz, wz in ((0, 1.0 - fz), (1, fz)):
+            for dx, wx in ((0, 1.0 - fx), (1, fx)):
+                for dw, ww in ((0, 1.0 - fw), (1, fw)):
+                    w = wy * wz * wx * ww
+                    coef += w[..., None] * J[iy + dy, iz + dz, ix + dx, iw + dw].astype(float)
+    c = cos_phi
+    j2 = coef[..., 0] + coef[..., 1] * c + coef[..., 2] * (2.0 * c * c - 1.0)
+    thin = np.where(tau_total < TAU_MIN, tau_total / TAU_MIN, 1.0)
+    return np.where(positive, np.maximum(j2, 0.0) * thin, 0.0)
