@@ -72,14 +72,18 @@ def main() -> None:
         ctx.finish()
         if i >= 3:
             times.append((time.perf_counter() - t0) * 1e3)
-    print(f"interactive {w}x{h}, turning 0.5 deg/frame: {statistics.median(times):.0f} ms per "
-          f"frame (median of {len(times)})")
+    print(
+        f"interactive {w}x{h}, turning 0.5 deg/frame: {statistics.median(times):.0f} ms per "
+        f"frame (median of {len(times)})"
+    )
     for _ in range(16):
         frame = inter.render(cam, w, h, exposure=None)
     rel = np.abs(frame.data[..., 1] - reference) / np.maximum(reference, 1e-3)
     bias = float(np.mean(frame.data[..., 1]) / np.mean(reference) - 1.0)
-    print(f"  error against full quality after 16 still frames: median {np.median(rel):.1%}, "
-          f"95th percentile {np.percentile(rel, 95):.1%}, mean luminance {bias:+.1%}")
+    print(
+        f"  error against full quality after 16 still frames: median {np.median(rel):.1%}, "
+        f"95th percentile {np.percentile(rel, 95):.1%}, mean luminance {bias:+.1%}"
+    )
     fbo.release()
     tex.release()
 

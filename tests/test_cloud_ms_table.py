@@ -19,6 +19,7 @@ from skydome.clouds.ms_table import (
     _read,
     load_ms_table,
     ms_source,
+    peak_shape,
     table_axes,
 )
 from skydome.clouds.phase import RENDER_PHASE
@@ -38,11 +39,22 @@ def _tool():
     return module
 
 
+def _peak(t: MSTable, cos_phi) -> np.ndarray:
+    """The peak normalisation h = HG(cos theta, norm_g) at every node, (10, 8, 1, 12, phi):
+    cos theta = -mu mu0 - sqrt(1 - mu^2) sqrt(1 - mu0^2) cos(phi)."""
+    c = np.asarray(cos_phi, float)
+    mu = t.mu[None, None, None, :, None]
+    mu0 = t.mu0[None, :, None, None, None]
+    cos_theta = -mu * mu0 - np.sqrt(1.0 - mu * mu) * np.sqrt(1.0 - mu0 * mu0) * c
+    return peak_shape(cos_theta, t.norm_g[:, None, None, None, None])
+
+
 def _node_values(t: MSTable, cos_phi) -> np.ndarray:
-    """J2 = c0 + c1 cos(phi) + c2 cos(2 phi) of every node (float64), shape (..., len(phi))."""
+    """J2 = h (c0 + c1 cos(phi) + c2 cos(2 phi)) of every node (float64), (..., len(phi))."""
     c = np.asarray(cos_phi, float)
     j = t.J.astype(float)
-    return j[..., 0, None] + j[..., 1, None] * c + j[..., 2, None] * (2.0 * c * c - 1.0)
+    series = j[..., 0, None] + j[..., 1, None] * c + j[..., 2, None] * (2.0 * c * c - 1.0)
+    return _peak(t, c) * series
 
 
 def test_table_layout_phase_and_values():
@@ -85,7 +97,7 @@ def test_stale_or_foreign_tables_are_refused():
     arrays = {
         "tau_total": t.tau_total, "mu0": t.mu0, "depth_s": t.depth_s, "mu": t.mu, "J": t.J,
         "phase_g": t.phase_g, "phase_weights": t.phase_weights, "photons": t.photons,
-        "seed": np.int64(t.seed),
+        "seed": np.int64(t.seed), "norm_g": t.norm_g,
     }  # fmt: skip
 
     def raw(**changes):
@@ -112,14 +124,20 @@ def test_packaged_table_matches_a_fresh_rebuild():
     tool = _tool()
     n = 20_000
     fresh = tool.estimate(4, 5, photons=n, seed=987_654)
-    table_fit = tool.reconstruct(t.J[4, 5].astype(float))
+    # both as the table holds them: the series of J2 / h, h the peak normalisation
+    h = tool.peak_normalisation(float(t.mu0[5]), float(t.norm_g[4]))[None, :]
+    table_fit = tool.reconstruct(t.J[4, 5].astype(float)) * h
+    fresh_fit = (
+        tool.reconstruct(((fresh["raw"] / h) @ tool.fourier_matrix()).reshape(24, 12, 3)) * h
+    )
+    fresh["fit"], fresh["resid"] = fresh_fit, fresh["raw"] - fresh_fit
     sigma = fresh["fit_se"] * math.sqrt(1.0 + n / float(t.photons[4, 5]))
     z = (table_fit - fresh["fit"]) / sigma
     assert np.all(np.abs(z) < 4.0), np.abs(z).max()
     assert 0.5 < np.mean(z * z) < 1.5
     # The 3-term series' misfit at the five azimuths (raw - fit): at this mu0 it is real (the
     # orders >= 2 are peaked towards phi = 180 deg near the horizon, cloud_ms_table.txt),
-    # but bounded by 35 % of the five values' largest (0.31 over the whole table); with the
+    # but bounded by 35 % of the five values' largest (0.24 over the whole table); with the
     # light overhead (mu0 1: no azimuthal dependence) it is noise.
     _, mi, _ = tool.table_directions()
     side = np.abs(t.mu[mi]) < 1.0
@@ -189,7 +207,10 @@ def test_lookup_at_the_nodes_returns_the_node_values():
     u = (1.0 - np.cos(np.pi * t.depth_s[k])) / 2.0
     got = ms_source(u * tau, tau, t.mu0[i_mu0], t.mu[i_mu], cos_phi)
     c = t.J[i_tau, i_mu0, k, i_mu].astype(float)
-    want = np.maximum(c[:, 0] + c[:, 1] * cos_phi + c[:, 2] * (2 * cos_phi**2 - 1), 0.0)
+    mu, mu0 = t.mu[i_mu], t.mu0[i_mu0]
+    cos_theta = -mu * mu0 - np.sqrt(1 - mu * mu) * np.sqrt(1 - mu0 * mu0) * cos_phi
+    h = peak_shape(cos_theta, t.norm_g[i_tau])
+    want = np.maximum(h * (c[:, 0] + c[:, 1] * cos_phi + c[:, 2] * (2 * cos_phi**2 - 1)), 0.0)
     np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12 * np.abs(t.J).max())
 
 
@@ -197,13 +218,20 @@ def test_lookup_is_linear_between_nodes_and_clamped_outside():
     t = load_ms_table()
     u = (1.0 - np.cos(np.pi * t.depth_s)) / 2.0  # the depth nodes, as fractions
     tau, mu0 = t.tau_total[5], t.mu0[6]
-    # halfway between two mu entries (the mu axis is not uniform): the mean, at cos_phi 1
-    # where the azimuthal series is c0 + c1 + c2 (linear in the coefficients)
+    # halfway between two mu entries (the mu axis is not uniform): the mean of J2 / h (the
+    # coefficients are linear in mu; h, the peak normalisation, is exact at each mu), at
+    # cos_phi 1 where the azimuthal series is c0 + c1 + c2
     k, m = 7, 3
     mid = 0.5 * (t.mu[m] + t.mu[m + 1])
-    a = ms_source(u[k] * tau, tau, mu0, t.mu[m], 1.0)
-    b = ms_source(u[k] * tau, tau, mu0, t.mu[m + 1], 1.0)
-    assert ms_source(u[k] * tau, tau, mu0, mid, 1.0) == pytest.approx(0.5 * (a + b), rel=1e-9)
+
+    def h(mu):
+        cos_theta = -mu * mu0 - math.sqrt(1 - mu * mu) * math.sqrt(1 - mu0 * mu0)
+        return float(peak_shape(cos_theta, t.norm_g[5]))
+
+    a = ms_source(u[k] * tau, tau, mu0, t.mu[m], 1.0) / h(t.mu[m])
+    b = ms_source(u[k] * tau, tau, mu0, t.mu[m + 1], 1.0) / h(t.mu[m + 1])
+    got = ms_source(u[k] * tau, tau, mu0, mid, 1.0) / h(mid)
+    assert got == pytest.approx(0.5 * (a + b), rel=1e-9)
     # halfway in log2(tau_total) and in the depth index x = 24 s - 0.5
     tau_mid = math.sqrt(t.tau_total[5] * t.tau_total[6])
     a = ms_source(u[k] * tau_mid, tau_mid, mu0, 0.45, 1.0)

@@ -261,9 +261,7 @@ def test_default_textures_and_caches(ctx, monkeypatch):
         monkeypatch.setattr(cn, name, no_draw)
     again = cn.cloud_noise(ctx, 11)
     assert again.from_cache and again is not noise
-    assert np.array_equal(
-        np.frombuffer(again.shape.read(), np.uint8).reshape(texels.shape), texels
-    )
+    assert np.array_equal(np.frombuffer(again.shape.read(), np.uint8).reshape(texels.shape), texels)
     again.release()
     assert cn._MEMORY.get(again._key) is None
     noise.release()

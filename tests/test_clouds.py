@@ -8,16 +8,16 @@ import math
 
 import numpy as np
 import pytest
-from tests.conftest import TINY_TABLES
 
 from skydome import Sky
 from skydome.atmosphere.layer import AtmosphereLayer
 from skydome.clouds.layer import CloudLayer, weather_map_for
 from skydome.clouds.params import Clouds
-from skydome.clouds.phase import CLOUD_PHASE
+from skydome.clouds.phase import CLOUD_PHASE, RENDER_PHASE
 from skydome.errors import ParameterError
 from skydome.reference import cloud_slab
 from skydome.render.cameras import EquirectCamera, FisheyeCamera, PerspectiveCamera
+from tests.conftest import TINY_TABLES
 
 #: The uniform slab of the light tests: base 2 km, 1 km thick (its optical thickness set by
 #: the extinction), cameras 1.5 km above and below it.
@@ -25,9 +25,11 @@ SLAB_BASE_M, SLAB_THICKNESS_M = 2000.0, 1000.0
 ABOVE_M, BELOW_M = 4500.0, 500.0
 
 
-def slab_sky(sun_elevation_deg: float):
+def slab_sky(sun_elevation_deg: float, quality: str = "full"):
     """A sky with a bare slab layer (the tiny tables: the slab tests light it themselves)."""
-    layer = CloudLayer(Clouds("overcast", base_m=SLAB_BASE_M, thickness_m=SLAB_THICKNESS_M))
+    layer = CloudLayer(
+        Clouds("overcast", base_m=SLAB_BASE_M, thickness_m=SLAB_THICKNESS_M), quality=quality
+    )
     sky = Sky(
         sun_elevation_deg=sun_elevation_deg,
         sun_azimuth_deg=180.0,
@@ -40,6 +42,14 @@ def slab_sky(sun_elevation_deg: float):
 @pytest.fixture(scope="module", params=[60.0, 10.0], ids=["sun60", "sun10"])
 def slab(request):
     sky, layer = slab_sky(request.param)
+    yield request.param, layer
+    sky.graph.release()
+
+
+@pytest.fixture(scope="module", params=[60.0, 10.0], ids=["sun60", "sun10"])
+def best_slab(request):
+    """The same at the best quality (every step lit afresh, finer steps)."""
+    sky, layer = slab_sky(request.param, "best")
     yield request.param, layer
     sky.graph.release()
 
@@ -94,31 +104,33 @@ def test_slab_radiance_matches_monte_carlo(slab, tau):
 
     el, layer = slab
     mu0 = math.sin(math.radians(el))
+    # the droplets' phase function, its diffraction peak delta-M scaled as the renderer's
+    # (the Monte Carlo's own test checks that scaling against the exact tracer)
     mc = slab_radiance(
         tau, mu0, np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]), phase=CLOUD_PHASE,
-        photons=60_000, seed=7,
+        photons=60_000, seed=7, delta_peak_g=0.98,
     )  # fmt: skip
     rad_up, _ = probe_slab(layer, tau, straight(-90.0), ABOVE_M)
     rad_down, _ = probe_slab(layer, tau, straight(90.0), BELOW_M)
-    for got, ref, err in (
-        (rad_up[2, 2, 1], mc.reflected[0], mc.reflected_error[0]),
-        (rad_down[2, 2, 1], mc.transmitted[1], mc.transmitted_error[1]),
-    ):
-        assert abs(got / ref - 1.0) < 0.15 + 2.0 * err / ref, (got, ref)
+    for k, got in enumerate((rad_up[2, 2, 1], rad_down[2, 2, 1])):
+        ref, err = mc.radiance[k], mc.radiance_se[k]
+        assert abs(got / ref - 1.0) < 0.15 + 2.0 * err / ref, (k, got, ref)
 
 
 @pytest.mark.parametrize("tau", [1.0, 5.0, 20.0, 50.0])
-def test_glsl_light_matches_its_float64_twin(slab, tau):
-    """The shader's march equals reference/cloud_slab.slab_radiance (the same model in
-    float64, finely integrated) within 3 % (the shader's 40 steps per km against 4000;
-    float32 texture interpolation of the table)."""
-    el, layer = slab
+def test_glsl_light_matches_its_float64_twin(best_slab, tau):
+    """The shader's march (best quality: 25 m steps, each lit afresh) equals
+    reference/cloud_slab.slab_radiance (the same model in float64, 4000 steps) within 3 %
+    (the steps; float32 texture interpolation of the table), and within 6 % where the Sun at
+    10 deg lights a slab of 50: its direct beam dies within 7 m of the top (mu0 / sigma),
+    a third of a step, and the step's midpoint sample misses part of that light."""
+    el, layer = best_slab
     mu0 = math.sin(math.radians(el))
-    g, f = CLOUD_PHASE.asymmetry, CLOUD_PHASE.second_moment
     for pitch, altitude, direction in ((-90.0, ABOVE_M, (0, 0, 1)), (90.0, BELOW_M, (0, 0, -1))):
         rad, _ = probe_slab(layer, tau, straight(pitch), altitude)
-        twin = cloud_slab.slab_radiance(tau, mu0, direction, CLOUD_PHASE.value, g, f)
-        assert rad[2, 2, 1] == pytest.approx(twin, rel=0.03)
+        twin = cloud_slab.slab_radiance(tau, mu0, direction)
+        grazing = el < 30 and tau >= 50
+        assert rad[2, 2, 1] == pytest.approx(twin, rel=0.06 if grazing else 0.03)
 
 
 def hemisphere_flux(radiance: np.ndarray, upper: bool) -> float:
@@ -133,22 +145,24 @@ def hemisphere_flux(radiance: np.ndarray, upper: bool) -> float:
 
 
 @pytest.mark.parametrize("tau", [1.0, 5.0, 20.0])
-def test_reflected_plus_transmitted_never_exceeds_incident(slab, tau):
+def test_reflected_plus_transmitted_never_exceeds_incident(best_slab, tau):
     """Energy: the flux the slab reflects (seen from above) plus the one it transmits
     (diffuse, seen from below, plus the direct beam) is at most the incident mu0 (unit
-    irradiance normal to the beam), within the equirect quadrature's 2 %."""
-    el, layer = slab
+    irradiance normal to the beam), within 2 %: the model's own excess (its float64 twin
+    integrated over both hemispheres gives 1.010 at tau 5 and 20 with the Sun at 10 deg:
+    the table's Monte Carlo noise and interpolation) and the equirect quadrature's."""
+    el, layer = best_slab
     mu0 = math.sin(math.radians(el))
     cam = EquirectCamera()
-    up, _ = probe_slab(layer, tau, cam, ABOVE_M, size=(96, 48))
-    down, _ = probe_slab(layer, tau, cam, BELOW_M, size=(96, 48))
+    up, _ = probe_slab(layer, tau, cam, ABOVE_M, size=(192, 96))
+    down, _ = probe_slab(layer, tau, cam, BELOW_M, size=(192, 96))
     reflected = hemisphere_flux(up[..., 1], upper=False)  # looking down from above
     transmitted = hemisphere_flux(down[..., 1], upper=True) + mu0 * math.exp(-tau / mu0)
     assert (reflected + transmitted) / mu0 <= 1.02
     # and it is not a dark slab: the model's own plane albedo is in the range of the MC's
-    assert reflected / mu0 > 0.5 * cloud_slab.plane_albedo(
-        tau, mu0, CLOUD_PHASE.asymmetry, CLOUD_PHASE.second_moment
-    )
+    k = layer.extinction_scale
+    g, f = RENDER_PHASE.asymmetry, RENDER_PHASE.second_moment
+    assert reflected / mu0 > 0.5 * cloud_slab.plane_albedo(k * tau, mu0, g, f)
 
 
 # ---------------------------------------------------------------------- a sky with clouds
@@ -201,9 +215,7 @@ def test_cloudy_frame_is_finite_deterministic_and_cloudy(cloudy):
     a = cloudy.render(cam, 96, 64, exposure=None).data
     b = cloudy.render(cam, 96, 64, exposure=None).data
     assert np.all(np.isfinite(a)) and np.array_equal(a, b)
-    clear = Sky((35.9, 14.5), "2021-06-21T11:00Z", night=False).render(
-        cam, 96, 64, exposure=None
-    )
+    clear = Sky((35.9, 14.5), "2021-06-21T11:00Z", night=False).render(cam, 96, 64, exposure=None)
     # clouds change the sky: brighter (white) or darker (shadowed bases) somewhere
     assert np.mean(np.abs(a[..., 1] - clear.data[..., 1])) > 0.05 * np.mean(clear.data[..., 1])
 

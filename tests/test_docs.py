@@ -39,7 +39,12 @@ EXPECTED = {
     "aerial_perspective.py": ["aerial-composite.png", "aerial-composite.exr", "aerial-without.png"],
     "night_sky.py": ["night-allsky.png", "night-allsky.exr", "night-bortle8.png", "night-eye.png"],
     "atmospheres.py": ["atmosphere-earth-hazy-smoky.png"],
-    "clouds.py": ["clouds-fair.png", "clouds-fair.exr", "clouds-overcast.png", "clouds-own-map.png"],
+    "clouds.py": [
+        "clouds-fair.png",
+        "clouds-fair.exr",
+        "clouds-overcast.png",
+        "clouds-own-map.png",
+    ],
 }
 EXAMPLE_FILES = sorted(p.name for p in EXAMPLES.glob("*") if p.suffix in (".py", ".sh"))
 

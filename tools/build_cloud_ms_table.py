@@ -150,6 +150,59 @@ def estimate(i_tau: int, i_mu0: int, photons: int, seed: int) -> dict[str, np.nd
     return out
 
 
+#: Candidate asymmetries g_n of the peak normalisation, one chosen per thickness.
+NORM_G_CANDIDATES = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5)
+
+
+def peak_normalisation(mu0: float, g: float) -> np.ndarray:
+    """h = HG(cos theta, g) (1/sr) at the 52 :func:`table_directions`, theta the scattering
+    angle from the beam's direction of travel (-sqrt(1 - mu0^2), 0, -mu0)."""
+    dirs, _, _ = table_directions()
+    cos_theta = dirs @ np.array([-math.sqrt(1.0 - mu0 * mu0), 0.0, -mu0])
+    return (1.0 - g * g) / (4.0 * math.pi * (1.0 + g * g - 2.0 * g * cos_theta) ** 1.5)
+
+
+def normalised_fit(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The orders >= 2 peak around the beam's direction of travel (the light scattered once
+    into the phase function's forward lobe goes on forward), which three azimuth terms and
+    linear interpolation in mu and mu0 miss. So the table holds J / h with h = HG(cos theta,
+    g_n) (the peak's shape; theta from the beam) and the renderer multiplies h back: g_n per
+    thickness from NORM_G_CANDIDATES, the one whose series misses the five azimuths least
+    (90th percentile of |fit - raw| / the largest of the five, plus a tenth of the largest).
+    ``raw`` (10, 8, 24, 52) -> (coefficients (10, 8, 24, 12, 3), g_n (10,), fit (10, 8, 24,
+    52) in J's units)."""
+    f = fourier_matrix()
+    _, mi, _ = table_directions()
+    axes = table_axes()
+    peak = np.zeros_like(raw)
+    for m in range(12):
+        cols = mi == m
+        peak[..., cols] = raw[..., cols].max(axis=-1, keepdims=True)
+    coef = np.zeros(raw.shape[:3] + (12, 3))
+    fit = np.zeros_like(raw)
+    norm_g = np.zeros(raw.shape[0])
+    for i in range(raw.shape[0]):
+        best = None
+        for g in NORM_G_CANDIDATES:
+            h = np.stack([peak_normalisation(mu0, g) for mu0 in axes["mu0"]])[:, None, :]
+            c = ((raw[i] / h) @ f).reshape(raw.shape[1], raw.shape[2], 12, 3)
+            fitted = reconstruct(c) * h
+            miss = np.abs(fitted - raw[i]) / np.maximum(peak[i], 1e-300)
+            score = float(np.percentile(miss, 90) + 0.1 * miss.max())
+            if best is None or score < best[0]:
+                best = (score, g, c, fitted)
+        _, norm_g[i], coef[i], fit[i] = best
+    return coef, norm_g, fit
+
+
+def refit(e: dict[str, np.ndarray]) -> np.ndarray:
+    """Replace the estimates' coefficients, fit and residuals by :func:`normalised_fit`'s;
+    returns g_n. (The standard errors stay those of the raw estimates' series: close.)"""
+    coef, norm_g, fit = normalised_fit(e["raw"])
+    e["coef"], e["fit"], e["resid"] = coef, fit, e["raw"] - fit
+    return norm_g
+
+
 def _median_rel(e: dict[str, np.ndarray]) -> float:
     """The median relative standard error of an entry's fitted J values."""
     return float(np.median(e["fit_se"] / np.maximum(np.abs(e["fit"]), 1e-300)))
@@ -285,8 +338,10 @@ def build(
         name: np.stack([np.stack([runs[(i, k)][name] for k in range(8)]) for i in range(10)])
         for name in runs[(0, 0)]
     }
+    norm_g = refit(e)
     axes = table_axes()
     arrays = {
+        "norm_g": norm_g,
         "tau_total": axes["tau_total"],
         "mu0": axes["mu0"],
         "depth_s": axes["depth_s"],
@@ -328,11 +383,18 @@ Arrays
   depth_s (24,)    bin centres (k + 0.5) / 24 of s; the fraction of the thickness from the
                    top is u = (1 - cos(pi s)) / 2; the bins lie between s = k / 24
   mu (12,)         upward cosine of the direction the scattered light travels in
-  J (10, 8, 24, 12, 3) float32, 1/sr per unit irradiance normal to the beam (radiance
-                   emitted per unit optical path): Fourier cosine coefficients in the
-                   azimuth phi of that direction from the Sun's (phi = 0: towards the Sun's
-                   side), J2(phi) = J[..., 0] + J[..., 1] cos(phi) + J[..., 2] cos(2 phi),
-                   each the average over its depth bin
+  J (10, 8, 24, 12, 3) float32, per unit irradiance normal to the beam (J2, the radiance
+                   emitted per unit optical path, in 1/sr, divided by the peak shape h):
+                   Fourier cosine coefficients in the azimuth phi of that direction from the
+                   Sun's (phi = 0: towards the Sun's side),
+                   J2 = h(cos theta) (J[..., 0] + J[..., 1] cos(phi) + J[..., 2] cos(2 phi)),
+                   each the average over its depth bin; h = HG(cos theta, norm_g[tau]) with
+                   theta the scattering angle from the beam, cos theta = -mu mu0 -
+                   sqrt(1 - mu^2) sqrt(1 - mu0^2) cos(phi)
+  norm_g (10,)     the peak shape's asymmetry per thickness (the orders >= 2 peak around
+                   the beam's direction; dividing it out leaves a smooth function that three
+                   azimuth terms and linear interpolation hold: the misfit to the five
+                   estimated azimuths halves)
   phase_g, phase_weights  the lobes of RENDER_PHASE
   photons (10, 8)  photons of each (tau_total, mu0) run; seed: the base seed (run (i, j)
                    used seed + 100 i + j)
@@ -344,7 +406,7 @@ Method
   analog escape. Collision estimator: J(bin k, v) = (1 / dtau_k) sum over the collisions in
   bin k of photons that have already scattered, of w P(u . v), w = mu0 / N, u the direction
   before the collision. 52 directions per run (the 12 mu at phi = 0, 45, 90, 135, 180 deg;
-  one at mu = +-1), the coefficients fitted by least squares to the five azimuths.
+  one at mu = +-1), the coefficients of J2 / h fitted by least squares to the five azimuths.
 
 Errors (standard errors from the spread over photons of each photon's contribution, exact
 for every linear combination of the 52 estimates: the table's 3-term series at the nodes, the
@@ -370,14 +432,33 @@ Limits
 """
 
 
+def old_text_head(path: Path) -> list[str]:
+    """The photon and runtime lines of the last build's description (a refit keeps them)."""
+    lines = path.read_text().splitlines()
+    return [ln.strip() for ln in lines if ln.strip().startswith(("photons per", "runtime:"))]
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--scale", type=float, default=1.0, help="photon count multiplier")
     ap.add_argument("--pilot", type=int, default=PILOT_PHOTONS, help="pilot photons")
     ap.add_argument("--out", type=Path, default=OUT)
+    ap.add_argument(
+        "--refit",
+        action="store_true",
+        help="refit the last build's estimates (build/) without a Monte Carlo",
+    )
     args = ap.parse_args(argv)
-    arrays, lines, e = build(args.workers, args.scale, pilot_photons=args.pilot)
+    if args.refit:
+        e = dict(np.load(ESTIMATES))
+        old = dict(np.load(args.out))
+        norm_g = refit(e)
+        arrays = {**old, "norm_g": norm_g, "J": e["coef"].astype(np.float32)}
+        head = old_text_head(args.out.with_suffix(".txt"))
+        lines = head + statistics(e)
+    else:
+        arrays, lines, e = build(args.workers, args.scale, pilot_photons=args.pilot)
     print("\n".join(lines))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(args.out, **arrays)
@@ -385,7 +466,8 @@ def main(argv=None) -> None:
         TXT_HEAD + "".join(f"  {ln}\n" for ln in lines) + TXT_TAIL
     )
     ESTIMATES.parent.mkdir(parents=True, exist_ok=True)
-    np.savez_compressed(ESTIMATES, **e)  # for later analysis (build/ is not committed)
+    if not args.refit:
+        np.savez_compressed(ESTIMATES, **e)  # for later analysis (build/ is not committed)
     print(f"wrote {args.out}, {args.out.with_suffix('.txt')} and {ESTIMATES}")
 
 

@@ -264,7 +264,7 @@ def cloud_views(w: int, h: int) -> None:
         cam = Cam(fov_deg=fov, yaw_deg=(sun.azimuth_deg + dyaw) % 360, pitch_deg=pitch)
         frame = sky.render(cam, w, h, altitude_m=alt, tonemap="filmic")
         path = OUT / f"{name}.png"
-        atomic_write(path, lambda tmp, f=frame: write_png(tmp, f.image, {"views": note}))
+        atomic_write(path, lambda tmp, f=frame, n=note: write_png(tmp, f.image, {"views": n}))
         print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
         sky.graph.release()
     # A moonlit cloudy night: Valletta, 2018-03-01 23:00 UTC, the full Moon 63 deg up.

@@ -351,7 +351,14 @@ def register(app: typer.Typer) -> None:
                 "--night-vision and --overlay need the default model (a sky of the scene)"
             )
         sky_clouds = CloudFlags(
-            clouds, coverage, cloud_base, cloud_thickness, cloud_type, cirrus, wind, cloud_seed,
+            clouds,
+            coverage,
+            cloud_base,
+            cloud_thickness,
+            cloud_type,
+            cirrus,
+            wind,
+            cloud_seed,
             weather,
         ).clouds()
         if model == "single" and sky_clouds is not None:

@@ -191,7 +191,14 @@ def register(app: typer.Typer) -> None:
         check_choice("--format", frame_format, ("png", "jpg", "exr", "hdr", "npy"), "format")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         sky_clouds = CloudFlags(
-            clouds, coverage, cloud_base, cloud_thickness, cloud_type, cirrus, wind, cloud_seed,
+            clouds,
+            coverage,
+            cloud_base,
+            cloud_thickness,
+            cloud_type,
+            cirrus,
+            wind,
+            cloud_seed,
             weather,
         ).clouds()
         target = check_video_output(output)

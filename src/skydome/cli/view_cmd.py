@@ -181,7 +181,14 @@ def register(app: typer.Typer) -> None:
             raise ParameterError("--screenshot saves the last of --frames N frames: add --frames")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
         sky_clouds = CloudFlags(
-            clouds, coverage, cloud_base, cloud_thickness, cloud_type, cirrus, wind, cloud_seed,
+            clouds,
+            coverage,
+            cloud_base,
+            cloud_thickness,
+            cloud_type,
+            cirrus,
+            wind,
+            cloud_seed,
             weather,
         ).clouds()
         try:

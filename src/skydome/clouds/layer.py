@@ -23,13 +23,20 @@ from skydome.scene.layer import DrawContext, Layer
 #: shortest step (km); lengths (km) of the march towards the light and across the local
 #: slab; the march's resolution relative to the frame.
 QUALITY = {
-    "best": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1,
-             "steps": (6, 1)},
+    "best": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1, "steps": (6, 1)},
     # seed 000 (ch. 5.4) marches its clouds at half the resolution too
-    "full": {"march": (0.008, 256.0, 0.03), "light_km": (6.0, 4.0), "scale": 2,
-             "steps": (6, 2)},  # light march samples, light every n view steps
-    "interactive": {"march": (0.02, 64.0, 0.06), "light_km": (4.0, 3.0), "scale": 4,
-                    "steps": (4, 3)},
+    "full": {
+        "march": (0.008, 256.0, 0.03),
+        "light_km": (6.0, 4.0),
+        "scale": 2,
+        "steps": (6, 2),
+    },  # light march samples, light every n view steps
+    "interactive": {
+        "march": (0.02, 64.0, 0.06),
+        "light_km": (4.0, 3.0),
+        "scale": 4,
+        "steps": (4, 3),
+    },
 }
 #: Repeat lengths (km) of the shape and detail noises.
 SHAPE_TILE_KM = 6.0
@@ -121,7 +128,9 @@ class CloudLayer(Layer):
 
         self.noise = cloud_noise(self.graph.ctx, self.clouds.seed)
         self.weather = AnimatedWeather(
-            self.graph.ctx, weather_map_for(self.clouds), wind_m_s=self.clouds.wind_m_s,
+            self.graph.ctx,
+            weather_map_for(self.clouds),
+            wind_m_s=self.clouds.wind_m_s,
             seed=self.clouds.seed,
         )
 
@@ -177,9 +186,13 @@ class CloudLayer(Layer):
             "u_light_scale": tuple(s * solar for s in key_scale),
             "u_cloud_shell": (
                 bottom_km + c.base_m / 1e3,
-                bottom_km + (c.base_m + c.thickness_m) / 1e3 if c.coverage > 0 else bottom_km + c.base_m / 1e3,
+                bottom_km + (c.base_m + c.thickness_m) / 1e3
+                if c.coverage > 0
+                else bottom_km + c.base_m / 1e3,
                 bottom_km + c.cirrus_base_m / 1e3,
-                bottom_km + (c.cirrus_base_m + c.cirrus_thickness_m) / 1e3 if c.cirrus > 0 else bottom_km + c.cirrus_base_m / 1e3,
+                bottom_km + (c.cirrus_base_m + c.cirrus_thickness_m) / 1e3
+                if c.cirrus > 0
+                else bottom_km + c.cirrus_base_m / 1e3,
             ),  # fmt: skip
             "u_noise_tiles_km": (c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
             "u_cloud_offset_km": offset_km,
@@ -195,6 +208,7 @@ class CloudLayer(Layer):
             "u_light_march_km": q["light_km"],
             "u_cloud_albedo_below": albedo,
             "u_frame_jitter": 0.0,
+            "u_ms_norm_g": [float(g) for g in _ms_table().norm_g],
         }
 
     def _aerial(self, uniforms: dict) -> tuple[dict, dict] | None:
@@ -251,10 +265,9 @@ class CloudLayer(Layer):
         x = 12 blocks (the scattered direction's cosine) of 24 depths, y = the optical
         thickness, z = the light's cosine; RGB = the azimuth Fourier coefficients."""
         if self._ms_texture is None:
-            from skydome.clouds.ms_table import load_ms_table
             from skydome.gpu.textures import linear_clamped
 
-            j = np.asarray(load_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
+            j = np.asarray(_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
             nt, nm0, nd, nmu, _ = j.shape
             texels = np.zeros((nm0, nt, nmu * nd, 4), dtype=np.float32)
             texels[..., :3] = j.transpose(1, 0, 3, 2, 4).reshape(nm0, nt, nmu * nd, 3)
@@ -464,7 +477,9 @@ class CloudLayer(Layer):
         ctx = frame.ctx
         small, full = self._shaft_targets(lw, lh, tw, th)
         small[1].viewport = (0, 0, lw, lh)
-        fpass = self.full_screen_pass(ctx, "clouds/cloud_shafts.glsl", frame.camera, self.defines(frame))
+        fpass = self.full_screen_pass(
+            ctx, "clouds/cloud_shafts.glsl", frame.camera, self.defines(frame)
+        )
         low = {
             **uniforms,
             **frame.camera.uniforms(w / SHAFT_SCALE, h / SHAFT_SCALE),
@@ -527,7 +542,10 @@ class CloudLayer(Layer):
         extra = {}
         if camera.model == 0:
             pu = prev_cam.uniforms(lw, lh)
-            extra = {"u_prev_basis": pu["u_camera_basis"], "u_prev_tan_half_fov": pu["u_tan_half_fov"]}
+            extra = {
+                "u_prev_basis": pu["u_camera_basis"],
+                "u_prev_tan_half_fov": pu["u_tan_half_fov"],
+            }
         (nrad, ndata), fbo = nxt
         fbo.viewport = (0, 0, lw, lh)
         temporal.draw(
@@ -605,6 +623,12 @@ def weather_map_for(clouds: Clouds):
     data = w.data.copy()
     data[..., 0] *= clouds.coverage
     return WeatherMap(data, w.tile_km)
+
+
+def _ms_table():
+    from skydome.clouds.ms_table import load_ms_table
+
+    return load_ms_table()
 
 
 def _julian_day(state) -> float | None:

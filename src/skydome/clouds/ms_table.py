@@ -75,6 +75,14 @@ class MSTable:
     phase_weights: np.ndarray
     photons: np.ndarray
     seed: int
+    norm_g: np.ndarray
+
+
+def peak_shape(cos_theta, g) -> np.ndarray:
+    """The table's peak normalisation h = HG(cos theta, g) (1/sr)."""
+    c = np.asarray(cos_theta, dtype=np.float64)
+    g = np.asarray(g, dtype=np.float64)
+    return (1.0 - g * g) / (4.0 * np.pi * (1.0 + g * g - 2.0 * g * c) ** 1.5)
 
 
 def _read(raw: bytes) -> MSTable:
@@ -86,6 +94,8 @@ def _read(raw: bytes) -> MSTable:
             raise SkydomeError(f"axis {name} is not the specified one")
     if d["J"].shape != (N_TAU, N_MU0, N_DEPTH, N_MU, N_FOURIER) or d["J"].dtype != np.float32:
         raise SkydomeError(f"J has shape {d['J'].shape} and type {d['J'].dtype}")
+    if d.get("norm_g", np.zeros(0)).shape != (N_TAU,):
+        raise SkydomeError("norm_g (the peak normalisation per thickness) is missing")
     if not np.all(np.isfinite(d["J"])):
         raise SkydomeError("J is not finite")
     if not (
@@ -105,6 +115,7 @@ def _read(raw: bytes) -> MSTable:
         phase_weights=d["phase_weights"],
         photons=d["photons"],
         seed=int(d["seed"]),
+        norm_g=np.asarray(d["norm_g"], dtype=np.float64),
     )
 
 
@@ -150,7 +161,10 @@ def ms_source(
       scaled by tau_total / 0.25 (orders >= 2 vanish linearly in thin slabs);
     - light: z = clamp(7 ((mu0 - 0.02) / 0.98)^(2/3), 0, 7), linear;
     - direction: linear between the two ``mu`` entries around mu_up (clamped);
-    - J2 = c0 + c1 cos_phi + c2 (2 cos_phi^2 - 1) of the interpolated coefficients,
+    - per thickness node: J2 = h (c0 + c1 cos_phi + c2 (2 cos_phi^2 - 1)) of the
+      coefficients interpolated in the other three indices, h = HG(cos theta, norm_g) of
+      the scattering angle from the beam in the slab, cos theta = -mu mu0 - sqrt(1 - mu^2)
+      sqrt(1 - mu0^2) cos_phi (mu clamped to the table's); the two nodes' J2 linear in y;
       clamped >= 0.
 
     A slab of tau_total <= 0 gives 0."""
@@ -164,20 +178,28 @@ def ms_source(
     s = np.arccos(1.0 - 2.0 * u) / np.pi
     ix, fx = _linear(np.clip(s * N_DEPTH - 0.5, 0.0, N_DEPTH - 1.0), N_DEPTH)
     iy, fy = _linear(np.clip(np.log2(safe_total) + 2.0, 0.0, N_TAU - 1.0), N_TAU)
+    mu0 = np.clip(mu0, t.mu0[0], 1.0)  # the table's range (the peak shape's too)
     z = 7.0 * (np.maximum(mu0 - 0.02, 0.0) / 0.98) ** (2.0 / 3.0)
     iz, fz = _linear(np.clip(z, 0.0, N_MU0 - 1.0), N_MU0)
     m = np.clip(mu_up, t.mu[0], t.mu[-1])
     iw = np.clip(np.searchsorted(t.mu, m, side="right") - 1, 0, N_MU - 2)
     fw = (m - t.mu[iw]) / (t.mu[iw + 1] - t.mu[iw])
-    coef = np.zeros(tau_top.shape + (N_FOURIER,))
     J = t.J
+    c = cos_phi
+    # the scattering angle from the beam in the slab (the table's geometry)
+    cos_theta = (
+        -m * mu0
+        - np.sqrt(np.maximum(1.0 - m * m, 0.0)) * np.sqrt(np.maximum(1.0 - mu0 * mu0, 0.0)) * c
+    )
+    j2 = np.zeros(tau_top.shape)
     for dy, wy in ((0, 1.0 - fy), (1, fy)):
+        coef = np.zeros(tau_top.shape + (N_FOURIER,))
         for dz, wz in ((0, 1.0 - fz), (1, fz)):
             for dx, wx in ((0, 1.0 - fx), (1, fx)):
                 for dw, ww in ((0, 1.0 - fw), (1, fw)):
-                    w = wy * wz * wx * ww
+                    w = wz * wx * ww
                     coef += w[..., None] * J[iy + dy, iz + dz, ix + dx, iw + dw].astype(float)
-    c = cos_phi
-    j2 = coef[..., 0] + coef[..., 1] * c + coef[..., 2] * (2.0 * c * c - 1.0)
+        series = coef[..., 0] + coef[..., 1] * c + coef[..., 2] * (2.0 * c * c - 1.0)
+        j2 = j2 + wy * peak_shape(cos_theta, t.norm_g[iy + dy]) * series
     thin = np.where(tau_total < TAU_MIN, tau_total / TAU_MIN, 1.0)
     return np.where(positive, np.maximum(j2, 0.0) * thin, 0.0)

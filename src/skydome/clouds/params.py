@@ -21,7 +21,12 @@ from typing import Any
 from skydome.errors import ParameterError
 
 #: The cloud types of the height profiles and where each sits on the weather map's type axis.
-CLOUD_TYPES = {"stratus": 0.0, "stratocumulus": 1.0 / 3.0, "cumulus": 2.0 / 3.0, "cumulonimbus": 1.0}
+CLOUD_TYPES = {
+    "stratus": 0.0,
+    "stratocumulus": 1.0 / 3.0,
+    "cumulus": 2.0 / 3.0,
+    "cumulonimbus": 1.0,
+}
 #: Typical liquid water content (g/m^3) of each type (module docstring).
 LIQUID_WATER_G_M3 = {"stratus": 0.25, "stratocumulus": 0.3, "cumulus": 0.5, "cumulonimbus": 1.0}
 #: Effective radius of cloud droplets (m).
@@ -45,8 +50,12 @@ PRESETS: dict[str, dict[str, Any]] = {
     "overcast": dict(coverage=0.95, cloud_type="stratocumulus", base_m=800.0, thickness_m=1000.0),
     # towering cumulonimbus with rain, on a low base, tops near the tropopause
     "storm": dict(
-        coverage=0.7, cloud_type="cumulonimbus", base_m=900.0, thickness_m=9000.0,
-        precipitation=0.7, cirrus=0.3,
+        coverage=0.7,
+        cloud_type="cumulonimbus",
+        base_m=900.0,
+        thickness_m=9000.0,
+        precipitation=0.7,
+        cirrus=0.3,
     ),  # fmt: skip
     # a cirrus / cirrostratus sheet only
     "cirrus": dict(coverage=0.0, cirrus=0.8),
@@ -127,7 +136,9 @@ class Clouds:
         object.__setattr__(self, "cirrus_base_m", ci_base)
         object.__setattr__(self, "cirrus_thickness_m", ci_thick)
         object.__setattr__(self, "cloud_type", self.type_value)  # validates
-        object.__setattr__(self, "tile_km", _number("weather tile", self.tile_km, 1.0, 1000.0, "km"))
+        object.__setattr__(
+            self, "tile_km", _number("weather tile", self.tile_km, 1.0, 1000.0, "km")
+        )
         try:
             wind = tuple(float(v) for v in self.wind_m_s)
         except (TypeError, ValueError):

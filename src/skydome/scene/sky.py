@@ -136,9 +136,7 @@ def cloud_layer(clouds: Any, quality: str = "full") -> Layer | None:
         return clouds
     if isinstance(clouds, (str, Clouds)):
         return CloudLayer(clouds, quality=quality)
-    raise ParameterError(
-        f"clouds {clouds!r} must be a preset name, a Clouds or a CloudLayer"
-    )
+    raise ParameterError(f"clouds {clouds!r} must be a preset name, a Clouds or a CloudLayer")
 
 
 def default_look(state: SkyState) -> str:

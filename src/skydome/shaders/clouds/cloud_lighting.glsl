@@ -45,29 +45,43 @@ vec2 diffuse_field(float tau, float tau_total, float g_scaled, float albedo) {
 // The source of every order >= 2 from the Monte Carlo table (skydome.clouds.ms_table, built by
 // tools/build_cloud_ms_table.py; its NumPy twin ms_source interpolates the same way): per
 // (scattered direction's upward cosine: a block of 24 depth texels in x), (depth in the slab,
-// optical thickness, light cosine) interpolated trilinearly, RGB = the cosine Fourier
-// coefficients in the azimuth from the light's.
+// optical thickness, light cosine) interpolated bilinearly in depth and light cosine at each
+// thickness node, RGB = the cosine Fourier coefficients in the azimuth from the light's of
+// J2 / h, h = HG(cos theta, u_ms_norm_g[node]) the orders' peak around the beam's direction;
+// the two thickness nodes' J2 interpolated linearly.
 uniform sampler3D u_cloud_ms_table;  // (12 x 24, 10, 8)
+uniform float u_ms_norm_g[10];
 const float MS_MU[12] = float[12](-1.0, -0.85, -0.65, -0.45, -0.25, -0.08, 0.08, 0.25, 0.45,
                                   0.65, 0.85, 1.0);
 
-vec3 ms_coefficients(int mu_index, vec3 xyz) {
-    return texture(u_cloud_ms_table, vec3((float(mu_index) * 24.0 + xyz.x + 0.5) / 288.0,
-                                          (xyz.y + 0.5) / 10.0, (xyz.z + 0.5) / 8.0)).rgb;
+vec3 ms_coefficients(int mu_index, float x, int tau_index, float z) {
+    return texture(u_cloud_ms_table, vec3((float(mu_index) * 24.0 + x + 0.5) / 288.0,
+                                          (float(tau_index) + 0.5) / 10.0, (z + 0.5) / 8.0)).rgb;
 }
 
 float ms_source(float tau_top, float tau_total, float mu0, float mu_up, float cos_phi) {
+    mu0 = clamp(mu0, 0.02, 1.0);  // the table's range (the peak shape's too)
     float u = clamp(tau_top / max(tau_total, 1e-6), 0.0, 1.0);
-    float s = acos(1.0 - 2.0 * u) / PI;
-    vec3 xyz = vec3(clamp(s * 24.0 - 0.5, 0.0, 23.0),
-                    clamp(log2(max(tau_total, 1e-6)) + 2.0, 0.0, 9.0),
-                    clamp(7.0 * pow(max((mu0 - 0.02) / 0.98, 0.0), 2.0 / 3.0), 0.0, 7.0));
+    float x = clamp(acos(1.0 - 2.0 * u) / PI * 24.0 - 0.5, 0.0, 23.0);
+    float y = clamp(log2(max(tau_total, 1e-6)) + 2.0, 0.0, 9.0);
+    float z = clamp(7.0 * pow(max((mu0 - 0.02) / 0.98, 0.0), 2.0 / 3.0), 0.0, 7.0);
+    int iy = min(int(y), 8);
+    float fy = y - float(iy);
+    float m = clamp(mu_up, -1.0, 1.0);
     int i = 0;
-    while (i < 10 && MS_MU[i + 1] < mu_up) ++i;
-    float w = clamp((mu_up - MS_MU[i]) / (MS_MU[i + 1] - MS_MU[i]), 0.0, 1.0);
-    vec3 c = mix(ms_coefficients(i, xyz), ms_coefficients(i + 1, xyz), w);
+    while (i < 10 && MS_MU[i + 1] < m) ++i;
+    float w = clamp((m - MS_MU[i]) / (MS_MU[i + 1] - MS_MU[i]), 0.0, 1.0);
+    // the scattering angle from the beam in the slab (the table's geometry)
+    float cos_theta = -m * mu0 - sqrt(max(1.0 - m * m, 0.0)) * sqrt(max(1.0 - mu0 * mu0, 0.0)) * cos_phi;
+    float j2 = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        int node = iy + k;
+        vec3 c = mix(ms_coefficients(i, x, node, z), ms_coefficients(i + 1, x, node, z), w);
+        float series = c.x + c.y * cos_phi + c.z * (2.0 * cos_phi * cos_phi - 1.0);
+        j2 += (k == 0 ? 1.0 - fy : fy) * henyey_greenstein_phase(cos_theta, u_ms_norm_g[node]) * series;
+    }
     float thin = min(tau_total / 0.25, 1.0);  // orders >= 2 vanish linearly in thin slabs
-    return max(c.x + c.y * cos_phi + c.z * (2.0 * cos_phi * cos_phi - 1.0), 0.0) * thin;
+    return max(j2, 0.0) * thin;
 }
 
 // The source J (1/sr) per unit of the light's irradiance and per unit of the sky's diffuse

@@ -112,31 +112,31 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     bool fine = false;
     int empty = 0;
     float stay_fine = 0.0;
-    float t = seg.x;
-    float dt = max(u_march.x * t, u_march.z);
-    t += offset * dt;  // the first sample's offset, fine or coarse alike
+    // Each step is the interval [edge, edge + dt] (dt grows with the distance), sampled at
+    // edge + offset dt and weighted by its whole length: the intervals tile the segment
+    // exactly whatever the offset and however the steps grow.
+    float edge = seg.x;
     for (int i = 0; i < int(u_march.y); ++i) {
-        if (t >= seg.y) break;
-        dt = max(u_march.x * t, u_march.z);
-        vec3 p = o + d * t;
+        if (edge >= seg.y) break;
+        float dt = max(u_march.x * edge, u_march.z);
         if (!fine) {
-            if (cloud_extinction(p, true) <= 0.0) {
-                t += COARSE * dt;
+            float coarse = min(COARSE * dt, seg.y - edge);
+            if (cloud_extinction(o + d * (edge + offset * coarse), true) <= 0.0) {
+                edge += coarse;
                 continue;
             }
-            // a cloud: back to where the coarse step came from, finely, at least up to here
+            // a cloud: this coarse step again, finely, at least to its end
             fine = true;
             empty = 0;
-            stay_fine = t + dt;
-            t = max(t - (COARSE - 1.0) * dt, seg.x + offset * dt);
-            continue;
+            stay_fine = edge + coarse;
         }
+        float step = min(dt, seg.y - edge);
+        float t = edge + offset * step;
+        vec3 p = o + d * t;
         float sigma = cloud_extinction(p, false);
-        // the step's length, clipped at the segment's end
-        float step = min(dt, seg.y - t + 0.5 * dt);
+        edge += step;
         if (sigma <= 0.0) {
-            if (++empty >= EMPTY_STEPS && t > stay_fine) fine = false;
-            t += dt;
+            if (++empty >= EMPTY_STEPS && edge >= stay_fine) fine = false;
             continue;
         }
         empty = 0;
@@ -176,7 +176,6 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         depth += vec2(transmittance * a * t, transmittance * a);
         transmittance *= 1.0 - a;
         if (transmittance < 0.01) { transmittance = 0.0; break; }
-        t += dt;
     }
 }
 
