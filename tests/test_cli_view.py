@@ -94,3 +94,23 @@ def test_frames_and_screenshot(tmp_path, x_display):  # noqa: F811
     assert re.search(r"^\d+\.\d fps$", r.stdout, re.M), r.stdout
     img = np.asarray(Image.open(png).convert("RGB"))
     assert img.shape == (180, 320, 3) and img.std() > 2.0
+
+
+def test_the_viewer_draws_clouds_interactively(tmp_path, x_display):  # noqa: F811
+    """``skydome view --clouds`` marches them in the interactive mode (an eighth of the
+    resolution, accumulated over frames): the screenshot's sky is an overcast grey-white
+    where the clear sky is blue."""
+    pytest.importorskip("glfw")
+    pytest.importorskip("imgui_bundle")
+    from PIL import Image
+
+    png = tmp_path / "clouds.png"
+    r = run_cli(
+        "view", *PLACE, "--no-night", "--size", "320x180", "--look", "south", "--pitch", "30",
+        "--exposure", "14", "--frames", "8", "--screenshot", str(png), "--no-panel",
+        "--clouds", "overcast", "--coverage", "1",
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    img = np.asarray(Image.open(png).convert("RGB")).astype(float)
+    top = img[:60]  # the sky: an overcast deck is grey-white, a clear sky blue (B > 1.3 R)
+    assert np.mean(top[..., 2] / np.maximum(top[..., 0], 1.0)) < 1.15

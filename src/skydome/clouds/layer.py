@@ -19,25 +19,21 @@ from skydome.clouds.params import CIRRUS_EXTINCTION_PER_M, Clouds
 from skydome.errors import ParameterError
 from skydome.scene.layer import DrawContext, Layer
 
-#: Ray-march settings: the view step as a fraction of the distance, most samples per shell,
-#: shortest step (km); lengths (km) of the march towards the light and across the local
-#: slab; the march's resolution relative to the frame.
+#: Ray-march settings per quality: ``march`` = (the view step as a fraction of the
+#: distance, most samples per shell, shortest step km); ``light_km`` = lengths (km) of the
+#: march towards the light and across the local slab; ``scale``: the march's resolution is
+#: 1/scale of the frame's; ``steps`` = (samples of the light march, a sample's light
+#: computed afresh every n view steps); ``coarse``: view steps one step through clear air
+#: spans.
 QUALITY = {
-    "best": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1, "steps": (6, 1)},
+    "best": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1,
+             "steps": (6, 1), "coarse": 4.0},
     # seed 000 (ch. 5.4) marches its clouds at half the resolution too
-    "full": {
-        "march": (0.008, 256.0, 0.03),
-        "light_km": (6.0, 4.0),
-        "scale": 2,
-        "steps": (6, 2),
-    },  # light march samples, light every n view steps
-    "interactive": {
-        "march": (0.02, 64.0, 0.06),
-        "light_km": (4.0, 3.0),
-        "scale": 4,
-        "steps": (4, 3),
-    },
-}
+    "full": {"march": (0.008, 256.0, 0.03), "light_km": (6.0, 4.0), "scale": 2,
+             "steps": (6, 2), "coarse": 4.0},
+    "interactive": {"march": (0.025, 48.0, 0.08), "light_km": (4.0, 3.0), "scale": 8,
+                    "steps": (4, 3), "coarse": 6.0},
+}  # fmt: skip
 #: Repeat lengths (km) of the shape and detail noises.
 SHAPE_TILE_KM = 6.0
 DETAIL_TILE_KM = 0.8
@@ -47,6 +43,8 @@ DETAIL_EROSION = 0.35
 #: of each ray.
 SHAFT_SCALE = 4
 SHAFT_KM = 40.0
+#: Still frames the interactive mode accumulates before a window may keep its image.
+SETTLE_FRAMES = 16
 #: Julian Date (UTC) of J2000, the clouds' time origin.
 J2000_JD = 2451545.0
 #: Lobes of the phase function at least this forward are the diffraction peak (delta-M).
@@ -62,7 +60,7 @@ class CloudLayer(Layer):
         clouds: a ``Clouds`` or a preset name.
         quality: "full" (still frames: the march at half the resolution, as seed 000 does,
             read bilinearly), "best" (every pixel marched, finer steps: about 4x the cost) or
-            "interactive" (a coarser march at a quarter of the resolution accumulated over
+            "interactive" (a coarser march at a sixth of the resolution accumulated over
             frames, for the viewer).
         phase: the phase function (default: the Mie-fitted droplet lobes,
             skydome.clouds.phase.CLOUD_PHASE).
@@ -97,6 +95,7 @@ class CloudLayer(Layer):
         self._targets: dict = {}
         self._ms_texture = None
         self._frame_index = 0
+        self._settled = 0  # still frames blended into the interactive history
         self._history_key = self._history_camera = self._history_time = None
         self._state = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
@@ -253,6 +252,7 @@ class CloudLayer(Layer):
             "CLOUD_LOBES": len(self.phase.g),
             "LIGHT_STEPS": light,
             "LIGHT_EVERY": every,
+            "COARSE": float(QUALITY[self.quality]["coarse"]),
         }
         if np.any(np.asarray(lights.get("light2_scale", 0.0), dtype=float) > 0):
             d["HAS_LIGHT2"] = 1
@@ -369,6 +369,7 @@ class CloudLayer(Layer):
         here), at this layer's last time. Returns (...) in [0, 1]: 1 in full light, 0 in a
         cloud's full shadow (a shadow map for compositing a scene under the clouds)."""
         from skydome.gpu import FullscreenPass
+        from skydome.gpu.textures import release_unbound
 
         p = np.asarray(points_m, dtype=np.float64)
         if p.shape[-1:] != (3,) or not np.all(np.isfinite(p)):
@@ -402,7 +403,7 @@ class CloudLayer(Layer):
             t = np.frombuffer(out.read(), dtype=np.float32)[:n]
         finally:
             for obj in (fbo, out, points):
-                obj.release()
+                release_unbound(obj)
         return t.astype(np.float64).reshape(p.shape[:-1])
 
     def _query_uniforms(self, frame: DrawContext) -> dict:
@@ -556,8 +557,15 @@ class CloudLayer(Layer):
                 "u_history_radiance": prev[0][0], "u_history_data": prev[0][1],
             },
         )  # fmt: skip
+        self._settled = 0 if blend >= 0.5 else self._settled + 1
         self._history_key, self._history_camera, self._history_time = key, camera, self.time_s
         return nrad, ndata
+
+    @property
+    def settling(self) -> bool:
+        """The interactive mode's accumulation is still converging: a window redraws a still
+        view until SETTLE_FRAMES frames have gone into its history."""
+        return self.quality == "interactive" and self._settled < SETTLE_FRAMES
 
     def _history_targets(self, w: int, h: int):
         """Two (textures, framebuffer) pairs of the interactive history, ping-ponged."""

@@ -33,6 +33,7 @@ from skydome.atmosphere.cache import cache_key, code_digest, load_or_build
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.shaders import expand
+from skydome.gpu.textures import release_unbound
 
 #: Shape texture: the Perlin fBm's first period (cells per tile), its octaves, and the gain
 #: that maps it to [0, 1] before the Perlin-Worley remap (0.5 + gain * fBm: the 1st-99th
@@ -91,7 +92,7 @@ def _draw_volume(ctx, shader: str, size: int, uniforms: dict) -> np.ndarray:
         data = np.frombuffer(array.read(), dtype=np.float32)
     finally:
         for obj in (fbo, array, fpass):
-            obj.release()
+            release_unbound(obj)
     return data.reshape(size, size, size, 4).copy()
 
 
@@ -142,7 +143,7 @@ def render_curl_raw(ctx, seed: int = 1, size: int = DEFAULT_CURL_SIZE) -> np.nda
         data = np.frombuffer(tex.read(), dtype=np.float32)
     finally:
         for obj in (fbo, tex, fpass):
-            obj.release()
+            release_unbound(obj)
     return data.reshape(size, size, 2).copy()
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
-from skydome.gpu.textures import copy_array_to_3d, linear_clamped
+from skydome.gpu.textures import copy_array_to_3d, linear_clamped, release_unbound
 
 #: Default table size (azimuth from the light over [0, 180] deg, elevation), texels.
 DEFAULT_SKY_VIEW_SIZE = (256, 256)
@@ -122,7 +122,7 @@ class SkyViewTables:
                     copy_array_to_3d(self.ctx, array, volume)
             finally:
                 for obj in (fbo, *layers):
-                    obj.release()
+                    release_unbound(obj)
             self._slots[name] = (volumes, None, key)
             self.draws += 1
         return {

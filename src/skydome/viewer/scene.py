@@ -353,9 +353,11 @@ class FrameCache:
         self._target = None  # (size, texture, framebuffer)
 
     def holds_view(self, graph, state, view: tuple, size: tuple[int, int]) -> bool:
-        """Whether the kept float texture is the frame of this view."""
+        """Whether the kept float texture is the frame of this view (and no layer is still
+        settling over frames: the clouds' interactive accumulation)."""
         return (
             self.texture is not None
+            and not any(getattr(la, "settling", False) for la in graph.layers if la.enabled)
             and graph is self._graph
             and state is self._state
             and graph.generation == self._generation

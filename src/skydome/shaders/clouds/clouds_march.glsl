@@ -98,7 +98,9 @@ void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
 // km: a pixel's footprint grows so); through empty air they are COARSE times longer, and on
 // meeting a cloud the march steps back and goes on finely until it has seen EMPTY_STEPS
 // empty samples in a row.
-const float COARSE = 4.0;
+#ifndef COARSE
+#define COARSE 4.0
+#endif
 const int EMPTY_STEPS = 3;
 void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
                  inout vec4 radiance, inout float transmittance, inout vec2 depth) {
