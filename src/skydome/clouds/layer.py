@@ -42,7 +42,7 @@ DETAIL_EROSION = 0.35
 #: The light shafts' pass runs at 1/SHAFT_SCALE of the resolution over the first SHAFT_KM (km)
 #: of each ray.
 SHAFT_SCALE = 4
-SHAFT_KM = 40.0
+SHAFT_KM = 12.0
 #: Still frames the interactive mode accumulates before a window may keep its image.
 SETTLE_FRAMES = 16
 #: Julian Date (UTC) of J2000, the clouds' time origin.
