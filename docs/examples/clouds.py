@@ -37,8 +37,12 @@ write_outputs([out / "clouds-overcast.png"], grey.data, grey.image)
 # cloud running north-south; 'weather=' also takes an image file.
 x = np.linspace(0, 1, 256, endpoint=False)
 band = np.clip(1.5 - 6 * np.abs(x - 0.5), 0, 1)[None, :].repeat(256, axis=0)
-mine = Sky("Valletta", "2021-06-21T08:00Z", night=False,
-           clouds=Clouds("fair", coverage=1.0, weather=band, tile_km=20.0))
+mine = Sky(
+    "Valletta",
+    "2021-06-21T08:00Z",
+    night=False,
+    clouds=Clouds("fair", coverage=1.0, weather=band, tile_km=20.0),
+)
 banded = mine.render(mine.camera("zenith", fov_deg=120), 256, 256, tonemap="filmic")
 write_outputs([out / "clouds-own-map.png"], banded.data, banded.image)
 
@@ -46,4 +50,7 @@ write_outputs([out / "clouds-own-map.png"], banded.data, banded.image)
 layer: CloudLayer = sky.layer("clouds")
 xs = np.arange(-5000.0, 5001.0, 1000.0)
 ground = np.stack([xs, np.zeros_like(xs), np.zeros_like(xs)], axis=-1)
-print("sunlight reaching the ground along an east-west line:", layer.light_transmittance(ground).round(2))
+print(
+    "sunlight reaching the ground along an east-west line:",
+    layer.light_transmittance(ground).round(2),
+)

@@ -39,12 +39,6 @@ layout(location = 0) out vec4 frag;
 uniform sampler2D u_shadow_map;  // shadowed length along each view ray, km
 #endif
 #if defined(HAS_DEPTH_MAP) || defined(HAS_SHADOW_MAP)
-uniform sampler3D u_sun_aerial_scattering;
-uniform sampler3D u_sun_aerial_single_mie;
-#ifdef HAS_LIGHT2
-uniform sampler3D u_light2_aerial_scattering;
-uniform sampler3D u_light2_aerial_single_mie;
-#endif
 #include "atmosphere/aerial_lookup.glsl"
 #endif
 #ifdef HAS_DEPTH_MAP

@@ -25,12 +25,6 @@
 #ifdef AERIAL_TABLES
 #include "atmosphere/sky_view_mapping.glsl"
 #include "atmosphere/aerial_lookup.glsl"
-uniform sampler3D u_sun_aerial_scattering;
-uniform sampler3D u_sun_aerial_single_mie;
-#ifdef HAS_LIGHT2
-uniform sampler3D u_light2_aerial_scattering;
-uniform sampler3D u_light2_aerial_single_mie;
-#endif
 #endif
 #include "clouds/cloud_lighting.glsl"
 #include "clouds/cloud_paths.glsl"
