@@ -214,10 +214,15 @@ def register(app: typer.Typer) -> None:
                 air = AtmosphereLayer(params, config=config, progress=report)
                 layers = default_layers(air, night=night and not abstract, light_pollution=bortle)
                 display = {"night_vision": night_vision, "overlays": overlays}
-                if sky_clouds is not None:  # the interactive march (skydome.clouds.layer)
+                if sky_clouds is not None:
+                    # on a CPU rasterizer the interactive march (an eighth of the resolution,
+                    # accumulated over frames); a GPU marches the still frames' quality
                     from skydome.clouds.layer import CloudLayer
+                    from skydome.gpu import gl_info
 
-                    display["clouds"] = CloudLayer(sky_clouds, quality="interactive")
+                    soft = gl_info(window.ctx).software
+                    quality = "interactive" if soft else "full"
+                    display["clouds"] = CloudLayer(sky_clouds, quality=quality)
                 if abstract:
                     layers = [la for la in layers if la.name != "moon"]
                     sky = Sky(sun_elevation_deg=el, sun_azimuth_deg=az, layers=layers,
