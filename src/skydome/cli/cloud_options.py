@@ -1,10 +1,13 @@
-"""The cloud flags of ``render``, ``timelapse`` and ``view``: one function per option and
-one that turns them into a ``Clouds`` (or None), with errors that name the flag."""
+"""The cloud flags of ``render``, ``timelapse`` and ``view``: one function per option, a
+decorator that adds them all to a command (:func:`with_cloud_options`), and the
+``CloudFlags`` that turns them into a ``Clouds`` (or None), with errors that name the flag."""
 
 from __future__ import annotations
 
+import functools
+import inspect
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import typer
 
@@ -127,3 +130,39 @@ class CloudFlags:
 
             kwargs["weather"] = WeatherMap.from_image(self.weather, tile_km=40.0)
         return Clouds(self.preset, **kwargs)
+
+
+#: (parameter name, type, option) of each cloud flag, in the order of CloudFlags' fields.
+CLOUD_FLAGS = (
+    ("clouds", str, clouds_option),
+    ("coverage", float, coverage_option),
+    ("cloud_base", float, cloud_base_option),
+    ("cloud_thickness", float, cloud_thickness_option),
+    ("cloud_type", str, cloud_type_option),
+    ("cirrus", float, cirrus_option),
+    ("wind", str, wind_option),
+    ("cloud_seed", int, cloud_seed_option),
+    ("weather", str, weather_option),
+)
+
+
+def with_cloud_options(command):
+    """Give a typer command the cloud flags: they are added after its own options, and the
+    command receives them as one keyword argument ``cloud_flags`` (a CloudFlags)."""
+    signature = inspect.signature(command)
+    own = [p for p in signature.parameters.values() if p.name != "cloud_flags"]
+    added = [
+        inspect.Parameter(name, inspect.Parameter.POSITIONAL_OR_KEYWORD, default=option(),
+                          annotation=kind)
+        for name, kind, option in CLOUD_FLAGS
+    ]  # fmt: skip
+    names = [name for name, _, _ in CLOUD_FLAGS]
+    field_names = [f.name for f in fields(CloudFlags)]
+
+    @functools.wraps(command)
+    def run(*args, **kwargs):
+        given = {field: kwargs.pop(name) for name, field in zip(names, field_names, strict=True)}
+        return command(*args, cloud_flags=CloudFlags(**given), **kwargs)
+
+    run.__signature__ = signature.replace(parameters=own + added)
+    return run

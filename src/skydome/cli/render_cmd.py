@@ -8,18 +8,7 @@ import time
 
 import typer
 
-from skydome.cli.cloud_options import (
-    CloudFlags,
-    cirrus_option,
-    cloud_base_option,
-    cloud_seed_option,
-    cloud_thickness_option,
-    cloud_type_option,
-    clouds_option,
-    coverage_option,
-    weather_option,
-    wind_option,
-)
+from skydome.cli.cloud_options import CloudFlags, with_cloud_options
 from skydome.cli.place_options import (
     describe_state,
     elevation_option,
@@ -158,6 +147,7 @@ def precompute_progress(console):
 
 def register(app: typer.Typer) -> None:
     @app.command()
+    @with_cloud_options
     def render(
         place: str = place_option(),
         lat: float = lat_option(),
@@ -262,15 +252,6 @@ def register(app: typer.Typer) -> None:
             "--overlay",
             help="Draw over the image, comma separated: lines (constellations), labels, grid.",
         ),
-        clouds: str = clouds_option(),
-        coverage: float = coverage_option(),
-        cloud_base: float = cloud_base_option(),
-        cloud_thickness: float = cloud_thickness_option(),
-        cloud_type: str = cloud_type_option(),
-        cirrus: float = cirrus_option(),
-        wind: str = wind_option(),
-        cloud_seed: int = cloud_seed_option(),
-        weather: str = weather_option(),
         output: list[str] = typer.Option(
             ["sky.png"],
             "-o",
@@ -278,6 +259,7 @@ def register(app: typer.Typer) -> None:
             help="Output file(s), repeatable: .exr or .hdr (absolute units), .npy, "
             ".png or .jpg (tone mapped).",
         ),
+        cloud_flags: CloudFlags = None,
     ) -> None:
         """Render a sky in absolute units (cd/m^2) and write it as EXR, HDR, NPY, or PNG and JPEG
         (tone mapped)."""
@@ -350,17 +332,7 @@ def register(app: typer.Typer) -> None:
             raise ParameterError(
                 "--night-vision and --overlay need the default model (a sky of the scene)"
             )
-        sky_clouds = CloudFlags(
-            clouds,
-            coverage,
-            cloud_base,
-            cloud_thickness,
-            cloud_type,
-            cirrus,
-            wind,
-            cloud_seed,
-            weather,
-        ).clouds()
+        sky_clouds = cloud_flags.clouds()
         if model == "single" and sky_clouds is not None:
             raise ParameterError("--clouds needs the default model (a sky of the scene)")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)

@@ -8,18 +8,7 @@ import time
 
 import typer
 
-from skydome.cli.cloud_options import (
-    CloudFlags,
-    cirrus_option,
-    cloud_base_option,
-    cloud_seed_option,
-    cloud_thickness_option,
-    cloud_type_option,
-    clouds_option,
-    coverage_option,
-    weather_option,
-    wind_option,
-)
+from skydome.cli.cloud_options import CloudFlags, with_cloud_options
 from skydome.cli.place_options import (
     LOOKS,
     elevation_option,
@@ -67,6 +56,7 @@ def show_night_sky(graph, state) -> None:
 
 def register(app: typer.Typer) -> None:
     @app.command()
+    @with_cloud_options
     def timelapse(
         place: str = place_option(),
         lat: float = lat_option(),
@@ -118,18 +108,10 @@ def register(app: typer.Typer) -> None:
             0.0, "--exposure-compensation", help="EV added to the exposure."
         ),
         tonemap: str = typer.Option("filmic", "--tonemap", help="Tone-mapping operator."),
-        clouds: str = clouds_option(),
-        coverage: float = coverage_option(),
-        cloud_base: float = cloud_base_option(),
-        cloud_thickness: float = cloud_thickness_option(),
-        cloud_type: str = cloud_type_option(),
-        cirrus: float = cirrus_option(),
-        wind: str = wind_option(),
-        cloud_seed: int = cloud_seed_option(),
-        weather: str = weather_option(),
         yes: bool = typer.Option(
             False, "--yes", help=f"Allow more than {MAX_FRAMES_WITHOUT_YES:,} frames."
         ),
+        cloud_flags: CloudFlags = None,
     ) -> None:
         """Render a time-lapse of the sky over a place: an H.264 MP4 or numbered frames."""
         import numpy as np
@@ -190,17 +172,7 @@ def register(app: typer.Typer) -> None:
         check_range("--exposure-compensation", compensation, -20.0, 20.0, "EV")
         check_choice("--format", frame_format, ("png", "jpg", "exr", "hdr", "npy"), "format")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
-        sky_clouds = CloudFlags(
-            clouds,
-            coverage,
-            cloud_base,
-            cloud_thickness,
-            cloud_type,
-            cirrus,
-            wind,
-            cloud_seed,
-            weather,
-        ).clouds()
+        sky_clouds = cloud_flags.clouds()
         target = check_video_output(output)
         to_mp4 = target.suffix.lower() == ".mp4"
         if to_mp4 and (width % 2 or height % 2):

@@ -4,18 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from skydome.cli.cloud_options import (
-    CloudFlags,
-    cirrus_option,
-    cloud_base_option,
-    cloud_seed_option,
-    cloud_thickness_option,
-    cloud_type_option,
-    clouds_option,
-    coverage_option,
-    weather_option,
-    wind_option,
-)
+from skydome.cli.cloud_options import CloudFlags, with_cloud_options
 from skydome.cli.place_options import (
     elevation_option,
     lat_option,
@@ -40,6 +29,7 @@ MAX_FRAMES = 1_000_000
 
 def register(app: typer.Typer) -> None:
     @app.command()
+    @with_cloud_options
     def view(
         place: str = place_option(),
         lat: float = lat_option(),
@@ -93,15 +83,6 @@ def register(app: typer.Typer) -> None:
         ),
         night_vision: bool = typer.Option(False, "--night-vision", help="Night vision on."),
         overlay: str = typer.Option(None, "--overlay", help="lines,labels,grid."),
-        clouds: str = clouds_option(),
-        coverage: float = coverage_option(),
-        cloud_base: float = cloud_base_option(),
-        cloud_thickness: float = cloud_thickness_option(),
-        cloud_type: str = cloud_type_option(),
-        cirrus: float = cirrus_option(),
-        wind: str = wind_option(),
-        cloud_seed: int = cloud_seed_option(),
-        weather: str = weather_option(),
         play: bool = typer.Option(False, "--play", help="Start with the time running."),
         speed: float = typer.Option(
             60.0, "--speed", help="Time speed, simulated seconds per second (-864000..864000)."
@@ -117,6 +98,7 @@ def register(app: typer.Typer) -> None:
             help="Save the last frame (with --frames): .png/.jpg (the screen), .exr/.hdr/.npy "
             "(the same frame in cd/m^2). Repeatable.",
         ),
+        cloud_flags: CloudFlags = None,
     ) -> None:
         """Open the interactive viewer: mouse look, scroll zoom, W/A/S/D walk, Q/E climb,
         Space play; a panel for time, place, camera, atmosphere and display."""
@@ -180,17 +162,7 @@ def register(app: typer.Typer) -> None:
         if shots and frames is None:
             raise ParameterError("--screenshot saves the last of --frames N frames: add --frames")
         params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
-        sky_clouds = CloudFlags(
-            clouds,
-            coverage,
-            cloud_base,
-            cloud_thickness,
-            cloud_type,
-            cirrus,
-            wind,
-            cloud_seed,
-            weather,
-        ).clouds()
+        sky_clouds = cloud_flags.clouds()
         try:
             import glfw  # noqa: F401
 
