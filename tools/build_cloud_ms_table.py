@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from skydome.clouds.ms_table import MS_TABLE_FILE, table_axes
+from skydome.clouds.ms_table import MS_TABLE_FILE, peak_shape, table_axes
 from skydome.clouds.phase import RENDER_PHASE
 from skydome.reference.clouds_mc import slab_source_function
 
@@ -159,7 +159,7 @@ def peak_normalisation(mu0: float, g: float) -> np.ndarray:
     angle from the beam's direction of travel (-sqrt(1 - mu0^2), 0, -mu0)."""
     dirs, _, _ = table_directions()
     cos_theta = dirs @ np.array([-math.sqrt(1.0 - mu0 * mu0), 0.0, -mu0])
-    return (1.0 - g * g) / (4.0 * math.pi * (1.0 + g * g - 2.0 * g * cos_theta) ** 1.5)
+    return peak_shape(cos_theta, g)
 
 
 def normalised_fit(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

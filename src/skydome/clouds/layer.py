@@ -47,8 +47,6 @@ SHAFT_KM = 12.0
 SETTLE_FRAMES = 16
 #: Julian Date (UTC) of J2000, the clouds' time origin.
 J2000_JD = 2451545.0
-#: Lobes of the phase function at least this forward are the diffraction peak (delta-M).
-PEAK_G = 0.98
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
 MOON_KEY_BELOW_DEG = -8.0
 
@@ -86,9 +84,9 @@ class CloudLayer(Layer):
 
             phase = CLOUD_PHASE
         #: The phase function the march uses and the factor on the extinction: the
-        #: droplets' diffraction peak (lobes with g >= PEAK_G) taken out by delta-M, its light
+        #: droplets' diffraction peak (lobes with g >= phase.PEAK_G) taken out by delta-M, its light
         #: counted as unscattered (it leaves within about a degree of its direction).
-        self.phase, peak = phase.delta_truncated(PEAK_G)
+        self.phase, peak = phase.delta_truncated()
         self.extinction_scale = 1.0 - peak
         self.noise = None
         self.weather = None

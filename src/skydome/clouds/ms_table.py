@@ -32,6 +32,7 @@ from importlib import resources
 import numpy as np
 from numpy.typing import ArrayLike
 
+from skydome.atmosphere.phase import henyey_greenstein
 from skydome.clouds.phase import RENDER_PHASE
 from skydome.errors import SkydomeError
 
@@ -80,9 +81,7 @@ class MSTable:
 
 def peak_shape(cos_theta, g) -> np.ndarray:
     """The table's peak normalisation h = HG(cos theta, g) (1/sr)."""
-    c = np.asarray(cos_theta, dtype=np.float64)
-    g = np.asarray(g, dtype=np.float64)
-    return (1.0 - g * g) / (4.0 * np.pi * (1.0 + g * g - 2.0 * g * c) ** 1.5)
+    return henyey_greenstein(cos_theta, g)
 
 
 def _read(raw: bytes) -> MSTable:

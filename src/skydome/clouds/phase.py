@@ -56,6 +56,10 @@ def sample_hg(g, u) -> np.ndarray:
     return np.clip(np.where(small, 2.0 * u - 1.0, mu), -1.0, 1.0)
 
 
+#: Lobes at least this forward are the droplets' diffraction peak (delta-M takes them out).
+PEAK_G = 0.98
+
+
 @dataclass(frozen=True)
 class LobePhase:
     """A phase function sum_j w_j HG(g_j): non-negative ``weights`` summing to 1 (within 1e-9;
@@ -97,12 +101,13 @@ class LobePhase:
         (Wiscombe 1977) moves into the forward delta peak at its lowest (Eddington) order."""
         return float(np.dot(self.weights, np.square(self.g)))
 
-    def delta_truncated(self, peak_g: float = 0.98) -> tuple[LobePhase, float]:
+    def delta_truncated(self, peak_g: float | None = None) -> tuple[LobePhase, float]:
         """The phase function with its forward peak taken out (delta-M, Wiscombe 1977, J.
         Atmos. Sci. 34, 1408, keeping the first moment): each lobe with g_j >= ``peak_g`` is
         split as g_j delta + (1 - g_j) HG(0). Returns (the remaining lobes plus the
         isotropic part, renormalised; f = sum of w_j g_j over those lobes, the fraction of
         scattering the peak sends straight on: extinction scales by 1 - f at albedo 1)."""
+        peak_g = PEAK_G if peak_g is None else peak_g
         w = np.asarray(self.weights)
         g = np.asarray(self.g)
         peak = g >= peak_g
@@ -144,4 +149,4 @@ CLOUD_PHASE: LobePhase = load_cloud_phase()
 #: skydome.clouds.ms_table is computed for): :data:`CLOUD_PHASE` without its diffraction peak,
 #: ``CLOUD_PHASE.delta_truncated(0.98)``; :data:`PEAK_FRACTION` is the fraction f of scattering
 #: the peak sends straight on (extinction and optical depths scale by 1 - f, ssa stays 1).
-RENDER_PHASE, PEAK_FRACTION = CLOUD_PHASE.delta_truncated(0.98)
+RENDER_PHASE, PEAK_FRACTION = CLOUD_PHASE.delta_truncated(PEAK_G)

@@ -28,12 +28,6 @@ import math
 import numpy as np
 
 
-def hg_phase(cos_theta, g: float):
-    """Henyey-Greenstein phase function (1/sr), normalised to 1 over the sphere."""
-    c = np.asarray(cos_theta, dtype=np.float64)
-    return (1.0 - g * g) / (4.0 * math.pi * (1.0 + g * g - 2.0 * g * c) ** 1.5)
-
-
 def two_stream_gammas(g_scaled: float, mu0: float) -> tuple[float, float, float]:
     """Meador & Weaver's Eddington gamma1 (= gamma2 at albedo 1), gamma3, gamma4."""
     gamma = 0.75 * (1.0 - g_scaled)
