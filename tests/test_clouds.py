@@ -313,3 +313,19 @@ def test_an_unreadable_weather_image_is_refused(tmp_path):
         weather_map_for(Clouds("fair", weather=str(bad)))
     with pytest.raises(ParameterError, match="weather map"):
         weather_map_for(Clouds("fair", weather=str(tmp_path / "missing.png")))
+
+
+def test_the_cloud_base_is_above_the_places_ground():
+    """At a place 2 km up, a deck based 1 km above its ground is seen straight up from there
+    at 1 km or more (not at sea level + 1 km, below the observer), and the shadow query's
+    heights count from that ground too."""
+    sky = Sky((-24.6, -70.4, 2000.0), "2024-07-05T16:00Z", night=False,
+              clouds=Clouds("overcast", coverage=1.0, base_m=1000.0, thickness_m=800.0))  # fmt: skip
+    sky.graph.update(sky.state)
+    layer = sky.layer("clouds")
+    assert layer.ground_m == 2000.0
+    _, data = layer.probe(straight(90.0), 2, 2, sky.altitude_m())
+    assert data[1, 1, 0] < 0.5 and data[1, 1, 1] > 0.99
+    below, above = layer.light_transmittance([[0.0, 0.0, 500.0], [0.0, 0.0, 2000.0]])
+    assert above == 1.0 and below < 1.0
+    sky.graph.release()

@@ -133,10 +133,28 @@ class CloudLayer(Layer):
 
     def update(self, state) -> None:
         self._state = state
+        params = self._atmosphere().params
+        self.clouds.check_atmosphere(params.top_radius_m - params.bottom_radius_m - self.ground_m)
         jd = _julian_day(state)
         self.time_s = 0.0 if jd is None else (jd - J2000_JD) * 86400.0
 
     # ------------------------------------------------------------------ uniforms
+
+    @property
+    def ground_m(self) -> float:
+        """Height (m) of the place's ground above the atmosphere's: the clouds' base and
+        top, and the shadow query's points, are above it (0 in the abstract mode)."""
+        observer = getattr(self._state, "observer", None)
+        return 0.0 if observer is None else max(float(observer.elevation_m), 0.0)
+
+    def _shell_radii_km(self, bottom_km: float) -> tuple[float, float, float, float]:
+        """Radii (km) of the main layer's bottom and top and of the cirrus sheet's (an empty
+        layer is a shell of no thickness)."""
+        c, ground_km = self.clouds, bottom_km + self.ground_m / 1e3
+        top = c.base_m + (c.thickness_m if c.coverage > 0 else 0.0)
+        cirrus_top = c.cirrus_base_m + (c.cirrus_thickness_m if c.cirrus > 0 else 0.0)
+        return (ground_km + c.base_m / 1e3, ground_km + top / 1e3,
+                ground_km + c.cirrus_base_m / 1e3, ground_km + cirrus_top / 1e3)  # fmt: skip
 
     def key_light(self, lights: dict) -> tuple[tuple, tuple]:
         """(direction, per-channel scale relative to the tables' Sun) of the light that lights
@@ -181,16 +199,7 @@ class CloudLayer(Layer):
             "u_light2_scale": tuple(float(s) * solar for s in light2),
             "u_light_direction": key_dir,
             "u_light_scale": tuple(s * solar for s in key_scale),
-            "u_cloud_shell": (
-                bottom_km + c.base_m / 1e3,
-                bottom_km + (c.base_m + c.thickness_m) / 1e3
-                if c.coverage > 0
-                else bottom_km + c.base_m / 1e3,
-                bottom_km + c.cirrus_base_m / 1e3,
-                bottom_km + (c.cirrus_base_m + c.cirrus_thickness_m) / 1e3
-                if c.cirrus > 0
-                else bottom_km + c.cirrus_base_m / 1e3,
-            ),  # fmt: skip
+            "u_cloud_shell": self._shell_radii_km(bottom_km),
             "u_noise_tiles_km": (c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
             "u_cloud_offset_km": offset_km,
             "u_type_extinction": tuple(
@@ -379,7 +388,8 @@ class CloudLayer(Layer):
         flat = p.reshape(-1, 3)
         n = flat.shape[0]
         bottom_km = self._atmosphere().params.bottom_radius_m / 1e3
-        km = np.column_stack([flat[:, 0] / 1e3, flat[:, 1] / 1e3, bottom_km + flat[:, 2] / 1e3])
+        up_km = bottom_km + (self.ground_m + flat[:, 2]) / 1e3
+        km = np.column_stack([flat[:, 0] / 1e3, flat[:, 1] / 1e3, up_km])
         width = min(n, 4096)
         height = -(-n // width)
         texels = np.zeros((height * width, 4), dtype=np.float32)

@@ -177,11 +177,12 @@ class Clouds:
         return self.coverage == 0.0 and self.cirrus == 0.0
 
     def check_atmosphere(self, top_of_atmosphere_m: float) -> None:
-        """A ParameterError when the clouds reach above the top of the atmosphere."""
+        """A ParameterError when the clouds reach above the top of the atmosphere
+        (``top_of_atmosphere_m`` above the place's ground)."""
         if self.top_m >= top_of_atmosphere_m:
             raise ParameterError(
-                f"the clouds reach {self.top_m:.0f} m, above the top of the atmosphere "
-                f"({top_of_atmosphere_m:.0f} m)"
+                f"the clouds reach {self.top_m:.0f} m above the ground, above the top of the "
+                f"atmosphere ({top_of_atmosphere_m:.0f} m)"
             )
 
     def type_extinctions_per_km(self) -> tuple[float, float, float, float]:
