@@ -27,8 +27,8 @@ from timing import median_ms
 from skydome import Sky
 from skydome.clouds.layer import CloudLayer
 from skydome.clouds.params import Clouds
+from skydome.core.cameras import PerspectiveCamera
 from skydome.gpu import gl_info
-from skydome.render.cameras import PerspectiveCamera
 
 PLACE = (35.8989, 14.5146, 56.0)
 TIME = "2021-06-21T09:00Z"

@@ -23,9 +23,9 @@ import argparse
 from timing import draw_ms, median_ms
 
 from skydome import Sky
+from skydome.core.cameras import PerspectiveCamera
 from skydome.gpu import gl_info
-from skydome.render.cameras import PerspectiveCamera
-from skydome.scene.sky import NIGHT_LAYERS
+from skydome.sky import NIGHT_LAYERS
 
 PLACE = (28.7606, -17.8816, 2396.0)
 TIME = "2019-04-05T01:04Z"

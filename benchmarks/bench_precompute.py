@@ -27,9 +27,9 @@ from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere import preset
 from skydome.atmosphere.precompute import precompute
 from skydome.atmosphere.precompute_config import REFERENCE, PrecomputeConfig
+from skydome.core.cameras import direction_from_angles
 from skydome.gpu import gl_info, shared_context
 from skydome.reference import ms as mc
-from skydome.render.cameras import direction_from_angles
 from skydome.spectra import LINEAR_SRGB_TO_XYZ
 
 

@@ -19,8 +19,8 @@ import numpy as np
 from timing import median_ms
 
 from skydome.atmosphere import preset
+from skydome.core.cameras import FisheyeCamera, PerspectiveCamera, direction_from_angles
 from skydome.gpu import gl_info
-from skydome.render import FisheyeCamera, PerspectiveCamera, direction_from_angles
 
 VIEW = PerspectiveCamera(fov_deg=90.0, yaw_deg=200.0, pitch_deg=15.0)
 CASES = [
@@ -34,11 +34,11 @@ CASES = [
 def make_renderer(args):
     params = preset(args.atmosphere)
     if args.model == "single":
-        from skydome.render.single import SingleScatteringRenderer
+        from skydome.atmosphere.single import SingleScatteringRenderer
 
         return SingleScatteringRenderer(params, spectral=args.spectral, view_samples=args.samples)
     from skydome.atmosphere.precompute_config import PrecomputeConfig
-    from skydome.render.precomputed import PrecomputedRenderer
+    from skydome.atmosphere.precomputed import PrecomputedRenderer
 
     return PrecomputedRenderer(
         params, PrecomputeConfig(wavelengths=args.spectral), sky_view=not args.direct

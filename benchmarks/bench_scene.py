@@ -26,10 +26,10 @@ from pathlib import Path
 from timing import draw_ms, median_ms
 
 from skydome import Sky
+from skydome.atmosphere.precomputed import PrecomputedRenderer
+from skydome.core.cameras import PerspectiveCamera
 from skydome.gpu import gl_info
-from skydome.render.cameras import PerspectiveCamera
-from skydome.render.precomputed import PrecomputedRenderer
-from skydome.scene import SkyState
+from skydome.scene.state import state_series
 
 PLACE = (35.8989, 14.5146, 56.0)
 TIME = "2018-03-09T06:00Z"
@@ -107,9 +107,9 @@ def main() -> None:
     small = Sky(PLACE, TIME, layers=[SunLayer(), MoonLayer(), air_small])
     small_ms = median_ms(new_time(small), args.repeats)
     print(f"  with 128x128 sky-view tables (time-lapses): {small_ms:.1f} ms")
-    one = median_ms(lambda: SkyState.series(sky.observer, [TIME]), args.repeats)
+    one = median_ms(lambda: state_series(sky.observer, [TIME]), args.repeats)
     batch = [f"2018-03-09T06:{m:02d}:30Z" for m in range(40)]
-    many = median_ms(lambda: SkyState.series(sky.observer, batch), 3) / len(batch)
+    many = median_ms(lambda: state_series(sky.observer, batch), 3) / len(batch)
     print(f"  astronomy alone: {one:.1f} ms for one time, {many:.2f} ms per time in a batch of 40")
 
     print(f"draw 1920x1080 (no read-back): {draw_ms(sky, cam, (1920, 1080), args.repeats):.1f} ms")

@@ -236,9 +236,9 @@ def test_higher_asymmetry_type_has_brighter_aureole(ctx):
     # Clean maritime (g 0.772) must show the larger ratio than urban (g 0.689): Cornette-Shanks
     # alone puts their phase ratios p(5°)/p(90°) at ~148 vs ~59 (2.5x); measured 70.5 vs 27.6
     # (2.55x), so the bound is a factor 2 (an equal or swapped g gives <= 1).
-    from skydome.render.cameras import DirectionsCamera
-    from skydome.render.single import SingleScatteringRenderer
+    from skydome.core.cameras import DirectionsCamera
     from skydome.spectra import SRGB_LUMINANCE
+    from tests.air_frames import AirFrames
 
     elevation = math.radians(30.0)
     sun = np.array([math.cos(elevation), 0.0, math.sin(elevation)])
@@ -252,10 +252,11 @@ def test_higher_asymmetry_type_has_brighter_aureole(ctx):
 
     ratios = {}
     for name in ("maritime_clean", "urban"):
-        renderer = SingleScatteringRenderer(
+        renderer = AirFrames(
             with_aerosol_type(earth(), name, aod_550=0.3),
+            model="single",
             spectral="fast",
-            view_samples=16,
+            samples=16,
             jitter=False,
         )
         rgbs = renderer.render(DirectionsCamera(dirs), 0, 0, sun_direction=sun).data[0]

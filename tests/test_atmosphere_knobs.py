@@ -303,12 +303,12 @@ def beam_transmittance_ratio(before, after, air_mass: float) -> float:
 def sun_and_sky(params, sun_elevation_deg: float = 30.0) -> np.ndarray:
     """Linear sRGB (cd/m^2), single scattering (GLSL renderer, 4 wavelengths), at the Sun's
     centre, the zenith and 5° below the Sun (the aureole), for the Sun at azimuth 180°."""
-    from skydome.render.cameras import DirectionsCamera, direction_from_angles
-    from skydome.render.single import SingleScatteringRenderer
+    from skydome.core.cameras import DirectionsCamera, direction_from_angles
+    from tests.air_frames import AirFrames
 
     sun = direction_from_angles(sun_elevation_deg, 180.0)
     dirs = np.array([sun, [0.0, 0.0, 1.0], direction_from_angles(sun_elevation_deg - 5.0, 180.0)])
-    r = SingleScatteringRenderer(params, spectral="fast", view_samples=32, jitter=False)
+    r = AirFrames(params, model="single", spectral="fast", samples=32, jitter=False)
     try:
         data = r.render(DirectionsCamera(dirs), 0, 0, sun_direction=sun, altitude_m=0.0).data
     finally:

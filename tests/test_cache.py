@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import earth
-from skydome.atmosphere.cache import CacheWarning, cache_dir, cache_key, load_or_build
+from skydome.core.cache import CacheWarning, cache_dir, cache_key, load_or_build
 from skydome.errors import CacheError
 from skydome.io.lutfile import read_lut_file, write_lut_file
 
@@ -105,7 +105,7 @@ def test_table_code_files_cover_what_shapes_the_tables():
     # The files behind the key are found from the imports, so a new module cannot be missed;
     # these are the ones the issue names: the ln L interpolation (precompute.py), the
     # conversion matrix (spectra) with its CIE data, and the table file encoding (lutfile.py).
-    from skydome.atmosphere.cache import PACKAGE_ROOT, code_files
+    from skydome.core.cache import PACKAGE_ROOT, code_files
 
     names = {
         p.relative_to(PACKAGE_ROOT).as_posix() for p in code_files("skydome.atmosphere.tables")

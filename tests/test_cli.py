@@ -242,7 +242,7 @@ def test_other_warnings_keep_python_format(capsys):
     assert "/x/mod.py:7: UserWarning: something else" in err
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # (the import below must not warn)
-        from skydome.atmosphere.cache import CacheWarning
+        from skydome.core.cache import CacheWarning
     show_warning(CacheWarning("rebuilding\ncached tables"), CacheWarning, "/x/mod.py", 7)
     assert capsys.readouterr().err == "skydome: warning: rebuilding cached tables\n"
 

@@ -14,9 +14,9 @@ from skydome.atmosphere.layer import AtmosphereLayer
 from skydome.clouds.layer import CloudLayer, weather_map_for
 from skydome.clouds.params import Clouds
 from skydome.clouds.phase import CLOUD_PHASE, RENDER_PHASE
+from skydome.core.cameras import EquirectCamera, FisheyeCamera, PerspectiveCamera
 from skydome.errors import ParameterError
 from skydome.reference import cloud_slab
-from skydome.render.cameras import EquirectCamera, FisheyeCamera, PerspectiveCamera
 from tests.conftest import TINY_TABLES
 
 #: The uniform slab of the light tests: base 2 km, 1 km thick (its optical thickness set by

@@ -14,10 +14,10 @@ from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere import preset
 from skydome.atmosphere.precompute import table_matrix
 from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.core.cameras import direction_from_angles
 from skydome.reference import ms as mc
-from skydome.render.cameras import direction_from_angles
 from skydome.spectra import LINEAR_SRGB_TO_XYZ
-from tests.conftest import precomputed_renderer
+from tests.air_frames import precomputed_frames as precomputed_renderer
 
 MC_FILE = Path(__file__).parent / "data" / "ms_reference_earth_luminance.npz"
 
@@ -100,12 +100,12 @@ def test_interpolated_orders_match_computing_all_16():
     # the Sun, cameras at 0 and 10 km, Sun at 60, 20, 5, 0, -6, -12 deg: measured relative RMS
     # 0.003-0.40% per case (largest at -12 deg, where the orders >= 2 are the whole sky), worst
     # direction 0.52%. Bound: RMS <= 0.45% per case and 0.6% for any direction.
-    from skydome.render.precomputed import PrecomputedRenderer
+    from tests.air_frames import AirFrames
 
-    default = precomputed_renderer().tables
-    full = PrecomputedRenderer(
-        preset("earth"), PrecomputeConfig(ms_wavelengths="same"), sky_view=False
-    ).tables
+    default = precomputed_renderer().sky.tables
+    full = AirFrames(
+        preset("earth"), config=PrecomputeConfig(ms_wavelengths="same"), sky_view=False
+    ).sky.tables
     assert len(full.config.multiple_wavelengths) == 16
     dirs = np.random.default_rng(1).normal(size=(300, 3))
     dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)

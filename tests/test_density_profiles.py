@@ -14,12 +14,11 @@ from skydome.atmosphere.standard_atmosphere import air_density_profile, us_stand
 from skydome.atmosphere.tables import tables_key
 from skydome.atmosphere.transmittance import TransmittanceTable
 from skydome.atmosphere.uniforms import geometry_uniforms, profile_table_grid
+from skydome.core.cameras import DirectionsCamera, direction_from_angles
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.reference import single as ref
-from skydome.render import DirectionsCamera, direction_from_angles
-from skydome.render.precomputed import PrecomputedRenderer
-from skydome.render.single import SingleScatteringRenderer
+from tests.air_frames import AirFrames
 from tests.conftest import TINY_TABLES
 
 
@@ -379,9 +378,9 @@ def test_tabulated_exponentials_reproduce_the_exponential_frame(model):
     frames = []
     for p in (base, tab):
         if model == "single":
-            r = SingleScatteringRenderer(p, spectral="fast", jitter=False)
+            r = AirFrames(p, model="single", spectral="fast", jitter=False)
         else:
-            r = PrecomputedRenderer(p, SMALL, cache=False, sky_view=False)
+            r = AirFrames(p, config=SMALL, cache=False, sky_view=False)
         for el in (30.0, 2.0, -4.0):
             sun = direction_from_angles(el, 90.0)
             frames.append(

@@ -434,7 +434,7 @@ def test_gl_from_texture_and_orientation(mapper):
 
 
 def test_frame_objects_are_accepted(mapper):
-    from skydome.render.frame import Frame
+    from skydome.core.frame import Frame
 
     data = random_hdr_frame(np.random.default_rng(5), 9, 11)
     frame = Frame(data, {"model": "test"})

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import precompute_probe as probe
+from skydome.core.cameras import DirectionsCamera
 from skydome.reference import ms as mc
-from skydome.render.cameras import DirectionsCamera
-from tests.conftest import precomputed_renderer
+from tests.air_frames import precomputed_frames as precomputed_renderer
 from tests.test_default_path_vs_mc import (
     SKY_RMS_BOUNDS,
     load_mc_luminance,

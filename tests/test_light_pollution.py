@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from skydome import Sky
+from skydome.core.cameras import DirectionsCamera, direction_from_angles
 from skydome.errors import ParameterError
 from skydome.night import City, LightPollution, LightPollutionLayer, bortle_zenith_mag
 from skydome.night import light_pollution as lp
 from skydome.night.airglow import luminance_to_mag, mag_to_luminance
-from skydome.render.cameras import DirectionsCamera, direction_from_angles
 from skydome.spectra import SRGB_LUMINANCE
 from tests.test_scene import GlowLayer
 

@@ -112,13 +112,13 @@ def test_dust_profile_follows_conrath():
 
 
 def _sky_b_over_r(sun_elevation_deg: float, points):
-    from skydome.render import DirectionsCamera, direction_from_angles
-    from skydome.render.precomputed import PrecomputedRenderer
+    from skydome.core.cameras import DirectionsCamera, direction_from_angles
+    from tests.air_frames import precomputed_frames
 
     sun = direction_from_angles(sun_elevation_deg, 180.0)
     dirs = np.array([direction_from_angles(e, a) for e, a in points])
-    frame = PrecomputedRenderer(preset("mars")).render(
-        DirectionsCamera(directions=dirs), 0, 0, sun_direction=sun
+    frame = precomputed_frames("mars").render(
+        DirectionsCamera(dirs), 0, 0, sun_direction=sun
     )
     rgb = frame.data[0, :, :3].astype(np.float64)
     assert np.all(np.isfinite(rgb)) and np.all(rgb > 0.0)

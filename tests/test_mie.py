@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import mie
-from skydome.atmosphere.phase import MiePhaseLobes, henyey_greenstein
+from skydome.atmosphere.phase import MiePhaseLobes
 from skydome.errors import ParameterError
+from skydome.physics.phase import henyey_greenstein
 
 
 def test_bohren_huffman_worked_example():

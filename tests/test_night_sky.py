@@ -8,10 +8,12 @@ import numpy as np
 import pytest
 
 from skydome import Sky
+from skydome.core.cameras import (
+    FisheyeCamera,
+    PerspectiveCamera,
+)
 from skydome.errors import ParameterError
-from skydome.render.cameras import FisheyeCamera, PerspectiveCamera
-from skydome.render.projection import pixel_directions, pixel_solid_angle
-from skydome.scene.sky import NIGHT_LAYERS
+from skydome.sky import NIGHT_LAYERS
 
 # Roque de los Muchachos, La Palma (Benn & Ellison 1998 measured its dark sky), on the new
 # Moon of 2019-04-05, near the solar minimum of cycle 24/25 (Dec. 2019): at 01:04 UTC the
@@ -31,8 +33,8 @@ def field_mean(frame, camera, w, h) -> float:
     """Mean luminance over the frame's solid angle (stars' light included: the point sources
     conserve flux, so this is the field's surface brightness)."""
     y, x = np.mgrid[0:h, 0:w] + 0.5
-    d, _ = pixel_directions(camera, x, y, w, h)
-    omega = pixel_solid_angle(camera, d, w, h)
+    d, _ = camera.directions(x, y, w, h)
+    omega = camera.solid_angle(d, w, h)
     return float((frame.luminance * omega).sum() / omega.sum())
 
 

@@ -13,16 +13,15 @@ import pytest
 
 from skydome.astro import Observer, frames
 from skydome.astro.stars import catalog, find_star
-from skydome.display import overlays as ov
-from skydome.errors import ParameterError
-from skydome.render.cameras import (
+from skydome.core.cameras import (
     CubemapCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
 )
-from skydome.render.projection import project
-from skydome.scene.state import SkyState
+from skydome.display import overlays as ov
+from skydome.errors import ParameterError
+from skydome.scene.state import abstract_state, state_at
 
 WHITE = {"lines": (1.0, 1.0, 1.0), "labels": (1.0, 1.0, 1.0), "grid": (1.0, 1.0, 1.0)}
 # Orion on a winter evening at Valletta (Orion ~50 deg up in the south).
@@ -32,7 +31,7 @@ TIME = "2018-01-20T20:00Z"
 
 @pytest.fixture(scope="module")
 def state():
-    return SkyState.at_place(OBSERVER, TIME)
+    return state_at(OBSERVER, TIME)
 
 
 def target(ctx, w, h, rgba=None):
@@ -110,12 +109,12 @@ def test_off_leaves_the_image_bit_identical(ctx, state):
     assert np.array_equal(render(ctx, off, EquirectCamera(), w, h, image), image)
     # Lines and labels need a place and a time: nothing in the abstract mode.
     abstract = ov.Overlays(ctx, ("lines", "labels"))
-    abstract.update(SkyState.abstract(20.0, 180.0))
+    abstract.update(abstract_state(20.0, 180.0))
     square = np.ascontiguousarray(image[:, :h])
     assert np.array_equal(render(ctx, abstract, FisheyeCamera(), h, h, square), square)
     # The grid: pixels away from its lines keep their value bit for bit, alpha everywhere.
     grid = ov.Overlays(ctx, ("grid",))
-    grid.update(SkyState.abstract(20.0, 180.0))
+    grid.update(abstract_state(20.0, 180.0))
     out = render(ctx, grid, EquirectCamera(), w, h, image)
     assert np.array_equal(out[..., 3], image[..., 3])
     assert 0.5 < np.mean(np.all(out == image, axis=-1)) < 0.95
@@ -128,7 +127,7 @@ def test_off_leaves_the_image_bit_identical(ctx, state):
 
 def _grid_image(ctx, camera, w, h):
     grid = ov.Overlays(ctx, ("grid",), colour=WHITE, line_width_px=2.0)
-    grid.update(SkyState.abstract(20.0, 180.0))
+    grid.update(abstract_state(20.0, 180.0))
     img = render(ctx, grid, camera, w, h)[..., 1].astype(float)
     grid.release()
     return img
@@ -149,7 +148,7 @@ def test_grid_equirect_horizon_and_30_deg_circle(ctx):
         return float(np.sum(prof * rows[sel]) / np.sum(prof))
 
     assert abs(centre(h / 2) - h / 2) < 0.05
-    _, y30, _ = project(EquirectCamera(), frames.horizontal_to_enu(math.radians(30), 0.3), w, h)
+    _, y30, _ = EquirectCamera().project(frames.horizontal_to_enu(math.radians(30), 0.3), w, h)
     assert abs(centre(float(y30)) - float(y30)) < 0.05
     assert abs(float(y30) - (h / 2 + h / 6)) < 1e-9
     # The horizon is brighter than the other circles.
@@ -174,7 +173,7 @@ def test_grid_fisheye_horizon_is_the_rim(ctx):
     # Ring area grows with r: the weighted mean of a ring w px wide sits w^2 / (12 r) out
     # (0.003 px here); 8-bit steps and the finite-difference pixel scale: < 0.1 px.
     assert abs(mean_radius(n / 2) - n / 2) < 0.1
-    x, y, _ = project(FisheyeCamera(), frames.horizontal_to_enu(math.radians(30), 1.0), n, n)
+    x, y, _ = FisheyeCamera().project(frames.horizontal_to_enu(math.radians(30), 1.0), n, n)
     r30 = float(np.hypot(x - n / 2, y - n / 2))
     assert abs(r30 - n / 2 * 60 / 90) < 1e-9
     assert abs(mean_radius(r30) - r30) < 0.1
@@ -232,7 +231,7 @@ def test_betelgeuse_bellatrix_ends_land_on_the_stars(ctx, state, monkeypatch):
     lines.update(state)
     img = render(ctx, lines, cam, w, h)[..., 1].astype(float)
     lines.release()
-    x, y, seen = project(cam, truth, w, h)
+    x, y, seen = cam.project(truth, w, h)
     assert seen.all()
     cov = img / (255.0 * ov.LINE_OPACITY)
     yy, xx = np.mgrid[0:h, 0:w] + 0.5
@@ -314,7 +313,7 @@ def test_labels_beside_their_objects(ctx, state):
     cam = FisheyeCamera()
     img = render(ctx, labels, cam, n, n)[..., 1]
     names = ("Betelgeuse", "Rigel")
-    x, y, _ = project(cam, _truth(names), n, n)
+    x, y, _ = cam.project(_truth(names), n, n)
     for name, xi, yi in zip(names, x, y, strict=True):
         bw, bh = labels._atlas.boxes[name][2:]
         # The box's lower-left corner is LABEL_GAP_PX + (1, -1) px from the star (rounded).
@@ -330,12 +329,12 @@ def test_labels_beside_their_objects(ctx, state):
     info = labels.info()
     assert info["labels"] >= 30
     # A planet: Jupiter is below the horizon at 20:00 UTC; at 05:00 UTC it is up.
-    morning = SkyState.at_place(OBSERVER, "2018-01-21T05:00Z")
+    morning = state_at(OBSERVER, "2018-01-21T05:00Z")
     labels.update(morning)
     jup = np.asarray(OBSERVER.sky("2018-01-21T05:00Z", bodies=("jupiter",))["jupiter"].enu)
     assert jup.reshape(3)[2] > 0
     img = render(ctx, labels, cam, n, n)[..., 1]
-    xj, yj, _ = project(cam, jup.reshape(1, 3), n, n)
+    xj, yj, _ = cam.project(jup.reshape(1, 3), n, n)
     bw, bh = labels._atlas.boxes["Jupiter"][2:]
     x0, y0 = int(round(xj[0] + ov.LABEL_GAP_PX + 1)), int(round(yj[0] + ov.LABEL_GAP_PX - 1))
     # Mars is 5 deg away (their conjunction of 2018-01-07): Jupiter's name may have moved

@@ -38,15 +38,18 @@ from skydome.celestial.planets import (
     disk_law_integral,
     planet_to_sun,
 )
+from skydome.core.cameras import (
+    EquirectCamera,
+    PerspectiveCamera,
+)
 from skydome.errors import ParameterError
 from skydome.reference.disks import (
     equirect_pixel_solid_angles,
     lommel_seeliger_phase_function,
     perspective_pixel_solid_angles,
 )
-from skydome.render.cameras import EquirectCamera, PerspectiveCamera
-from skydome.render.projection import pixel_directions, pixel_solid_angle, project
-from skydome.scene import FrameGraph, SkyState
+from skydome.scene import FrameGraph
+from skydome.scene.state import state_at
 from skydome.spectra import cmf_xyz, solar_irradiance
 
 VALLETTA = (35.9, 14.5)
@@ -166,7 +169,7 @@ def test_point_positions_in_a_4096_equirect():
     y_img = frame.luminance.astype(np.float64)
     assert not any(frame.info["planets"][p]["disk"] for p in PLANETS)
     for view in layer.views():
-        x, y, _ = project(EquirectCamera(), view.direction, w, h)
+        x, y, _ = EquirectCamera().project(view.direction, w, h)
         col, row = int(x), int(h - y)  # the pixel holding it (row 0 at the top)
         r0, c0 = max(row - 5, 0), col - 5
         win = y_img[r0 : row + 6, c0 : col + 6]
@@ -209,7 +212,7 @@ def test_disk_centroid_in_a_narrow_perspective_view(name):
     towards_sun = view.to_sun - (view.to_sun @ u) * u
     towards_sun /= np.linalg.norm(towards_sun)
     off = _lambert_centroid_offset(view.phase_angle_rad) * math.sin(view.angular_radius_rad)
-    x, y, _ = project(cam, u + off * towards_sun, w, h)
+    x, y, _ = cam.project(u + off * towards_sun, w, h)
     assert math.hypot(cx - float(x), cy - float(y)) < 0.3, (name, cx - x, cy - y)
 
 
@@ -255,7 +258,7 @@ def test_the_switch_between_point_and_disk_conserves_the_light():
     for size in (96, 128, 160, 192):  # Jupiter's radius crosses DISK_MIN_RADIUS_PX here
         frame = sky.render(cam, size, size, exposure=None)
         px = view.angular_radius_rad / math.sqrt(
-            float(pixel_solid_angle(cam, view.direction, size, size))
+            float(cam.solid_angle(view.direction, size, size))
         )
         modes.append(frame.info["planets"]["jupiter"]["disk"])
         assert modes[-1] == (px >= DISK_MIN_RADIUS_PX)
@@ -273,20 +276,20 @@ def test_venus_shows_its_phase():
     w = h = 512
     frame = sky.render(cam, w, h, exposure=None)
     xs, ys = np.meshgrid(np.arange(w) + 0.5, h - (np.arange(h) + 0.5))
-    dirs, _ = pixel_directions(cam, xs, ys, w, h)
+    dirs, _ = cam.directions(xs, ys, w, h)
     offset = np.linalg.norm(np.cross(dirs, view.direction_true), axis=-1)
     on_disk = offset < math.sin(view.angular_radius_rad)
     lit = frame.luminance > 0
     fraction = lit[on_disk].sum() / on_disk.sum()
     # A few %: the pixels along the terminator and the limb (~1/130 of the radius each).
     assert fraction == pytest.approx(view.illuminated_fraction, rel=0.03)
-    pixel_rad = math.sqrt(float(pixel_solid_angle(cam, view.direction_true, w, h)))
+    pixel_rad = math.sqrt(float(cam.solid_angle(view.direction_true, w, h)))
     assert not lit[offset > math.sin(view.angular_radius_rad) + pixel_rad].any()
     # The lit side faces the Sun: the light centroid lies on the planet -> Sun side.
     y_img = frame.luminance.astype(np.float64)
     c = np.array([(y_img * xs).sum(), (y_img * ys).sum()]) / y_img.sum()
-    x0, y0, _ = project(cam, view.direction_true, w, h)
-    xs_sun, ys_sun, _ = project(cam, view.direction_true + 1e-5 * view.to_sun, w, h)
+    x0, y0, _ = cam.project(view.direction_true, w, h)
+    xs_sun, ys_sun, _ = cam.project(view.direction_true + 1e-5 * view.to_sun, w, h)
     towards = np.array([xs_sun - x0, ys_sun - y0])
     assert (c - [x0, y0]) @ towards > 0
 
@@ -310,7 +313,7 @@ def test_rendered_colours_match_the_albedo_spectra():
     data = frame.data.astype(np.float64)
     rgb_of = {}
     for view in layer.views():
-        x, y, _ = project(EquirectCamera(), view.direction, 1024, 512)
+        x, y, _ = EquirectCamera().project(view.direction, 1024, 512)
         col, row = int(x), int(512 - y)
         rgb = data[row - 4 : row + 5, col - 4 : col + 5, :3].sum(axis=(0, 1))
         rgb_of[view.name] = rgb
@@ -326,7 +329,7 @@ def test_rendered_colours_match_the_albedo_spectra():
 
 def _state_with_moon_on(name: str, when: str):
     layer = PlanetsLayer()
-    state = SkyState.at_place(_airless(), when)
+    state = state_at(_airless(), when)
     graph = FrameGraph([layer])
     graph.update(state)
     view = _view(layer, name)
@@ -340,11 +343,11 @@ def _state_with_moon_on(name: str, when: str):
 def test_a_planet_behind_the_moon_adds_nothing(fov_deg, size):
     layer, graph, view, covered = _state_with_moon_on("jupiter", NIGHT)
     cam = _aim(view, fov_deg)
-    state = SkyState.at_place(_airless(), NIGHT)
+    state = state_at(_airless(), NIGHT)
     seen = graph.render(state, cam, size, size, altitude_m=0.0).luminance
     assert seen.max() > 0
     hidden = graph.render(covered, cam, size, size, altitude_m=0.0).luminance
-    x, y, _ = project(cam, view.direction, size, size)
+    x, y, _ = cam.project(view.direction, size, size)
     col, row = int(x), int(size - y)
     window = (slice(max(row - 20, 0), row + 21), slice(max(col - 20, 0), col + 21))
     assert seen[window].sum() > 0

@@ -11,8 +11,7 @@ import pytest
 
 from skydome import Sky
 from skydome.celestial.point_sources import FWHM_PER_SIGMA, PSF_EXTENT_SIGMA, PointSources
-from skydome.errors import ParameterError
-from skydome.render.cameras import (
+from skydome.core.cameras import (
     CubemapCamera,
     DirectionsCamera,
     EquirectCamera,
@@ -20,8 +19,8 @@ from skydome.render.cameras import (
     PerspectiveCamera,
     direction_from_angles,
 )
-from skydome.render.projection import pixel_directions, pixel_solid_angle, project
-from skydome.scene import Layer
+from skydome.core.layer import Layer
+from skydome.errors import ParameterError
 
 VALLETTA = (35.8989, 14.5146, 56.0)
 
@@ -61,8 +60,8 @@ def render(camera, w, h, directions, channels=None, **kwargs):
     fw, fh = camera.frame_size(w, h)
     rows, cols = np.mgrid[0:fh, 0:fw]
     gx, gy = cols + 0.5, (fh - 1 - rows) + 0.5  # GL pixel centres of the top-first rows
-    dirs, sees = pixel_directions(camera, gx, gy, fw, fh)
-    omega = pixel_solid_angle(camera, dirs, fw, fh)
+    dirs, sees = camera.directions(gx, gy, fw, fh)
+    omega = camera.solid_angle(dirs, fw, fh)
     return data, dirs, omega, sees, (gx, gy)
 
 
@@ -109,7 +108,7 @@ def test_flux_in_other_camera_models(camera, w, h):
     inside = [direction_from_angles(30.0, 90.0), direction_from_angles(40.0, 100.0)]
     if isinstance(camera, PerspectiveCamera):
         fw, fh = camera.frame_size(w, h)
-        corner, _ = pixel_directions(camera, 0.9 * fw, 0.85 * fh, fw, fh)
+        corner, _ = camera.directions(0.9 * fw, 0.85 * fh, fw, fh)
         inside.append(corner)
     data, dirs, omega, _, _ = render(camera, w, h, inside)
     got = fluxes(data, dirs, omega, inside, radius_deg=2.0)
@@ -161,7 +160,7 @@ def test_pixel_weights_are_the_gaussian_integrals(sigma, azimuth_deg, w):
     cam = EquirectCamera()
     data, _, omega, _, (gx, gy) = render(cam, w, h, source, [[0, 1.0, 0, 0]], psf_sigma_px=sigma)
     share = data[..., 1] * omega
-    x, y, _ = project(cam, source, w, h)
+    x, y, _ = cam.project(source, w, h)
     ex, wx = axis_weights(float(x), sigma)
     ey, wy = axis_weights(float(y), sigma)
     expected = np.zeros_like(share)
@@ -179,7 +178,7 @@ def test_sources_just_off_the_frame_light_the_pixels_they_reach():
     # PSF on the frame's pixels (axis_weights), 1e-4 (float32; shares from 0.8 % up).
     cam, w, h = PerspectiveCamera(fov_deg=60, yaw_deg=100, pitch_deg=20), 320, 200
     positions = [(-0.6, 100.3), (320.4, 50.7), (150.2, 200.9), (-1.9, 20.2)]
-    sources = [pixel_directions(cam, px, py, w, h)[0] for px, py in positions]
+    sources = [cam.directions(px, py, w, h)[0] for px, py in positions]
     data, dirs, omega, _, _ = render(cam, w, h, sources)
     got = fluxes(data, dirs, omega, sources, radius_deg=2.0)[:, 1]
     for k, (px, py) in enumerate(positions):
@@ -205,7 +204,7 @@ def test_centroid_is_the_projected_position():
     for cam, w, h in cams:
         data, dirs, omega, _, (gx, gy) = render(cam, w, h, sources)
         fw, fh = cam.frame_size(w, h)
-        x, y, _ = project(cam, np.array(sources), fw, fh)
+        x, y, _ = cam.project(np.array(sources), fw, fh)
         for k, s in enumerate(sources):
             near = (dirs @ s) > math.cos(math.radians(3.0))
             f = data[..., 1] * near
@@ -227,7 +226,7 @@ def test_seeing_adds_in_quadrature():
     data, _, _, _, (gx, gy) = render(
         EquirectCamera(), w, h, source, psf_sigma_px=0.8, seeing_fwhm_arcsec=seeing_arcsec
     )
-    x, y, _ = project(EquirectCamera(), source, w, h)
+    x, y, _ = EquirectCamera().project(source, w, h)
     s = math.hypot(0.8, 3.0)
     half = math.ceil(PSF_EXTENT_SIGMA * s)
     f = data[..., 1]

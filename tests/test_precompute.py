@@ -15,9 +15,9 @@ from skydome.atmosphere import Spectrum, preset
 from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, gauss_legendre, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.core.cameras import DirectionsCamera, direction_from_angles
 from skydome.errors import CacheError, ParameterError
 from skydome.reference import ms as mc
-from skydome.render.cameras import DirectionsCamera, direction_from_angles
 from skydome.spectra import LINEAR_SRGB_TO_XYZ
 
 MC_FILE = Path(__file__).parent / "data" / "ms_reference_earth.npz"
@@ -79,11 +79,11 @@ def test_single_order_matches_single_scattering_renderer(ctx, altitude_m, atmosp
     # quadrature splits there (split_node in atmosphere/precompute_common.glsl: a quarter of
     # the nodes below it, 3/4 above). Before the split 16 nodes left it 1.2-1.6% RMS low;
     # measured now 0.21-0.43% RMS, 0.86% at worst (the seeds' earth_bruneton 0.03-0.22%).
-    from skydome.render.single import SingleScatteringRenderer
+    from tests.air_frames import AirFrames
 
     pa = tables(atmosphere, orders=1)
-    ref = SingleScatteringRenderer(
-        pa.params, spectral="accurate", view_samples=256, jitter=False, ctx=ctx
+    ref = AirFrames(
+        pa.params, model="single", spectral="accurate", samples=256, jitter=False, ctx=ctx
     )
     for i, sun_el in enumerate((60.0, 20.0, 5.0)):
         sun = direction_from_angles(sun_el, 90.0 + 40 * i)
@@ -107,11 +107,11 @@ def test_single_order_twilight_matches_single_scattering_renderer(ctx):
     # On the seeds' Earth (`earth`: 0.36% RMS at 0 deg with the split at its mixing-layer top,
     # but 5.1% at -6 deg, where the lit part of the rays lies far above that top: not the kink,
     # still open).
-    from skydome.render.single import SingleScatteringRenderer
+    from tests.air_frames import AirFrames
 
     pa = tables("earth_bruneton", orders=1)
-    ref = SingleScatteringRenderer(
-        pa.params, spectral="accurate", view_samples=256, jitter=False, ctx=ctx
+    ref = AirFrames(
+        pa.params, model="single", spectral="accurate", samples=256, jitter=False, ctx=ctx
     )
     for sun_el, bound in ((0.0, 0.01), (-6.0, 0.03)):
         sun = direction_from_angles(sun_el, 90.0)

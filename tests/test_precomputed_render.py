@@ -11,18 +11,19 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import preset
-from skydome.atmosphere.cache import CacheWarning
 from skydome.atmosphere.illuminance import horizontal_illuminance
 from skydome.atmosphere.tables import load_tables, tables_key
-from skydome.gpu import shared_context
-from skydome.render import (
+from skydome.core.cache import CacheWarning
+from skydome.core.cameras import (
     DirectionsCamera,
     EquirectCamera,
     PerspectiveCamera,
     direction_from_angles,
 )
+from skydome.gpu import shared_context
 from skydome.spectra import LINEAR_SRGB_TO_XYZ, SRGB_LUMINANCE
-from tests.conftest import TINY_TABLES, precomputed_renderer
+from tests.air_frames import precomputed_frames as precomputed_renderer
+from tests.conftest import TINY_TABLES
 
 SMALL = TINY_TABLES  # (tests/conftest.py)
 

@@ -8,14 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from skydome.gpu import FullscreenPass
-from skydome.render.cameras import (
+from skydome.core.cameras import (
     CubemapCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
 )
-from skydome.render.projection import pixel_directions, pixel_solid_angle, project
+from skydome.gpu import FullscreenPass
 
 CAMERAS = [
     (PerspectiveCamera(fov_deg=70.0, yaw_deg=120.0, pitch_deg=25.0, roll_deg=10.0), 320, 200),
@@ -64,12 +63,12 @@ def _centres(w, h):
 @pytest.mark.parametrize(("camera", "w", "h"), CAMERAS, ids=IDS)
 def test_numpy_mapping_is_camera_glsl_and_projects_back(ctx, camera, w, h):
     x, y = _centres(w, h)
-    d, ok = pixel_directions(camera, x, y, w, h)
+    d, ok = camera.directions(x, y, w, h)
     gpu = _gpu(ctx, camera, w, h, 0)
     seen = ok & (gpu[..., 3] > 0.5)
     # float32 trigonometry: a few 1e-6 per component.
     np.testing.assert_allclose(gpu[..., :3][seen], d[seen], atol=5e-6)
-    px, py, vis = project(camera, d, w, h)
+    px, py, vis = camera.project(d, w, h)
     # Round trip exact to rounding (cube-map pixels on a face edge may pick the other face).
     good = seen & vis
     assert good.mean() > 0.75
@@ -87,8 +86,8 @@ def test_glsl_projection_returns_each_pixel_to_itself(ctx, camera, w, h):
     # float32 atan/asin of a float32 direction: ~1e-6 rad, under 1e-3 px at these sizes.
     assert np.percentile(off, 99.9) < 2e-3 and off.max() < 0.02
     x, y = _centres(w, h)
-    d, _ = pixel_directions(camera, x, y, w, h)
-    ref = pixel_solid_angle(camera, d, w, h)
+    d, _ = camera.directions(x, y, w, h)
+    ref = camera.solid_angle(d, w, h)
     np.testing.assert_allclose(out[..., 2][seen], ref[seen], rtol=2e-5)
 
 
@@ -96,18 +95,18 @@ def test_pixel_solid_angles_add_up_to_the_closed_forms():
     # Equirect and cube map: the whole sphere, 4 pi.
     for camera, w, h in ((EquirectCamera(), 1024, 512), (CubemapCamera(), 6 * 256, 256)):
         x, y = _centres(w, h)
-        d, _ = pixel_directions(camera, x, y, w, h)
-        assert pixel_solid_angle(camera, d, w, h).sum() == pytest.approx(4 * math.pi, rel=1e-4)
+        d, _ = camera.directions(x, y, w, h)
+        assert camera.solid_angle(d, w, h).sum() == pytest.approx(4 * math.pi, rel=1e-4)
     # A pinhole frame: the rectangle's pyramid, 4 asin(sin(a) sin(b)) for half-angles a, b.
     cam, w, h = PerspectiveCamera(fov_deg=100.0), 800, 500
     x, y = _centres(w, h)
-    d, _ = pixel_directions(cam, x, y, w, h)
+    d, _ = cam.directions(x, y, w, h)
     a = math.radians(50.0)
     b = math.atan(math.tan(a) * h / w)
     exact = 4 * math.asin(math.sin(a) * math.sin(b))
-    assert pixel_solid_angle(cam, d, w, h).sum() == pytest.approx(exact, rel=1e-5)
+    assert cam.solid_angle(d, w, h).sum() == pytest.approx(exact, rel=1e-5)
     # Fisheye: the hemisphere, 2 pi, to the pixels cut by the horizon circle (~1/side).
     cam, w, h = FisheyeCamera(), 1024, 1024
     x, y = _centres(w, h)
-    d, ok = pixel_directions(cam, x, y, w, h)
-    assert pixel_solid_angle(cam, d, w, h)[ok].sum() == pytest.approx(2 * math.pi, rel=2e-3)
+    d, ok = cam.directions(x, y, w, h)
+    assert cam.solid_angle(d, w, h)[ok].sum() == pytest.approx(2 * math.pi, rel=2e-3)

@@ -254,15 +254,15 @@ def test_ozone_makes_the_twilight_zenith_blue(ctx):
     reddened light: a pale blue-grey, not Hulburt's deep blue).
     """
     from skydome.atmosphere.precompute_config import PrecomputeConfig
-    from skydome.render.cameras import DirectionsCamera, direction_from_angles
-    from skydome.render.precomputed import PrecomputedRenderer
+    from skydome.core.cameras import DirectionsCamera, direction_from_angles
+    from tests.air_frames import AirFrames
 
     zenith = np.array([[0.0, 0.0, 1.0]])
     sun = direction_from_angles(-6.0, 90.0)
     blue_over_red = {}
     for du in (None, 0.0):
-        r = PrecomputedRenderer(
-            preset("earth", ozone_du=du), PrecomputeConfig(wavelengths="accurate", orders=4)
+        r = AirFrames(
+            preset("earth", ozone_du=du), config=PrecomputeConfig(wavelengths="accurate", orders=4)
         )
         try:
             rgb = r.render(DirectionsCamera(zenith), 0, 0, sun_direction=sun).data[0, 0, :3]

@@ -58,7 +58,7 @@ def test_readme_has_the_expected_examples():
     "line, source", PYTHON_BLOCKS, ids=[f"README.md:{line}" for line, _ in PYTHON_BLOCKS]
 )
 def test_python_snippet_runs(line, source, tmp_path, monkeypatch):
-    from skydome.render import Frame
+    from skydome.core.frame import Frame
 
     monkeypatch.chdir(tmp_path)  # the snippets write files (sky.png, ...) to the cwd
     code = compile("\n" * (line - 1) + source, str(README), "exec")

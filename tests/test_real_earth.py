@@ -74,16 +74,15 @@ def test_mars_sunset_is_blue_around_the_sun():
     # Martian dust forward-scatters blue light into the aureole while the sky away from the
     # Sun is butterscotch (Viking and Pathfinder images; Ehlmann et al. 2005): at Sun 5 deg,
     # B/R within 10 deg of the Sun exceeds B/R 90 deg from it.
-    from skydome.atmosphere import preset
-    from skydome.render import DirectionsCamera, direction_from_angles
-    from skydome.render.precomputed import PrecomputedRenderer
+    from skydome.core.cameras import DirectionsCamera, direction_from_angles
+    from tests.air_frames import precomputed_frames
 
     sun = direction_from_angles(5.0, 180.0)
     near = [(5.0, 188.0), (8.0, 186.0), (12.0, 180.0)]
     far = [(5.0, 270.0), (5.0, 90.0), (20.0, 270.0)]
     dirs = np.array([direction_from_angles(e, a) for e, a in near + far])
-    frame = PrecomputedRenderer(preset("mars")).render(
-        DirectionsCamera(directions=dirs), 0, 0, sun_direction=sun
+    frame = precomputed_frames("mars").render(
+        DirectionsCamera(dirs), 0, 0, sun_direction=sun
     )
     rgb = frame.data[0, :, :3].astype(np.float64)
     b_over_r = rgb[:, 2] / rgb[:, 0]

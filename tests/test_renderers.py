@@ -7,19 +7,20 @@ import gc
 
 import numpy as np
 import pytest
+from skydome.render.api import clear_renderers
 
 from skydome.atmosphere import preset
-from skydome.errors import ParameterError
-from skydome.render import (
+from skydome.core.cameras import (
     DirectionsCamera,
     EquirectCamera,
     PerspectiveCamera,
     direction_from_angles,
     get_renderer,
 )
-from skydome.render import base as render_base
-from skydome.render.api import clear_renderers
-from tests.conftest import precomputed_renderer, single_renderer
+from skydome.core.cameras import base as render_base
+from skydome.errors import ParameterError
+from tests.air_frames import precomputed_frames as precomputed_renderer
+from tests.air_frames import single_renderer
 
 SUN = direction_from_angles(20.0, 135.0)
 
@@ -29,7 +30,7 @@ def released(gl_object) -> bool:
 
 
 def test_precomputed_renderers_share_one_set_of_tables():
-    from skydome.render.precomputed import PrecomputedRenderer
+    from skydome.atmosphere.precomputed import PrecomputedRenderer
 
     a = precomputed_renderer()
     b = PrecomputedRenderer(preset("earth"), a.config, sky_view=False)
@@ -41,7 +42,7 @@ def test_precomputed_renderers_share_one_set_of_tables():
 
 
 def test_dropped_renderer_releases_its_gl_objects():
-    from skydome.render.precomputed import PrecomputedRenderer
+    from skydome.atmosphere.precomputed import PrecomputedRenderer
 
     # A configuration no other test uses, so these tables are this renderer's alone.
     r = PrecomputedRenderer(preset("earth").with_(mie_g=0.75))

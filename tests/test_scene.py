@@ -13,10 +13,7 @@ from skydome import Sky
 from skydome.atmosphere.layer import AtmosphereLayer
 from skydome.celestial.moon import MoonLayer
 from skydome.celestial.sun import SunLayer
-from skydome.display.exposure import log_average_luminance
-from skydome.display.gpu_tonemap import gpu_tonemap
-from skydome.errors import ParameterError
-from skydome.render.cameras import (
+from skydome.core.cameras import (
     DirectionsCamera,
     EquirectCamera,
     FisheyeCamera,
@@ -24,8 +21,12 @@ from skydome.render.cameras import (
     direction_from_angles,
     disk_scissor,
 )
-from skydome.scene import Layer, SkyState
-from tests.conftest import precomputed_renderer
+from skydome.core.layer import Layer
+from skydome.display.exposure import log_average_luminance
+from skydome.display.gpu_tonemap import gpu_tonemap
+from skydome.errors import ParameterError
+from skydome.scene.state import state_series
+from tests.air_frames import precomputed_frames as precomputed_renderer
 
 VALLETTA = (35.8989, 14.5146, 56.0)
 
@@ -119,9 +120,10 @@ def test_at_reuses_the_tables_and_equals_a_fresh_sky(valletta, night):
     # With the night layers too: what they cache by date (the stars' apparent places) must
     # follow the new time.
     base = valletta if not night else Sky(VALLETTA, "2018-03-01T19:00Z")
-    renderer = base.layer("atmosphere").renderer
+    tables = base.layer("atmosphere").sky.tables
     later = base.at("2018-03-01T23:00Z")
-    assert later.layer("atmosphere").renderer is renderer  # no new tables
+    assert later.layer("atmosphere").sky.tables is tables  # no new tables: shared
+    assert later.graph is not base.graph  # its own layers and settings
     fresh = Sky(VALLETTA, "2018-03-01T23:00Z", night=night)
     cam = later.camera("moon", fov_deg=60)
     a = later.render(cam, 96, 64, exposure=None).data
@@ -178,7 +180,7 @@ def test_a_day_at_one_minute_steps_is_finite_and_never_jumps():
     # the first differences around it).
     air = AtmosphereLayer("earth", sky_view_size=(64, 64))
     sky = Sky(VALLETTA, "2018-03-01T00:00Z", layers=[SunLayer(), MoonLayer(), air])
-    states = SkyState.series(sky.observer, 2458178.5 + np.arange(1441) / 1440.0)
+    states = state_series(sky.observer, 2458178.5 + np.arange(1441) / 1440.0)
     cam = DirectionsCamera(np.array([[0.0, 0.0, 1.0], direction_from_angles(5.0, 180.0)]))
     lum = np.empty((len(states), 2))
     for i, state in enumerate(states):
@@ -247,7 +249,7 @@ def test_disks_are_seen_through_the_air_of_their_own_pixels():
     # float64 column densities of skydome.reference.single at each pixel's direction, for a
     # Sun 2 deg up (the limbs differ by ~10 %): within 1 % (the 1024-texel table of the view
     # cosine, float32 transmittance tables and the 16 wavelengths' interpolation).
-    from skydome.atmosphere.layer import behind_transmittance_weights
+    from skydome.atmosphere.precomputed import behind_transmittance_weights
     from skydome.reference import single as ref
 
     sky = Sky(sun_elevation_deg=2.0, sun_azimuth_deg=250.0)
@@ -347,7 +349,7 @@ def test_lights_below_the_dark_bound_add_exactly_nothing(valletta):
     air = valletta.layer("atmosphere")
     renderer = precomputed_renderer()
     for altitude in (1.7, 10_000.0):
-        dark = air.dark_below_deg(altitude)
+        dark = air.sky.dark_below_deg(altitude)
         assert -40.0 < dark < -20.0  # the cut-off (-23 deg) less the verticals' tilt
         sun = direction_from_angles(dark - 0.01, 180.0)
         frame = renderer.render(EquirectCamera(), 128, 64, sun_direction=sun, altitude_m=altitude)

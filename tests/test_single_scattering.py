@@ -5,15 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from skydome.reference import single as ref
-from skydome.render.cameras import (
+from skydome.atmosphere.single import camera_position_km
+from skydome.core.cameras import (
     DirectionsCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
     direction_from_angles,
 )
-from skydome.render.single import camera_position_km
+from skydome.reference import single as ref
 from skydome.spectra import (
     LINEAR_SRGB_TO_XYZ,
     SRGB_LUMINANCE,
@@ -226,7 +226,7 @@ def test_sunset_colours(renderer_factory, sun_el):
 def test_fisheye_and_equirect_agree():
     # Same directions, two cameras: the fisheye's pixels, looked up bilinearly in a fine
     # equirectangular map, agree within 1% away from the Sun (interpolation of a smooth sky).
-    from tests.conftest import single_renderer
+    from tests.air_frames import single_frames as single_renderer
 
     r = single_renderer("earth", "fast", 16, False)
     sun = direction_from_angles(35.0, 120.0)
@@ -256,7 +256,7 @@ def test_fisheye_and_equirect_agree():
 
 
 def test_camera_geometry():
-    from tests.conftest import single_renderer
+    from tests.air_frames import single_frames as single_renderer
 
     r = single_renderer("earth", "fast", 16, False)
     sun = direction_from_angles(30.0, 0.0)
@@ -283,7 +283,7 @@ def test_camera_geometry():
 
 
 def test_no_nan_every_pixel_written():
-    from tests.conftest import single_renderer
+    from tests.air_frames import single_frames as single_renderer
 
     for atmosphere in ("earth", "hazy", "mars", "earth_nishita"):
         r = single_renderer(atmosphere, "fast", 16, True)
@@ -303,7 +303,7 @@ def test_no_nan_every_pixel_written():
 
 
 def test_same_inputs_identical_frames():
-    from tests.conftest import single_renderer
+    from tests.air_frames import single_frames as single_renderer
 
     r = single_renderer("earth", "fast", 16, True)
     cam = PerspectiveCamera(fov_deg=70, yaw_deg=200, pitch_deg=15)

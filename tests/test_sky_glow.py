@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 
 from skydome import Sky
+from skydome.core.cameras import DirectionsCamera, FisheyeCamera, direction_from_angles
+from skydome.core.cameras import refraction as rf
 from skydome.errors import ParameterError
 from skydome.night import (
     AirglowLayer,
@@ -22,8 +24,7 @@ from skydome.night import (
 )
 from skydome.night import airglow as ag
 from skydome.night import zodiacal as zl
-from skydome.render import refraction as rf
-from skydome.render.cameras import DirectionsCamera, FisheyeCamera, direction_from_angles
+from skydome.scene.state import state_at
 from skydome.spectra import SRGB_LUMINANCE
 
 PLACE, TIME = "Valletta", "2018-03-01T23:00Z"
@@ -157,10 +158,9 @@ def test_reddening_follows_leinert():
 
 
 def test_ecliptic_geometry_against_the_astronomy():
-    from skydome.scene.sky import observer_for
-    from skydome.scene.state import SkyState
+    from skydome.description import observer_for
 
-    state = SkyState.at_place(observer_for(PLACE), "2018-06-21T04:00Z")  # the Sun up
+    state = state_at(observer_for(PLACE), "2018-06-21T04:00Z")  # the Sun up
     m = zl.helioecliptic_matrix(state.observer, state.time)
     # The Sun's own (airless, topocentric) direction lies at lambda - lambda_sun = 0, beta = 0
     # to within its parallax and the ecliptic latitude of the Sun (< 0.01 deg).

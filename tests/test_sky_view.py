@@ -5,15 +5,16 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import preset
-from skydome.render import (
+from skydome.atmosphere.layer import AtmosphereLayer
+from skydome.core.cameras import (
     DirectionsCamera,
     EquirectCamera,
     PerspectiveCamera,
     direction_from_angles,
 )
-from skydome.render.precomputed import PrecomputedRenderer
 from skydome.spectra import SRGB_LUMINANCE
-from tests.conftest import precomputed_renderer
+from tests.air_frames import AirFrames
+from tests.air_frames import precomputed_frames as precomputed_renderer
 
 
 def direct_renderer():
@@ -80,14 +81,23 @@ def test_sky_view_matches_direct_lookups_for_other_atmospheres(atmosphere, sun_e
 
 
 def test_sun_disk_and_second_light_match_direct_lookups():
-    # The disk is shaded by the same function in both paths (transmittance to the top along
-    # the ray): equal to float32 rounding. A second light (e.g. the Moon) uses its own tables.
+    # The Sun layer's disk seen through the air: the sky-view path reads the transmittance
+    # from its view-transmittance table (1024 texels over the view cosine), the direct path
+    # computes it per pixel: measured 5e-6 apart at the disk's centre (the disk is 1e9 cd/m^2,
+    # the sky 4e4). A second light (e.g. the Moon) uses its own tables.
+    from skydome import Sky
+    from skydome.celestial.sun import SunLayer
+
+    disks = []
+    for sky_view in (True, False):
+        air = AtmosphereLayer(config=precomputed_renderer().sky.config, sky_view=sky_view)
+        with Sky(sun_elevation_deg=12.0, sun_azimuth_deg=140.0, layers=[SunLayer(), air]) as sky:
+            d = sky.state.sun.direction
+            disks.append(sky.render(DirectionsCamera(np.array([d])), 0, 0, exposure=None).data)
+    assert disks[0][0, 0, 1] > 1e8  # the disk, not the sky
+    np.testing.assert_allclose(disks[0], disks[1], rtol=1e-4)
     sun = direction_from_angles(12.0, 140.0)
     moon = direction_from_angles(35.0, 300.0)
-    disk = DirectionsCamera(np.array([sun, direction_from_angles(12.1, 140.0)]))
-    a = precomputed_renderer().render(disk, 0, 0, sun_direction=sun).data
-    b = direct_renderer().render(disk, 0, 0, sun_direction=sun).data
-    np.testing.assert_allclose(a, b, rtol=1e-4)
     cam = EquirectCamera()
     kw = {"sun_direction": sun, "light2_direction": moon, "light2_scale": 2e-6}
     a = precomputed_renderer().render(cam, 128, 64, **kw).data
@@ -165,24 +175,24 @@ def test_light_shafts_with_a_scene_match_direct_lookups(altitude_m, sun_elevatio
 
 
 def test_tables_are_redrawn_only_when_needed():
-    r = PrecomputedRenderer(
-        preset("earth"), precomputed_renderer().config, ctx=precomputed_renderer().ctx
+    r = AirFrames(
+        preset("earth"), config=precomputed_renderer().sky.config, ctx=precomputed_renderer().graph.ctx
     )
     sun = direction_from_angles(20.0, 100.0)
     r.render(PerspectiveCamera(yaw_deg=0.0), 16, 8, sun_direction=sun)
-    assert r.sky_view.draws == 1
+    assert r.sky.sky_view.draws == 1
     r.render(PerspectiveCamera(yaw_deg=90.0, pitch_deg=30.0), 32, 16, sun_direction=sun)
     r.render(EquirectCamera(), 32, 16, sun_direction=sun, sun_scale=0.5)
-    assert r.sky_view.draws == 1  # camera turned, frame size and Sun scale changed: kept
+    assert r.sky.sky_view.draws == 1  # camera turned, frame size and Sun scale changed: kept
     r.render(EquirectCamera(), 32, 16, sun_direction=direction_from_angles(20.5, 100.0))
-    assert r.sky_view.draws == 2
+    assert r.sky.sky_view.draws == 2
     r.render(EquirectCamera(), 32, 16, sun_direction=sun, altitude_m=100.0)
-    assert r.sky_view.draws == 3
+    assert r.sky.sky_view.draws == 3
     depth = np.full((16, 32), 500.0)
     r.render(EquirectCamera(), 32, 16, sun_direction=sun, altitude_m=100.0, depth_m=depth)
-    assert r.sky_view.draws == 4  # the aerial-perspective tables, drawn on first use
+    assert r.sky.sky_view.draws == 4  # the aerial-perspective tables, drawn on first use
     r.render(EquirectCamera(), 32, 16, sun_direction=sun, altitude_m=100.0, depth_m=depth * 2)
-    assert r.sky_view.draws == 4
+    assert r.sky.sky_view.draws == 4
     r.release()
 
 
@@ -201,4 +211,4 @@ def test_direct_lookups_where_tables_do_not_apply(kwargs):
 
 def test_sky_view_size_validation():
     with pytest.raises(ValueError):
-        PrecomputedRenderer(preset("earth"), precomputed_renderer().config, sky_view_size=(64, 63))
+        AtmosphereLayer("earth", sky_view_size=(64, 63))

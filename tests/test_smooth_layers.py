@@ -10,16 +10,15 @@ import numpy as np
 import pytest
 
 from skydome import Sky
-from skydome.render.cameras import (
+from skydome.core.cameras import (
     CubemapCamera,
     DirectionsCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
 )
-from skydome.render.projection import pixel_directions
+from skydome.core.layer import Layer
 from skydome.scene.graph import MAX_SMOOTH_FACTOR, smooth_factor
-from skydome.scene.layer import Layer
 
 # A smooth field of the direction (cd/m^2): brighter towards the east and the zenith.
 SOURCE = """
@@ -90,7 +89,7 @@ def test_reduced_light_alone_equals_the_field(camera, w, h):
     assert f > 1
     got = Sky(sun_elevation_deg=-30.0, layers=[SmoothGlow()]).render(camera, w, h, exposure=None)
     y, x = np.mgrid[0:h, 0:w] + 0.5
-    d, seen = pixel_directions(camera, x, y[::-1], w, h)  # rows of the frame: top first
+    d, seen = camera.directions(x, y[::-1], w, h)  # rows of the frame: top first
     inside = seen.copy()
     if isinstance(camera, FisheyeCamera):
         # Within a reduced pixel of the horizon circle the bilinear read meets the zeros

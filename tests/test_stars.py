@@ -20,9 +20,11 @@ from skydome.celestial.scintillation import (
     young_sigma,
 )
 from skydome.celestial.stars import StarsLayer
+from skydome.core.cameras import (
+    EquirectCamera,
+    PerspectiveCamera,
+)
 from skydome.errors import ParameterError
-from skydome.render.cameras import EquirectCamera, PerspectiveCamera
-from skydome.render.projection import pixel_directions, pixel_solid_angle, project
 from skydome.spectra import LINEAR_SRGB_TO_XYZ, SRGB_LUMINANCE
 from skydome.spectra.blackbody import planck_relative
 
@@ -51,8 +53,8 @@ def frame_geometry(camera, w, h):
     fw, fh = camera.frame_size(w, h)
     rows, cols = np.mgrid[0:fh, 0:fw]
     gx, gy = cols + 0.5, (fh - 1 - rows) + 0.5
-    dirs, _ = pixel_directions(camera, gx, gy, fw, fh)
-    return dirs, pixel_solid_angle(camera, dirs, fw, fh), gx, gy
+    dirs, _ = camera.directions(gx, gy, fw, fh)
+    return dirs, camera.solid_angle(dirs, fw, fh), gx, gy
 
 
 def aperture_flux(data, dirs, omega, direction, radius_deg):
@@ -90,7 +92,7 @@ def test_image_centroids_of_the_brightest_stars(stars_sky):
     data = stars_sky.render(cam, w, h, exposure=None).data[..., 1].astype(np.float64)
     ref = VALLETTA.sky(WINTER_EVENING, bodies=(), stars=True, star_mag_limit=9.0).stars
     enu, lux = ref.enu, ref.illuminance_lux
-    x, y, _ = project(cam, enu, w, h)
+    x, y, _ = cam.project(enu, w, h)
     checked = 0
     for i in np.argsort(-lux):
         if checked == 50:

@@ -38,10 +38,11 @@ from skydome import Sky
 from skydome.astro import Observer, frames, photometry, to_time
 from skydome.astro.libration import moon_pole_and_prime_meridian
 from skydome.astro.time import gast
-from skydome.atmosphere.precompute import conversion_matrix
 from skydome.celestial.limb_darkening import disk_normalisation, limb_darkening
 from skydome.celestial.moon import MoonLayer, disk_integrals
 from skydome.celestial.sun import SunLayer
+from skydome.core.basis import SpectralBasis
+from skydome.core.cameras import EquirectCamera, PerspectiveCamera
 from skydome.reference.disks import (
     disk_integral_brute_force,
     equirect_pixel_directions,
@@ -53,9 +54,9 @@ from skydome.reference.disks import (
     sphere_hit,
     true_elevation_deg,
 )
-from skydome.render.cameras import EquirectCamera, PerspectiveCamera
-from skydome.scene import FrameGraph, SkyState, SpectralBasis
-from skydome.spectra import SRGB_LUMINANCE
+from skydome.scene import FrameGraph
+from skydome.scene.state import abstract_state, state_at
+from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
 from tests.test_limb_darkening import NL94
 
 PARIS = (48.85, 2.35)
@@ -163,7 +164,7 @@ def test_sun_disk_each_wavelength_integrates_to_the_irradiance():
     # 89 deg near perihelion. Tolerance 1 % (the brief); measured < 2e-4 at every wavelength.
     when = "2024-01-03T12:00Z"
     obs = _airless(-23.0, 0.0)
-    state = SkyState.at_place(obs, when)
+    state = state_at(obs, when)
     basis = SpectralBasis.for_wavelengths([450.0, 550.0, 650.0, 750.0], "spectral")
     graph = FrameGraph([SunLayer()], basis=basis)
     d_au = float(obs.sky(when, bodies=("sun",))["sun"].distance_km) / AU_KM
@@ -179,7 +180,7 @@ def _sun_profile():
     """A spectral render of the Sun at 60 deg (no refraction, 1 au) at the wavelengths of
     four Neckel & Labs (1994) windows; returns (wavelengths, frame data, mu, alpha)."""
     wl = np.array([401.970, 457.345, 610.975, 700.875])
-    state = SkyState.abstract(60.0, 180.0, refraction=False)
+    state = abstract_state(60.0, 180.0, pressure_hPa=0.0)
     graph = FrameGraph([SunLayer()], basis=SpectralBasis.for_wavelengths(wl, "spectral"))
     cam = _aimed(state.sun.direction, 0.6)  # the disk ~455 px across
     data = graph.render(state, cam, 512, 512, altitude_m=0.0).data.astype(np.float64)

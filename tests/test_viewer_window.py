@@ -253,7 +253,7 @@ def test_a_still_view_is_kept_and_a_display_change_reruns_only_the_post_passes(w
     scene.controls.set(ev100=13.0)
     shot("f.png")
     g = graph.generation
-    from skydome.render.cameras import EquirectCamera
+    from skydome.core.cameras import EquirectCamera
 
     scene.base.render(EquirectCamera(), W, H)  # another view into the targets of this size
     assert graph.generation > g

@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from skydome.atmosphere.mie import bulk_optics, hg_lobes, nnls
-from skydome.atmosphere.phase import henyey_greenstein
+from skydome.physics.phase import henyey_greenstein
 
 OUT = Path(__file__).resolve().parents[1] / "src/skydome/data/cloud_droplet_phase.csv"
 WAVELENGTH_UM, R_EFF_UM, V_EFF, M_WATER = 0.55, 10.0, 0.1, 1.333 + 0.0j

@@ -8,9 +8,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from skydome.core.cameras import FisheyeCamera, PerspectiveCamera, render_sky
 from skydome.display import auto_exposure, ev100_to_scale, tonemap
 from skydome.io import atomic_write, write_outputs, write_png
-from skydome.render import FisheyeCamera, PerspectiveCamera, render_sky
+from skydome.scene.state import state_series
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "gallery"
 
@@ -126,7 +127,7 @@ def aerial_perspective(w: int, h: int) -> None:
     composite = scene x transmittance + in-scattered light (Sun 6 deg, camera at 2 m)."""
     import numpy as np
 
-    from skydome.render import direction_from_angles, get_renderer
+    from skydome.core.cameras import direction_from_angles, get_renderer
 
     cam = PerspectiveCamera(fov_deg=90, yaw_deg=230, pitch_deg=5)
     x, y = np.arange(w)[None, :], np.arange(h)[:, None]
@@ -153,7 +154,7 @@ def light_shafts(w: int, h: int) -> None:
     """Crepuscular rays: 14 wedges around the Sun (4 deg) whose first 8 km lie in shadow."""
     import numpy as np
 
-    from skydome.render import direction_from_angles, get_renderer
+    from skydome.core.cameras import direction_from_angles, get_renderer
 
     cam = PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10)
     angle = np.arctan2((0.59 * h - np.arange(h))[:, None], (np.arange(w) - w / 2)[None, :])
@@ -234,7 +235,7 @@ def cloud_views(w: int, h: int) -> None:
     night, the view from 10 km above the clouds, and crepuscular rays (light shafts)."""
     from skydome.clouds.layer import CloudLayer
     from skydome.clouds.params import Clouds
-    from skydome.render.cameras import PerspectiveCamera as Cam
+    from skydome.core.cameras import PerspectiveCamera as Cam
     from skydome.scene import Sky
 
     valletta = (35.8989, 14.5146, 56.0)
@@ -283,8 +284,8 @@ def scene_views(w: int, h: int) -> None:
     night, and a strip from a 24-hour time-lapse."""
     import numpy as np
 
-    from skydome.scene import Sky, SkyState
-    from skydome.scene.sky import aim_camera
+    from skydome.scene import Sky
+    from skydome.sky import aim_camera
 
     def save(name: str, image, note: str) -> None:
         path = OUT / f"{name}.png"
@@ -317,7 +318,7 @@ def scene_views(w: int, h: int) -> None:
          "Paranal 2018-03-02 03:00 UTC: a full-Moon night (auto exposure)")  # fmt: skip
     # A day at Valletta, 2018-03-01, every 3 hours from 01:30 UTC, one eye-adapted exposure
     # per frame as skydome timelapse makes them (here: auto exposure per still).
-    states = SkyState.series(valletta.observer, 2458178.5 + (1.5 + 3 * np.arange(8)) / 24)
+    states = state_series(valletta.observer, 2458178.5 + (1.5 + 3 * np.arange(8)) / 24)
     tiles = []
     for state in states:
         cam = aim_camera(state, "south", fov_deg=100)

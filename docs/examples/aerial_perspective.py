@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from skydome.atmosphere import preset
+from skydome.atmosphere.precomputed import PrecomputedRenderer
+from skydome.core.cameras import PerspectiveCamera, direction_from_angles
 from skydome.display import auto_exposure, tonemap
 from skydome.io import write_outputs
-from skydome.render import PerspectiveCamera, direction_from_angles
-from skydome.render.precomputed import PrecomputedRenderer
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLES_OUT", "out"))
 out.mkdir(parents=True, exist_ok=True)

@@ -10,10 +10,10 @@ import numpy as np
 
 from skydome.atmosphere import PRESETS, preset
 from skydome.atmosphere.illuminance import horizontal_illuminance
+from skydome.core.cameras import PerspectiveCamera, render_sky
 from skydome.display import ev100_to_scale, tonemap
 from skydome.errors import ParameterError
 from skydome.io import write_outputs
-from skydome.render import PerspectiveCamera, render_sky
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLES_OUT", "out"))
 out.mkdir(parents=True, exist_ok=True)

@@ -13,8 +13,8 @@ import numpy as np
 from skydome import Sky
 from skydome.astro.frames import AU_KM
 from skydome.atmosphere.illuminance import horizontal_illuminance
+from skydome.core.cameras import EquirectCamera
 from skydome.io import read_exr, write_outputs
-from skydome.render import EquirectCamera
 from skydome.spectra import PHOTOPIC_EFFICACY_LM_PER_W, SRGB_LUMINANCE  # 683 lm/W: Blender's too
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLES_OUT", "out"))

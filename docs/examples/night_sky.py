@@ -8,9 +8,9 @@ import sys
 from pathlib import Path
 
 from skydome import Sky
+from skydome.core.cameras import FisheyeCamera
 from skydome.io import write_outputs
 from skydome.night import City, LightPollution, luminance_to_mag, zenith_brightness
-from skydome.render import FisheyeCamera
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLES_OUT", "out"))
 out.mkdir(parents=True, exist_ok=True)

@@ -8,8 +8,8 @@ from pathlib import Path
 from skydome import Sky
 from skydome.astro import Observer, events
 from skydome.astro.places import find_place, search
+from skydome.core.cameras import EquirectCamera, PerspectiveCamera
 from skydome.io import write_outputs
-from skydome.render import EquirectCamera, PerspectiveCamera
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLES_OUT", "out"))
 out.mkdir(parents=True, exist_ok=True)

@@ -6,9 +6,9 @@ import sys
 from pathlib import Path
 
 from skydome import Sky
+from skydome.core.cameras import FisheyeCamera, PerspectiveCamera, render_sky
 from skydome.display import auto_exposure, tonemap
 from skydome.io import write_outputs
-from skydome.render import FisheyeCamera, PerspectiveCamera, render_sky
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("SKYDOME_EXAMPLES_OUT", "out"))
 out.mkdir(parents=True, exist_ok=True)

@@ -17,7 +17,7 @@ lazily by :meth:`Observer.sky`).
 
 from skydome.astro import frames, photometry
 from skydome.astro.events import Events, events, moon_phases, rise_set, transits, twilight
-from skydome.astro.observer import BODIES, BodyPosition, Observer, Sky
+from skydome.astro.observer import BODIES, BodyPosition, Observer, SkyPositions
 from skydome.astro.time import Time, gast, gmst, julian_date, to_time
 
 __all__ = [
@@ -25,7 +25,7 @@ __all__ = [
     "BodyPosition",
     "Events",
     "Observer",
-    "Sky",
+    "SkyPositions",
     "Time",
     "events",
     "frames",

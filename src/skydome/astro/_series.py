@@ -20,7 +20,9 @@ from importlib import resources
 
 import numpy as np
 
-J2000 = 2451545.0  # JD of the epoch J2000.0 (TT)
+from skydome.physics.constants import J2000_JD
+
+J2000 = J2000_JD  # JD of the epoch J2000.0 (TT)
 DAYS_PER_MILLENNIUM = 365250.0
 
 

@@ -38,6 +38,9 @@ from skydome.astro._series import (
     tables,
     vsop,
 )
+from skydome.physics.constants import AU_KM, EARTH_EQUATORIAL_RADIUS_KM
+from skydome.physics.geometry import horizontal_to_enu
+from skydome.physics.refraction import refraction_bennett, refraction_saemundsson
 
 __all__ = [
     "ARCSEC",
@@ -73,10 +76,9 @@ __all__ = [
 
 ARCSEC = np.pi / 648000.0  # radians per arcsecond
 DEG = np.pi / 180.0
-AU_KM = 149597870.700  # IAU 2012 resolution B2
 C_KM_PER_S = 299792.458
 C_AU_PER_DAY = C_KM_PER_S * 86400.0 / AU_KM  # 173.1446... au/day
-WGS84_A_KM = 6378.137  # equatorial radius
+WGS84_A_KM = EARTH_EQUATORIAL_RADIUS_KM  # equatorial radius
 WGS84_F = 1.0 / 298.257223563  # flattening
 EARTH_OMEGA = 7.292115e-5  # rad/s, WGS84 nominal rotation rate (for diurnal velocity)
 
@@ -433,13 +435,6 @@ def enu_to_horizontal(enu) -> tuple[np.ndarray, np.ndarray]:
     return np.arctan2(u, np.hypot(e, n)), np.mod(np.arctan2(e, n), 2 * np.pi)
 
 
-def horizontal_to_enu(alt_rad, az_rad) -> np.ndarray:
-    """Unit ENU vectors (..., 3) (x east, y north, z up) from altitude and azimuth (rad)."""
-    alt, az = np.broadcast_arrays(np.asarray(alt_rad, float), np.asarray(az_rad, float))
-    ca = np.cos(alt)
-    return np.stack([ca * np.sin(az), ca * np.cos(az), np.sin(alt)], axis=-1)
-
-
 def equatorial_to_enu_matrix(lst_rad, lat_rad) -> np.ndarray:
     """Matrix (..., 3, 3) taking true-of-date equatorial vectors to local ENU.
 
@@ -477,40 +472,4 @@ def geodetic_to_geocentric_km(lat_rad, lon_rad, height_m) -> np.ndarray:
 
 
 # ------------------------------------------------------------------ refraction
-
-
-def _refraction_scale(pressure_hPa, temperature_C) -> np.ndarray:
-    return (np.asarray(pressure_hPa, float) / 1010.0) * (
-        283.0 / (273.0 + np.asarray(temperature_C, float))
-    )
-
-
-def _cot_refraction(alt_deg, a, b, c, lowest_deg, pressure_hPa, temperature_C) -> np.ndarray:
-    """a / tan(h + b / (h + c)) arcmin (the form of Bennett's and Saemundsson's formulas),
-    0 below ``lowest_deg`` and at the zenith, scaled for pressure and temperature."""
-    h = np.asarray(alt_deg, dtype=float)
-    hc = np.maximum(h, lowest_deg)
-    r = a / np.tan(np.radians(hc + b / (hc + c)))
-    r = np.where(h >= lowest_deg, r, 0.0)
-    r = np.where(h >= 90.0, 0.0, np.maximum(r, 0.0))
-    return r * _refraction_scale(pressure_hPa, temperature_C)
-
-
-def refraction_bennett(apparent_alt_deg, pressure_hPa=1010.0, temperature_C=10.0) -> np.ndarray:
-    """Refraction R (arcmin) to subtract from an apparent altitude (deg) to get the true one.
-
-    Bennett (1982), Meeus eq. 16.3: R = 1 / tan(h0 + 7.31 / (h0 + 4.4)), scaled by
-    (P/1010)(283/(273+T)). Defined for h0 >= -1 deg; below that 0 is returned (the Sun or
-    a star so far below the horizon is not seen). Accurate to 0.07' for 0-90 deg.
-    """
-    return _cot_refraction(apparent_alt_deg, 1.0, 7.31, 4.4, -1.0, pressure_hPa, temperature_C)
-
-
-def refraction_saemundsson(true_alt_deg, pressure_hPa=1010.0, temperature_C=10.0) -> np.ndarray:
-    """Refraction R (arcmin) to add to a true (airless) altitude (deg) to get the apparent one.
-
-    Saemundsson (1986), Meeus eq. 16.4: R = 1.02 / tan(h + 10.3 / (h + 5.11)), scaled by
-    (P/1010)(283/(273+T)); consistent with Bennett's formula to 4". Defined for h >= -1.9 deg
-    (where the apparent altitude is about -1 deg); below that 0 is returned.
-    """
-    return _cot_refraction(true_alt_deg, 1.02, 10.3, 5.11, -1.9, pressure_hPa, temperature_C)
+# refraction_bennett and refraction_saemundsson: skydome.physics.refraction (re-exported).

@@ -36,6 +36,7 @@ a :class:`~skydome.astro.time.Time`). Everything is vectorised over arrays of ti
 from __future__ import annotations
 
 import functools
+import math
 from typing import Any
 
 import numpy as np
@@ -483,3 +484,29 @@ def moon_topocentric_libration(
         "dP": dp,
         "parallax": par,
     }
+
+
+def moon_frame_enu(
+    moon_true: np.ndarray, pole_enu: np.ndarray, l_rad: float, b_rad: float, p_rad: float
+) -> np.ndarray:
+    """Moon-fixed axes (columns x, y, z) in ENU from the libration and the axis angle.
+
+    ``moon_true``: unit ENU vector from the observer to the Moon (airless); ``pole_enu``: the
+    celestial north pole in ENU; ``l_rad``, ``b_rad``: selenographic longitude and latitude
+    of the sub-observer point; ``p_rad``: position angle of the Moon's axis from the north
+    point of the disk through east (Meeus ch. 53).
+    """
+    u = moon_true / np.linalg.norm(moon_true)
+    w = -u  # from the Moon towards the observer
+    north = pole_enu - np.dot(pole_enu, u) * u
+    north /= np.linalg.norm(north)
+    east = np.cross(pole_enu, u)  # towards increasing right ascension on the sky
+    east /= np.linalg.norm(east)
+    axis_on_sky = math.cos(p_rad) * north + math.sin(p_rad) * east
+    # The pole leans towards the observer by the libration in latitude b.
+    pole = math.cos(b_rad) * axis_on_sky + math.sin(b_rad) * w
+    q = w - math.sin(b_rad) * pole
+    q /= np.linalg.norm(q)  # the sub-observer meridian on the Moon's equator: longitude l
+    x = math.cos(l_rad) * q - math.sin(l_rad) * np.cross(pole, q)
+    y = np.cross(pole, x)
+    return np.stack([x, y, pole], axis=1)

@@ -34,7 +34,7 @@ from skydome.astro.frames import ARCSEC, AU_KM, C_AU_PER_DAY
 from skydome.astro.time import Time, gmst, to_time
 from skydome.errors import ParameterError
 
-__all__ = ["Observer", "BodyPosition", "Sky", "BODIES"]
+__all__ = ["Observer", "BodyPosition", "SkyPositions", "BODIES"]
 
 BODIES = ("sun", "moon") + planets.PLANETS
 _OMEGA_RAD_PER_DAY = frames.EARTH_OMEGA * 86400.0
@@ -121,7 +121,7 @@ class BodyPosition:
 
 
 @dataclass
-class Sky:
+class SkyPositions:
     """Result of :meth:`Observer.sky`: the times and one :class:`BodyPosition` per body.
 
     ``sky["moon"]`` or ``sky.bodies["moon"]``; ``stars`` is a :class:`BodyPosition` whose
@@ -255,13 +255,13 @@ class Observer:
         star_mag_limit: float = 6.5,
         delta_t: Any = None,
         ut1_utc: Any = None,
-    ) -> Sky:
+    ) -> SkyPositions:
         """Positions and photometry of ``bodies`` (and optionally the stars) at ``times``.
 
         ``times``: anything :func:`skydome.astro.time.to_time` accepts (arrays of any
         shape); ``bodies``: names from ``BODIES`` or star names known to
         :mod:`skydome.astro.stars`; ``stars``: also return every catalogue star brighter
-        than ``star_mag_limit`` (V) in ``Sky.stars``; ``delta_t`` (TT - UT1, s) and
+        than ``star_mag_limit`` (V) in ``SkyPositions.stars``; ``delta_t`` (TT - UT1, s) and
         ``ut1_utc`` (s) override the built-in time tables.
         """
         if isinstance(bodies, str):
@@ -297,7 +297,7 @@ class Observer:
             else:
                 out[b] = self._star(geo, star_infos[b], shape)
         star_pos = self._all_stars(geo, shape, star_mag_limit) if stars else None
-        return Sky(time=t, bodies=out, stars=star_pos)
+        return SkyPositions(time=t, bodies=out, stars=star_pos)
 
     # ------------------------------------------------------------------ bodies
 

@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from skydome.physics.constants import EARTH_EQUATORIAL_RADIUS_KM
 from skydome.spectra.colour import LUMINOUS_SOLAR_CONSTANT_LX
 
 __all__ = [
@@ -132,3 +133,14 @@ def s10_to_mag(s10) -> np.ndarray:
 def s10_to_luminance(s10) -> np.ndarray:
     """Luminance (cd/m^2) of a brightness in S10 units."""
     return np.asarray(s10, dtype=np.float64) * float(mag_to_luminance(S10_MAG_ARCSEC2))
+
+
+def earthshine_lux(sun_illuminance_lux: float, earth_phase_angle_rad: float, moon_km: float):
+    """Illuminance (lx) of the earthlit Moon: the Earth as a Lambert sphere of Bond albedo
+    0.30 (Goode et al. 2001, GRL 28, 1671: earthshine albedo 0.297) seen at its phase angle
+    from the Moon. A Lambert sphere's geometric albedo is 2/3 of its Bond albedo and its phase
+    law (sin a + (pi - a) cos a) / pi (Russell 1916)."""
+    a = float(earth_phase_angle_rad)
+    phase_law = (math.sin(a) + (math.pi - a) * math.cos(a)) / math.pi
+    geometric_albedo = 2.0 / 3.0 * 0.30
+    return sun_illuminance_lux * geometric_albedo * phase_law * (EARTH_EQUATORIAL_RADIUS_KM / moon_km) ** 2

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from skydome.errors import ParameterError
+from skydome.physics.constants import J2000_JD
 
 __all__ = [
     "J2000",
@@ -56,7 +57,7 @@ __all__ = [
     "gast",
 ]
 
-J2000 = 2451545.0
+J2000 = J2000_JD
 MJD0 = 2400000.5
 UNIX_EPOCH_JD = 2440587.5
 TT_MINUS_TAI = 32.184  # seconds

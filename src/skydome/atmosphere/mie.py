@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from skydome.atmosphere.phase import henyey_greenstein
 from skydome.errors import ParameterError
+from skydome.physics.phase import henyey_greenstein
 
 
 def mie_coefficients(m: complex, x) -> tuple[np.ndarray, np.ndarray]:

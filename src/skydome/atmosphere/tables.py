@@ -6,10 +6,10 @@ import warnings
 import weakref
 from collections.abc import Callable
 
-from skydome.atmosphere.cache import CacheWarning, cache_key, code_digest, store, try_load
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.core.cache import CacheWarning, cache_key, code_digest, store, try_load
 from skydome.errors import CacheError
 
 

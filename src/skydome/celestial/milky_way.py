@@ -44,11 +44,11 @@ import math
 import numpy as np
 
 from skydome.astro import photometry
+from skydome.core.layer import DrawContext, Layer
+from skydome.core.refraction_table import RefractionTable
 from skydome.errors import ParameterError
 from skydome.io.packaged import read_packaged_npz
-from skydome.render.refraction import RefractionTable
-from skydome.scene.layer import DrawContext, Layer
-from skydome.scene.state import SkyState, refraction_scale
+from skydome.scene.state import SkyState
 from skydome.spectra.blackbody import planck_relative
 
 __all__ = [
@@ -268,7 +268,7 @@ class MilkyWayLayer(Layer):
             "u_enu_to_galactic": tuple(float(v) for v in gal_from_enu.T.ravel()),
             "u_colour": tuple(float(v) for v in self._colour[1] * (S10_CD_M2 * self.scale)),
         }
-        self._refraction = refraction_scale(state)
+        self._refraction = state.refraction_scale
         gc = enu_from_gal[:, 0]
         self._info = {
             "milky_way_centre_elevation_deg": math.degrees(math.asin(max(-1.0, min(1.0, gc[2])))),

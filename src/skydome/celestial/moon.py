@@ -28,8 +28,9 @@ import numpy as np
 
 from skydome.astro.photometry import magnitude_to_lux, moon_magnitude
 from skydome.celestial.moon_albedo import albedo_at, moon_albedo_map, moon_spectral_albedo
-from skydome.scene.layer import DrawContext, Layer
-from skydome.scene.state import AU_KM, SkyState, refraction_scale
+from skydome.core.layer import DrawContext, Layer
+from skydome.physics.constants import AU_KM
+from skydome.scene.state import SkyState
 
 #: Gauss-Legendre nodes per dimension of each piece of the CPU disk integral (6 ms a call).
 #: With the albedo map, against a 3000 x 3000 ray-traced grid at phase angles 6, 83, 128 and
@@ -206,7 +207,7 @@ class MoonLayer(Layer):
             "u_sunlit_scale": sunlit_scale,
             "u_earthlit_scale": earthlit_scale,
             "u_colour": tuple(float(v) for v in self._colour[1]),
-            "u_refraction_scale": refraction_scale(state),
+            "u_refraction_scale": state.refraction_scale,
         }
         self._info = {
             "moon_illuminated_fraction": view.illuminated_fraction,

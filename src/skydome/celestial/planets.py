@@ -50,8 +50,8 @@ import numpy as np
 
 from skydome.astro.planets import PLANETS
 from skydome.celestial.planet_colours import planet_albedo
-from skydome.scene.layer import DrawContext, Layer
-from skydome.scene.state import Light, SkyState, refraction_scale
+from skydome.core.layer import DrawContext, Layer
+from skydome.scene.state import Light, SkyState
 
 #: A planet whose disk has at least this radius in frame pixels is drawn as a disk.
 DISK_MIN_RADIUS_PX = 1.0
@@ -192,7 +192,7 @@ class PlanetsLayer(Layer):
             return
         key = (id(state.observer), float(np.asarray(state.time.jd_tt)), id(state.sun))
         self._moon = state.moon
-        self._refraction = refraction_scale(state)
+        self._refraction = state.refraction_scale
         if key == self._key:
             return
         self._views = planet_views(state.observer, state.time, state.sun.direction_true)
@@ -216,12 +216,11 @@ class PlanetsLayer(Layer):
     def radius_px(self, frame: DrawContext, view: PlanetView) -> float:
         """The planet's angular radius in frame pixels where it lies (inf for cameras with
         no forward mapping, e.g. a DirectionsCamera: those always get the disk)."""
-        from skydome.render.projection import has_projection, pixel_solid_angle
 
-        if not has_projection(frame.camera):
+        if not frame.camera.has_projection:
             return math.inf
         w, h = frame.frame_size
-        pixel_sr = float(pixel_solid_angle(frame.camera, view.direction, w, h))
+        pixel_sr = float(frame.camera.solid_angle(view.direction, w, h))
         return view.angular_radius_rad / math.sqrt(pixel_sr) if pixel_sr > 0 else math.inf
 
     def draw(self, frame: DrawContext) -> None:

@@ -52,16 +52,15 @@ import math
 import moderngl
 import numpy as np
 
-from skydome.errors import ParameterError
-from skydome.gpu import build_program
-from skydome.gpu.passes import set_uniforms
-from skydome.render.cameras import (
+from skydome.core.cameras import (
     CubemapCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
 )
-from skydome.render.projection import has_projection, project
+from skydome.errors import ParameterError
+from skydome.gpu import build_program
+from skydome.gpu.passes import set_uniforms
 
 VERTEX_SHADER = "celestial/point_sources_vs.glsl"
 FRAGMENT_SHADER = "celestial/point_sources.glsl"
@@ -210,7 +209,7 @@ class PointSources:
         face -1 writes any pixel; for a cubemap one copy per face plane near the source."""
         n = len(d)
         if not isinstance(camera, CubemapCamera):
-            x, y, seen = project(camera, d, w, h)
+            x, y, seen = camera.project(d, w, h)
             return np.arange(n), x, y, np.full(n, -1.0), seen
         idx, xs, ys, faces = [], [], [], []
         side = float(h)
@@ -230,7 +229,7 @@ class PointSources:
         """Frame positions of directions ``d`` on the planes of ``faces`` (cubemap) or by
         the camera's own mapping."""
         if not isinstance(camera, CubemapCamera):
-            x, y, _ = project(camera, d, w, h)
+            x, y, _ = camera.project(d, w, h)
             return x, y
         side = float(h)
         x, y = np.empty(len(d)), np.empty(len(d))
@@ -334,7 +333,7 @@ class PointSources:
         camera = frame.camera
         self._plan = None
         self.instances_drawn = 0
-        if d.shape[0] == 0 or not has_projection(camera):
+        if d.shape[0] == 0 or not camera.has_projection:
             return
         w, h = frame.frame_size
         x0, y0, tw, th = frame.tile

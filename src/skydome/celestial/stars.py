@@ -34,24 +34,25 @@ from skydome.astro import frames
 from skydome.astro import stars as catalogue
 from skydome.celestial.point_sources import PointSources
 from skydome.celestial.scintillation import Scintillation, scintillation_sigma
+from skydome.core.basis import SpectralBasis
+from skydome.core.layer import DrawContext, Layer
 from skydome.errors import ParameterError
-from skydome.scene.layer import DrawContext, Layer, SpectralBasis
-from skydome.scene.state import SkyState, horizon_dip_sin
+from skydome.physics.constants import J2000_JD
+from skydome.physics.refraction import horizon_dip_sin
+from skydome.scene.state import SkyState
 from skydome.spectra.blackbody import planck_relative
 
 #: Recompute the apparent places of date when the time has moved by more than this (TT).
 APPARENT_PLACE_REFRESH_DAYS = 1.0 / 24.0
 #: Stars this far below the camera's geometric horizon are still drawn (deg).
 BELOW_HORIZON_MARGIN_DEG = 1.0
-_J2000 = 2451545.0
 
 
 def black_body_colours(basis: SpectralBasis, temperature_k) -> np.ndarray:
     """(N, 4) output channels per unit luminance of black bodies at ``temperature_k``:
     ``basis.colour(planck / solar_irradiance)`` for every temperature at once (the same
     arithmetic as SpectralBasis.colour, vectorized)."""
-    from skydome.atmosphere.precompute import conversion_matrix
-    from skydome.spectra import SRGB_LUMINANCE
+    from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
     from skydome.spectra.tables import solar_irradiance
 
     wl = basis.wavelengths_nm
@@ -177,7 +178,7 @@ class StarsLayer(Layer):
         self.directions, self.altitude_rad = self.apparent_enu(state)
         if self._scint is not None:
             # The factors themselves are computed when drawn, for the stars drawn only.
-            t_s = (float(state.time.jd_utc) - _J2000) * 86400.0
+            t_s = (float(state.time.jd_utc) - J2000_JD) * 86400.0
             self._twinkle_at = (t_s, float(state.observer.elevation_m))
         moon = state.moon
         self._moon = None if moon is None else (moon.direction, moon.angular_radius_rad)

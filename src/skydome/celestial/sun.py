@@ -11,8 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 from skydome.celestial.limb_darkening import disk_normalisation, limb_coefficients
-from skydome.scene.layer import DrawContext, Layer
-from skydome.scene.state import AU_KM, SkyState, refraction_scale
+from skydome.core.layer import DrawContext, Layer
+from skydome.physics.constants import AU_KM
+from skydome.scene.state import SkyState
 
 
 class SunLayer(Layer):
@@ -53,7 +54,7 @@ class SunLayer(Layer):
             "u_spectral_to_rgbs": basis.group_matrices(),
             "u_limb": np.concatenate(limb).tolist(),
             "u_limb_norm": norm.tolist(),
-            "u_refraction_scale": refraction_scale(state),
+            "u_refraction_scale": state.refraction_scale,
         }
         self._key = key
         self._sun = sun

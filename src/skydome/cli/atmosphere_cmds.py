@@ -8,12 +8,14 @@ from pathlib import Path
 
 import typer
 
-from skydome.cli.render_cmd import atmosphere_with_knobs, knob_option
-from skydome.errors import OutputError, check_choice, check_range
+from skydome.cli.describe import atmosphere_from_flags, config_from_flags, precompute_progress
+from skydome.cli.options import with_flags
+from skydome.errors import OutputError, check_range
 
 
 def register(app: typer.Typer) -> None:
     @app.command()
+    @with_flags("air")
     def illuminance(
         sun_elevation: float = typer.Option(
             ..., "--sun-elevation", help="Sun elevation, degrees (-90..90)."
@@ -21,23 +23,16 @@ def register(app: typer.Typer) -> None:
         altitude: float = typer.Option(
             0.0, "--altitude", help="Observer altitude above the ground, metres."
         ),
-        atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
-        albedo: float = knob_option("--albedo"),
-        aod: float = knob_option("--aod"),
-        angstrom: float = knob_option("--angstrom"),
-        ozone: float = knob_option("--ozone"),
         as_json: bool = typer.Option(False, "--json", help="Print a JSON object."),
+        flags=None,
     ) -> None:
         """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance (cd/m^2)."""
         from rich.console import Console
 
         from skydome.atmosphere.illuminance import horizontal_illuminance
-        from skydome.atmosphere.presets import PRESETS
-        from skydome.cli.render_cmd import precompute_progress
 
         check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
-        check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
-        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
+        params = atmosphere_from_flags(flags)
         check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
         console = Console(soft_wrap=True)
         with precompute_progress(console) as report:
@@ -62,40 +57,27 @@ def register(app: typer.Typer) -> None:
         )
 
     @app.command()
+    @with_flags("air", "tables")
     def precompute(
-        atmosphere: str = typer.Option("earth", "--atmosphere", help="Preset name."),
-        albedo: float = knob_option("--albedo"),
-        aod: float = knob_option("--aod"),
-        angstrom: float = knob_option("--angstrom"),
-        ozone: float = knob_option("--ozone"),
-        orders: int = typer.Option(4, "--orders", help="Scattering orders (1..20)."),
-        spectral: str = typer.Option(
-            "accurate", "--spectral", help="accurate (16 wavelengths) | fast (4)."
-        ),
         output: str = typer.Option(
             None, "-o", "--output", help="Also write the tables to this .lut file."
         ),
         no_cache: bool = typer.Option(
             False, "--no-cache", help="Recompute even if the cache holds the tables."
         ),
+        flags=None,
     ) -> None:
         """Precompute the multiple-scattering tables into the cache (and optionally a file)."""
         from rich.console import Console
 
-        from skydome.atmosphere.cache import cache_path
-        from skydome.atmosphere.precompute_config import PrecomputeConfig
-        from skydome.atmosphere.presets import PRESETS
         from skydome.atmosphere.tables import load_tables, tables_key
-        from skydome.cli.render_cmd import MAX_ORDERS, check_int, precompute_progress
+        from skydome.core.cache import cache_path
         from skydome.gpu import shared_context
         from skydome.io.lutfile import write_lut_file
-        from skydome.spectra.grids import MODES
 
-        check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
-        check_choice("--spectral", spectral, MODES, "wavelength set")
-        check_int("--orders", orders, 1, MAX_ORDERS)
-        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
-        config = PrecomputeConfig(wavelengths=spectral, orders=orders)
+        params = atmosphere_from_flags(flags)
+        config = config_from_flags(flags)
+        orders = config.orders
         out = None
         if output is not None:
             out = Path(output)

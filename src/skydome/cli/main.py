@@ -77,7 +77,7 @@ def one_line(text: object) -> str:
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
     """``warnings.showwarning`` for the CLI: a CacheWarning becomes one line
     ``skydome: warning: <message>`` on stderr; other warnings keep Python's format."""
-    from skydome.atmosphere.cache import CacheWarning  # loaded by whoever warned
+    from skydome.core.cache import CacheWarning  # loaded by whoever warned
 
     if issubclass(category, CacheWarning):
         typer.echo(f"skydome: warning: {one_line(message)}", err=True)

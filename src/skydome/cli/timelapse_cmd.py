@@ -8,24 +8,15 @@ import time
 
 import typer
 
-from skydome.cli.cloud_options import CloudFlags, with_cloud_options
-from skydome.cli.place_options import (
+from skydome.cli.describe import (
     LOOKS,
-    elevation_option,
-    lat_option,
-    lon_option,
+    PlaceTimeSun,
     observer_from_flags,
-    parse_step,
-    parse_time,
-    place_option,
-)
-from skydome.cli.render_cmd import (
-    atmosphere_with_knobs,
-    knob_option,
-    parse_exposure,
-    parse_size,
     precompute_progress,
+    sky_description,
 )
+from skydome.cli.options import with_flags
+from skydome.cli.parsing import parse_exposure, parse_size, parse_step, parse_time
 from skydome.errors import ParameterError, check_choice, check_range
 
 #: Time-lapses longer than this need --yes (100,000 frames is 56 minutes at 30 fps).
@@ -46,7 +37,7 @@ NIGHT_SKY_BELOW_DEG = 10.0
 
 def show_night_sky(graph, state) -> None:
     """Turn the night layers of ``graph`` on while the Sun is below NIGHT_SKY_BELOW_DEG."""
-    from skydome.scene.sky import NIGHT_LAYERS
+    from skydome.description import NIGHT_LAYERS
 
     on = state.sun.elevation_deg < NIGHT_SKY_BELOW_DEG
     for layer in graph.layers:
@@ -56,12 +47,8 @@ def show_night_sky(graph, state) -> None:
 
 def register(app: typer.Typer) -> None:
     @app.command()
-    @with_cloud_options
+    @with_flags("place", "camera", "air", "display", "clouds")
     def timelapse(
-        place: str = place_option(),
-        lat: float = lat_option(),
-        lon: float = lon_option(),
-        elevation: float = elevation_option(),
         start: str = typer.Option(..., "--start", help="First frame's time, ISO 8601."),
         end: str = typer.Option(..., "--end", help="Last frame's time (at most), ISO 8601."),
         step: str = typer.Option("1min", "--step", help="Time between frames: 30s, 1min, 2h..."),
@@ -73,28 +60,6 @@ def register(app: typer.Typer) -> None:
             "png", "--format", help="Frames in a folder: png | jpg | exr | hdr | npy."
         ),
         size: str = typer.Option("640x360", "--size", help="WIDTHxHEIGHT in pixels."),
-        camera: str = typer.Option(
-            "perspective", "--camera", help="perspective | fisheye | equirect | cubemap."
-        ),
-        look: str = typer.Option(
-            None,
-            "--look",
-            help="sun | moon (followed frame by frame) | zenith | north | east | south | west "
-            "(default: south, or north south of the equator).",
-        ),
-        fov: float = typer.Option(90.0, "--fov", help="Horizontal field of view, degrees."),
-        yaw: float = typer.Option(None, "--yaw", help="View azimuth, degrees (overrides --look)."),
-        pitch: float = typer.Option(None, "--pitch", help="View elevation, degrees."),
-        altitude: float = typer.Option(
-            None,
-            "--altitude",
-            help="Camera altitude above the ground, metres (default 1.7 m above the place).",
-        ),
-        atmosphere: str = typer.Option("earth", "--atmosphere", help="Atmosphere preset."),
-        albedo: float = knob_option("--albedo"),
-        aod: float = knob_option("--aod"),
-        angstrom: float = knob_option("--angstrom"),
-        ozone: float = knob_option("--ozone"),
         exposure: str = typer.Option(
             "adapt",
             "--exposure",
@@ -104,14 +69,10 @@ def register(app: typer.Typer) -> None:
         adaptation_speed: float = typer.Option(
             1.0, "--adaptation-speed", help="Eye adaptation speed-up (1 = a human eye)."
         ),
-        compensation: float = typer.Option(
-            0.0, "--exposure-compensation", help="EV added to the exposure."
-        ),
-        tonemap: str = typer.Option("filmic", "--tonemap", help="Tone-mapping operator."),
         yes: bool = typer.Option(
             False, "--yes", help=f"Allow more than {MAX_FRAMES_WITHOUT_YES:,} frames."
         ),
-        cloud_flags: CloudFlags = None,
+        flags=None,
     ) -> None:
         """Render a time-lapse of the sky over a place: an H.264 MP4 or numbered frames."""
         import numpy as np
@@ -125,15 +86,19 @@ def register(app: typer.Typer) -> None:
             TimeRemainingColumn,
         )
 
-        from skydome.atmosphere.presets import PRESETS
+        from skydome.core.cameras import (
+            CAMERAS,
+            FOV_RANGE_DEG,
+            MAX_ALTITUDE_M,
+            PITCH_RANGE_DEG,
+            YAW_RANGE_DEG,
+            make_camera,
+        )
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
         from skydome.io.video import FrameSequenceWriter, Mp4Writer, check_video_output
-        from skydome.render import make_camera
-        from skydome.render.base import MAX_ALTITUDE_M
-        from skydome.render.cameras import CAMERAS, FOV_RANGE_DEG, PITCH_RANGE_DEG, YAW_RANGE_DEG
 
         # Everything is checked before any work: bad input writes nothing.
-        observer = observer_from_flags(place, lat, lon, elevation)
+        observer = observer_from_flags(flags)
         if observer is None:
             raise ParameterError("a time-lapse needs a place: --place NAME or --lat and --lon")
         t0, t1 = parse_time("--start", start), parse_time("--end", end)
@@ -152,27 +117,32 @@ def register(app: typer.Typer) -> None:
         width, height = parse_size(size)
         if max(width, height) > MAX_SIDE:
             raise ParameterError(f"--size {size}: time-lapse frames are at most {MAX_SIDE} a side")
-        check_choice("--camera", camera, CAMERAS, "camera")
-        if look is not None:
-            check_choice("--look", look, LOOKS, "view")
-        check_range("--fov", fov, *FOV_RANGE_DEG, "deg")
-        if yaw is not None:
-            check_range("--yaw", yaw, *YAW_RANGE_DEG, "deg")
-        if pitch is not None:
-            check_range("--pitch", pitch, *PITCH_RANGE_DEG, "deg")
-        if altitude is not None:
-            check_range("--altitude", altitude, 0.0, MAX_ALTITUDE_M, "m")
-        check_choice("--atmosphere", atmosphere, PRESETS, "atmosphere preset")
-        check_choice("--tonemap", tonemap, TONEMAPS, "tone map")
+        check_choice("--camera", flags.camera, CAMERAS, "camera")
+        if flags.look is not None:
+            check_choice("--look", flags.look, LOOKS, "view")
+        check_range("--fov", flags.fov, *FOV_RANGE_DEG, "deg")
+        if flags.yaw is not None:
+            check_range("--yaw", flags.yaw, *YAW_RANGE_DEG, "deg")
+        if flags.pitch is not None:
+            check_range("--pitch", flags.pitch, *PITCH_RANGE_DEG, "deg")
+        if flags.altitude is not None:
+            check_range("--altitude", flags.altitude, 0.0, MAX_ALTITUDE_M, "m")
+        check_choice("--tonemap", flags.tonemap, TONEMAPS, "tone map")
         adapt = exposure.strip().lower() == "adapt"
         ev = None if adapt else parse_exposure(exposure)
         if not adapt and ev is None:
             raise ParameterError("--exposure auto flickers in a time-lapse: use adapt or an EV100")
         check_range("--adaptation-speed", adaptation_speed, 0.01, 1e6, "")
-        check_range("--exposure-compensation", compensation, -20.0, 20.0, "EV")
+        check_range("--exposure-compensation", flags.compensation, -20.0, 20.0, "EV")
         check_choice("--format", frame_format, ("png", "jpg", "exr", "hdr", "npy"), "format")
-        params = atmosphere_with_knobs(atmosphere, albedo, aod, angstrom, ozone)
-        sky_clouds = cloud_flags.clouds()
+        # The night sky too (the stars turn, the Milky Way rises), and the clouds moved by
+        # the time (their wind and weather), frame by frame. Small frames: sky-view tables
+        # of a quarter of the texels, re-aimed every frame for a quarter of the cost
+        # (<= 0.16 % RMS at 640 x 360, AtmosphereLayer).
+        pts = PlaceTimeSun(observer, t0, 30.0, 180.0, flags.look)
+        description = sky_description(
+            flags, pts, sky_view_size=(128, 128) if max(width, height) <= 1280 else None
+        )
         target = check_video_output(output)
         to_mp4 = target.suffix.lower() == ".mp4"
         if to_mp4 and (width % 2 or height % 2):
@@ -180,40 +150,28 @@ def register(app: typer.Typer) -> None:
 
         from skydome.display.adaptation import EyeAdaptation
         from skydome.display.gpu_tonemap import gpu_tonemap
-        from skydome.scene import Sky, SkyState
-        from skydome.scene.sky import aim_camera
+        from skydome.scene import state_series
+        from skydome.sky import Sky, aim_camera
 
         console = Console(soft_wrap=True)
-        from skydome.atmosphere.layer import AtmosphereLayer
-        from skydome.scene.sky import default_layers
-
         with precompute_progress(console) as report:
-            # Small frames: sky-view tables of a quarter of the texels, re-aimed every frame
-            # for a quarter of the cost (<= 0.16 % RMS at 640 x 360, AtmosphereLayer).
-            air = AtmosphereLayer(
-                params,
-                sky_view_size=(128, 128) if max(width, height) <= 1280 else None,
-                progress=report,
-            )
-            # The night sky too: the stars turn, the Milky Way rises.
-            # The clouds move with the time (their wind and weather), frame by frame.
-            sky = Sky(observer, t0, layers=default_layers(air), clouds=sky_clouds)
+            sky = Sky(description, progress=report)
         graph = sky.graph
-        view = look or ("south" if float(observer.latitude) >= 0 else "north")
+        view = flags.look or ("south" if float(observer.latitude) >= 0 else "north")
 
         def camera_for(state):
             aimed = aim_camera(state, view)
             return make_camera(
-                camera,
-                fov_deg=fov,
-                yaw_deg=aimed.yaw_deg if yaw is None else yaw,
-                pitch_deg=aimed.pitch_deg if pitch is None else pitch,
+                flags.camera,
+                fov_deg=flags.fov,
+                yaw_deg=aimed.yaw_deg if flags.yaw is None else flags.yaw,
+                pitch_deg=aimed.pitch_deg if flags.pitch is None else flags.pitch,
             )
 
         eye = EyeAdaptation(speed=adaptation_speed) if adapt else None
-        fixed = None if adapt else ev100_to_scale(ev, compensation)
+        fixed = None if adapt else ev100_to_scale(ev, flags.compensation)
         jd0 = float(t0.jd_utc)
-        altitude = sky.altitude_m(altitude)
+        altitude = sky.altitude_m(flags.altitude)
         timings: list[float] = []
         evs: list[float] = []
         if to_mp4:
@@ -238,7 +196,7 @@ def register(app: typer.Typer) -> None:
                 for first in range(0, frames, CHUNK):
                     count = min(CHUNK, frames - first)
                     jds = jd0 + (first + np.arange(count)) * step_s / 86400.0
-                    for state in SkyState.series(observer, jds):
+                    for state in state_series(observer, jds):
                         t_start = time.perf_counter()
                         show_night_sky(graph, state)
                         cam = camera_for(state)
@@ -247,11 +205,11 @@ def register(app: typer.Typer) -> None:
                             meter = graph.exposure_pass()
                             meter.measure(tex)
                             eye.update(meter.read(), step_s)
-                            scale = eye.exposure_scale(compensation)
+                            scale = eye.exposure_scale(flags.compensation)
                         else:
                             scale = fixed
                         if to_mp4 or not writer.hdr:
-                            image = gpu_tonemap(tex, tonemap, scale, ctx=graph.ctx)
+                            image = gpu_tonemap(tex, flags.tonemap, scale, ctx=graph.ctx)
                         else:
                             tw, th = tex.size
                             data = np.empty((th, tw, 4), np.float32)

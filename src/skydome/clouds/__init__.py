@@ -6,6 +6,8 @@ The float64 references they are checked against live in :mod:`skydome.reference.
 (Monte Carlo) and :mod:`skydome.reference.cloud_slab` (the light model's twin).
 """
 
+from skydome.clouds.layer import CloudLayer
 from skydome.clouds.params import PRESETS, Clouds
+from skydome.clouds.weather import AnimatedWeather, WeatherMap
 
-__all__ = ["PRESETS", "Clouds"]
+__all__ = ["PRESETS", "AnimatedWeather", "CloudLayer", "Clouds", "WeatherMap"]

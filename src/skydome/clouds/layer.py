@@ -16,8 +16,14 @@ import math
 import numpy as np
 
 from skydome.clouds.params import CIRRUS_EXTINCTION_PER_M, Clouds
+from skydome.core.cameras import PerspectiveCamera
+from skydome.core.layer import DrawContext, Layer, LayerHost
+from skydome.core.services import AirLights, AirService, VolumeInputs
 from skydome.errors import ParameterError
-from skydome.scene.layer import DrawContext, Layer
+from skydome.gpu import FullscreenPass
+from skydome.gpu.textures import linear_clamped, release_unbound
+from skydome.physics.constants import J2000_JD
+from skydome.physics.geometry import elevation_deg
 
 #: Ray-march settings per quality: ``march`` = (the view step as a fraction of the
 #: distance, most samples per shell, shortest step km); ``light_km`` = lengths (km) of the
@@ -45,8 +51,6 @@ SHAFT_SCALE = 4
 SHAFT_KM = 12.0
 #: Still frames the interactive mode accumulates before a window may keep its image.
 SETTLE_FRAMES = 16
-#: Julian Date (UTC) of J2000, the clouds' time origin.
-J2000_JD = 2451545.0
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
 MOON_KEY_BELOW_DEG = -8.0
 
@@ -96,25 +100,25 @@ class CloudLayer(Layer):
         self._settled = 0  # still frames blended into the interactive history
         self._history_key = self._history_camera = self._history_time = None
         self._state = None
+        self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
         #: function of the time (0 in the abstract mode, which has none).
         self.time_s = 0.0
 
     # ------------------------------------------------------------------ stages
 
-    def _atmosphere(self):
-        if self.graph is None:
+    def _air(self) -> AirService:
+        """The atmosphere's service (its tables and lights)."""
+        if self.air is None:
             raise ParameterError("the cloud layer is not in a frame graph yet")
-        try:
-            return self.graph["atmosphere"]
-        except (KeyError, ParameterError):
-            raise ParameterError("clouds need an atmosphere layer in the same sky") from None
+        return self.air
 
-    def prepare(self, graph) -> None:
-        super().prepare(graph)
-        atmosphere = self._atmosphere()
-        params = atmosphere.params
-        self.clouds.check_atmosphere(params.top_radius_m - params.bottom_radius_m)
+    def prepare(self, host: LayerHost) -> None:
+        super().prepare(host)
+        if host.find_service(AirService) is None:
+            raise ParameterError("clouds need an atmosphere layer in the same sky")
+        self.air = host.service(AirService)
+        self.clouds.check_atmosphere(self.air.top_radius_m - self.air.bottom_radius_m)
 
     def _noise_and_weather(self) -> None:
         """The noise textures and the animated weather map (on first use)."""
@@ -133,9 +137,9 @@ class CloudLayer(Layer):
 
     def update(self, state) -> None:
         self._state = state
-        params = self._atmosphere().params
-        self.clouds.check_atmosphere(params.top_radius_m - params.bottom_radius_m - self.ground_m)
-        jd = _julian_day(state)
+        air = self._air()
+        self.clouds.check_atmosphere(air.top_radius_m - air.bottom_radius_m - self.ground_m)
+        jd = state.julian_day_utc
         self.time_s = 0.0 if jd is None else (jd - J2000_JD) * 86400.0
 
     # ------------------------------------------------------------------ uniforms
@@ -144,8 +148,7 @@ class CloudLayer(Layer):
     def ground_m(self) -> float:
         """Height (m) of the place's ground above the atmosphere's: the clouds' base and
         top, and the shadow query's points, are above it (0 in the abstract mode)."""
-        observer = getattr(self._state, "observer", None)
-        return 0.0 if observer is None else max(float(observer.elevation_m), 0.0)
+        return 0.0 if self._state is None else self._state.ground_m
 
     def _shell_radii_km(self, bottom_km: float) -> tuple[float, float, float, float]:
         """Radii (km) of the main layer's bottom and top and of the cirrus sheet's (an empty
@@ -156,45 +159,40 @@ class CloudLayer(Layer):
         return (ground_km + c.base_m / 1e3, ground_km + top / 1e3,
                 ground_km + c.cirrus_base_m / 1e3, ground_km + cirrus_top / 1e3)  # fmt: skip
 
-    def key_light(self, lights: dict) -> tuple[tuple, tuple]:
+    def key_light(self, lights: AirLights) -> tuple[tuple, tuple]:
         """(direction, per-channel scale relative to the tables' Sun) of the light that lights
         the clouds: the Sun, or the Moon when the Sun is below MOON_KEY_BELOW_DEG and the
         Moon is up."""
-        sun = tuple(float(v) for v in lights["sun_direction"])
-        moon = lights.get("light2_direction")
-        sun_el = math.degrees(math.asin(max(-1.0, min(1.0, sun[2]))))
-        if moon is not None and sun_el < MOON_KEY_BELOW_DEG and moon[2] > -0.05:
-            scale = np.broadcast_to(np.asarray(lights["light2_scale"], dtype=np.float64), (4,))
-            return tuple(float(v) for v in moon), tuple(float(s) for s in scale)
-        return sun, (float(lights["sun_scale"]),) * 4
+        sun = tuple(float(v) for v in lights.sun_direction)
+        moon = lights.moon_direction
+        if moon is not None and elevation_deg(sun) < MOON_KEY_BELOW_DEG and moon[2] > -0.05:
+            return tuple(float(v) for v in moon), tuple(float(s) for s in lights.moon_scale)
+        return sun, (float(lights.sun_scale),) * 4
 
     def uniforms(self, frame: DrawContext) -> dict:
         """Every uniform of the two passes for this frame."""
-        from skydome.render.base import camera_position_km
-
-        atmosphere = self._atmosphere()
-        params = atmosphere.params
-        lights = atmosphere.lights
-        solar = params.solar_scale
+        air = self._air()
+        lights = air.lights()
+        lookup = air.lookup()
+        solar = air.solar_scale
         c = self.clouds
-        bottom_km = params.bottom_radius_m / 1e3
+        bottom_km = air.bottom_radius_m / 1e3
         key_dir, key_scale = self.key_light(lights)
         q = QUALITY[self.quality]
         g = float(self.phase.asymmetry)
         f = float(self.phase.second_moment)
-        moon = lights.get("light2_direction")
-        light2 = np.broadcast_to(np.asarray(lights.get("light2_scale", 0.0), dtype=float), (4,))
+        moon = lights.moon_direction
+        light2 = lights.moon_scale
         # How far the wind has carried the noise, reduced (in float64) modulo a length over
         # which every noise it moves repeats: float32 keeps its metres.
         period = self._offset_period_km()
         offset_km = tuple(float(v) * self.time_s / 1e3 % period for v in c.wind_m_s) + (0.0,)
-        albedo = float(np.mean(atmosphere.renderer.uniforms["u_ground_albedo"]))
         return {
-            **atmosphere.renderer.uniforms,
+            **lookup.uniforms,
             **frame.uniforms,
-            "u_camera_position": camera_position_km(params, frame.altitude_m),
-            "u_sun_direction": tuple(float(v) for v in lights["sun_direction"]),
-            "u_sun_scale": float(lights["sun_scale"]) * solar,
+            "u_camera_position": air.camera_position_km(frame.altitude_m),
+            "u_sun_direction": tuple(float(v) for v in lights.sun_direction),
+            "u_sun_scale": float(lights.sun_scale) * solar,
             "u_light2_direction": tuple(moon) if moon is not None else (0.0, 0.0, 1.0),
             "u_light2_scale": tuple(float(s) * solar for s in light2),
             "u_light_direction": key_dir,
@@ -212,31 +210,17 @@ class CloudLayer(Layer):
             "u_cloud_moments": (g, f, (g - f) / (1.0 - f)),
             "u_march": q["march"],
             "u_light_march_km": q["light_km"],
-            "u_cloud_albedo_below": albedo,
+            "u_cloud_albedo_below": air.ground_albedo(),
             "u_frame_jitter": 0.0,
             "u_ms_norm_g": [float(g) for g in _ms_table().norm_g],
         }
 
     def _aerial(self, uniforms: dict) -> tuple[dict, dict] | None:
         """(uniforms, textures) of the atmosphere's aerial-perspective tables for the air's
-        lights seen from this camera (render/sky_view.py), or None where there are none (a
-        camera above the atmosphere: the march looks the 4D tables up instead)."""
-        renderer = self._atmosphere().renderer
-        radius_km = float(uniforms["u_camera_position"][2])
-        if renderer.sky_view is None or radius_km >= renderer.params.top_radius_m / 1e3:
-            return None
-        views = renderer.sky_view
-        textures = views.aerial_textures(
-            "sun", radius_km, uniforms["u_sun_direction"], renderer.uniforms, renderer.textures
-        )
-        if any(s > 0 for s in uniforms["u_light2_scale"]):
-            textures.update(
-                views.aerial_textures(
-                    "light2", radius_km, uniforms["u_light2_direction"], renderer.uniforms,
-                    renderer.textures,
-                )
-            )  # fmt: skip
-        return views.uniforms(radius_km), textures
+        lights seen from this camera, or None where there are none (a camera above the
+        atmosphere: the march looks the 4D tables up instead)."""
+        air = self._air()
+        return air.aerial_perspective(float(uniforms["u_camera_position"][2]), air.lights())
 
     def _offset_period_km(self) -> float:
         """The least common multiple (km, to the metre) of the repeat lengths of what the wind
@@ -251,17 +235,16 @@ class CloudLayer(Layer):
         return lcm(*(int(f * denominator) for f in lengths)) / denominator
 
     def defines(self, frame: DrawContext, extra: tuple[str, ...] = ()) -> dict:
-        atmosphere = self._atmosphere()
-        lights = atmosphere.lights
+        air = self._air()
         light, every = QUALITY[self.quality]["steps"]
         d = {
-            **atmosphere.renderer.tables.defines(),
+            **air.lookup().defines,
             "CLOUD_LOBES": len(self.phase.g),
             "LIGHT_STEPS": light,
             "LIGHT_EVERY": every,
             "COARSE": float(QUALITY[self.quality]["coarse"]),
         }
-        if np.any(np.asarray(lights.get("light2_scale", 0.0), dtype=float) > 0):
+        if air.lights().has_moon:
             d["HAS_LIGHT2"] = 1
         for name in extra:
             d[name] = 1
@@ -272,8 +255,6 @@ class CloudLayer(Layer):
         x = 12 blocks (the scattered direction's cosine) of 24 depths, y = the optical
         thickness, z = the light's cosine; RGB = the azimuth Fourier coefficients."""
         if self._ms_texture is None:
-            from skydome.gpu.textures import linear_clamped
-
             j = np.asarray(_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
             nt, nm0, nd, nmu, _ = j.shape
             texels = np.zeros((nm0, nt, nmu * nd, 4), dtype=np.float32)
@@ -284,8 +265,7 @@ class CloudLayer(Layer):
         return self._ms_texture
 
     def textures(self, noise: bool = True) -> dict:
-        atmosphere = self._atmosphere()
-        t = dict(atmosphere.renderer.textures)
+        t = dict(self._air().lookup().textures)
         t["u_cloud_ms_table"] = self._ms_table_texture()
         if noise:
             self._noise_and_weather()
@@ -375,9 +355,6 @@ class CloudLayer(Layer):
         place's ground (the tangent plane: within tens of km the curvature is negligible
         here), at this layer's last time. Returns (...) in [0, 1]: 1 in full light, 0 in a
         cloud's full shadow (a shadow map for compositing a scene under the clouds)."""
-        from skydome.gpu import FullscreenPass
-        from skydome.gpu.textures import release_unbound
-
         p = np.asarray(points_m, dtype=np.float64)
         if p.shape[-1:] != (3,) or not np.all(np.isfinite(p)):
             raise ParameterError("points_m must be finite (..., 3) east, north, up in metres")
@@ -387,7 +364,7 @@ class CloudLayer(Layer):
             return np.ones(p.shape[:-1])
         flat = p.reshape(-1, 3)
         n = flat.shape[0]
-        bottom_km = self._atmosphere().params.bottom_radius_m / 1e3
+        bottom_km = self._air().bottom_radius_m / 1e3
         up_km = bottom_km + (self.ground_m + flat[:, 2]) / 1e3
         km = np.column_stack([flat[:, 0] / 1e3, flat[:, 1] / 1e3, up_km])
         width = min(n, 4096)
@@ -401,7 +378,7 @@ class CloudLayer(Layer):
         try:
             key = ("query",)
             if key not in self._passes:
-                d = {**self._atmosphere().renderer.tables.defines()}
+                d = dict(self._air().lookup().defines)
                 self._passes[key] = FullscreenPass(ctx, "clouds/cloud_shadow_query.glsl", d)
             frame = DrawContext(ctx, None, (width, height), (0, 0, width, height), None, {}, {},
                                 0.0, self.graph.basis)  # fmt: skip
@@ -416,8 +393,6 @@ class CloudLayer(Layer):
 
     def _query_uniforms(self, frame: DrawContext) -> dict:
         """The march's uniforms without a camera (the shadow query)."""
-        from skydome.render.cameras import PerspectiveCamera
-
         camera = PerspectiveCamera()
         w, h = frame.frame_size
         frame.camera = camera
@@ -470,16 +445,16 @@ class CloudLayer(Layer):
             frame.altitude_m, frame.basis,
         )  # fmt: skip
 
-    def inputs(self, frame: DrawContext) -> dict:
+    def inputs(self, frame: DrawContext) -> VolumeInputs | None:
         """The light shafts: the shadow length (km) of each pixel's air in the clouds' shadow
         (clouds/cloud_shafts.glsl at 1/SHAFT_SCALE of the resolution, upsampled), for the
         atmosphere's HAS_SHADOW_MAP input; none without a sunlit cloud layer."""
         if not self.shafts or self.clouds.empty:
-            return {}
+            return None
         uniforms = self.uniforms(frame)
         sun = uniforms["u_sun_direction"]
         if math.degrees(math.asin(max(-1.0, min(1.0, sun[2])))) < -2.0:
-            return {}
+            return None
         x0, y0, tw, th = frame.tile
         w, h = frame.frame_size
         lw, lh = max(1, math.ceil(tw / SHAFT_SCALE)), max(1, math.ceil(th / SHAFT_SCALE))
@@ -499,7 +474,7 @@ class CloudLayer(Layer):
         up = self.full_screen_pass(ctx, "clouds/upsample.glsl", frame.camera)
         full[1].viewport = (0, 0, tw, th)
         up.draw(full[1], {"u_scale": (lw / tw, lh / th)}, {"u_source": small[0]})
-        return {"u_shadow_map": full[0]}
+        return VolumeInputs(shadow_map=full[0])
 
     def _shaft_targets(self, lw: int, lh: int, tw: int, th: int):
         key = ("shafts", lw, lh, tw, th)
@@ -583,8 +558,6 @@ class CloudLayer(Layer):
         return self._targets[key]
 
     def _copy_behind(self, frame: DrawContext) -> None:
-        from skydome.gpu import FullscreenPass
-
         key = ("copy",)
         if key not in self._passes:
             self._passes[key] = FullscreenPass(frame.ctx, "scene/copy_behind.glsl")
@@ -645,10 +618,3 @@ def _ms_table():
     from skydome.clouds.ms_table import load_ms_table
 
     return load_ms_table()
-
-
-def _julian_day(state) -> float | None:
-    t = getattr(state, "time", None)
-    if t is None:
-        return None
-    return float(np.ravel(t.jd_utc)[0]) if hasattr(t, "jd_utc") else None

@@ -32,9 +32,9 @@ from importlib import resources
 import numpy as np
 from numpy.typing import ArrayLike
 
-from skydome.atmosphere.phase import henyey_greenstein
 from skydome.clouds.phase import RENDER_PHASE
 from skydome.errors import SkydomeError
+from skydome.physics.phase import henyey_greenstein
 
 __all__ = ["MS_TABLE_FILE", "MSTable", "load_ms_table", "ms_source", "table_axes"]
 

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import moderngl
 import numpy as np
 
-from skydome.atmosphere.cache import cache_key, code_digest, load_or_build
+from skydome.core.cache import cache_key, code_digest, load_or_build
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.shaders import expand

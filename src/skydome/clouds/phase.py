@@ -25,9 +25,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from skydome.atmosphere.phase import MAX_LOBES, henyey_greenstein
 from skydome.errors import ParameterError
 from skydome.io.packaged import read_packaged_csv
+from skydome.physics.phase import MAX_LOBES, henyey_greenstein
 
 __all__ = [
     "CLOUD_PHASE",

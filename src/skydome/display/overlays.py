@@ -46,10 +46,9 @@ from importlib import resources
 import numpy as np
 
 from skydome.astro import frames
+from skydome.core.cameras import Camera, CubemapCamera
 from skydome.errors import ParameterError, check_range
 from skydome.gpu.passes import set_uniforms
-from skydome.render.cameras import Camera, CubemapCamera
-from skydome.render.projection import has_projection
 
 __all__ = [
     "OVERLAYS",
@@ -703,7 +702,7 @@ class Overlays:
         alpha blended (premultiplied), antialiased. Pixels no overlay touches keep their
         value bit for bit; so does the target's alpha channel. Nothing for a camera without
         a forward mapping (DirectionsCamera)."""
-        if not self.kinds or not has_projection(camera):
+        if not self.kinds or not camera.has_projection:
             return
         import moderngl
 
@@ -821,27 +820,25 @@ class Overlays:
     @staticmethod
     def _above_horizon(camera, box, w: int, h: int) -> bool:
         """True where the corners of a label's box (frame px) all see the sky above the
-        horizon (render.projection.pixel_directions): a label never hangs below it."""
-        from skydome.render.projection import pixel_directions
+        horizon (the camera's directions): a label never hangs below it."""
 
         x0, y0, x1, y1 = box
-        d, ok = pixel_directions(camera, [x0, x1, x0, x1], [y0, y0, y1, y1], w, h)
+        d, ok = camera.directions([x0, x1, x0, x1], [y0, y0, y1, y1], w, h)
         return bool(np.all(ok) and np.all(d[:, 2] >= 0.0))
 
     def _placed_labels(self, camera, w: int, h: int) -> list:
         """The labels to draw: those the camera sees, in order of priority (the horizon's
         marks, the planets and the Moon, the stars, the constellations by rank), each left
         out where its box would overlap one already placed. Boxes as the vertex shader
-        places them (render.projection, the float64 twin of its projection)."""
-        from skydome.render.projection import project
+        places them (the camera's project, the float64 twin of its projection)."""
 
         labels = sorted(self._labels, key=lambda lab: lab.priority)
         if not labels:
             return []
         anchors = np.array([lab.anchor for lab in labels])
         ups = np.array([lab.up for lab in labels])
-        x, y, seen = project(camera, anchors, w, h)
-        xu, yu, _ = project(camera, ups, w, h)
+        x, y, seen = camera.project(anchors, w, h)
+        xu, yu, _ = camera.project(ups, w, h)
         placed: list = []
         boxes: list = []
         for i, lab in enumerate(labels):

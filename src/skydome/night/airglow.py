@@ -23,8 +23,8 @@ from skydome.astro.photometry import (  # noqa: F401 (the night sky's units, re-
     s10_to_mag,
 )
 from skydome.errors import ParameterError, check_range
-from skydome.scene.state import EARTH_MEAN_RADIUS_M as EARTH_RADIUS_M
-from skydome.scene.state import horizon_dip_sin
+from skydome.physics.constants import EARTH_MEAN_RADIUS_M as EARTH_RADIUS_M
+from skydome.physics.refraction import horizon_dip_sin
 
 # ---------------------------------------------------------------------- geometry
 

@@ -19,19 +19,20 @@ import math
 
 import numpy as np
 
+from skydome.core.basis import SpectralBasis
+from skydome.core.layer import DrawContext, Layer
+from skydome.core.refraction_table import RefractionTable
 from skydome.night import airglow as ag
 from skydome.night import light_pollution as lp
 from skydome.night import zodiacal as zl
-from skydome.render.refraction import RefractionTable
-from skydome.scene.layer import DrawContext, Layer, SpectralBasis
-from skydome.scene.state import SkyState, refraction_scale
+from skydome.physics.refraction import horizon_dip_sin
+from skydome.scene.state import SkyState
 
 
 def _solar_luminance(basis: SpectralBasis) -> float:
     """Photopic luminance (cd/m^2) of transfer values of 1 at every wavelength (the tabulated
     solar spectrum), in the basis's own RGBS conversion."""
-    from skydome.atmosphere.precompute import conversion_matrix
-    from skydome.spectra import SRGB_LUMINANCE
+    from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
 
     wl = basis.wavelengths_nm
     return float(SRGB_LUMINANCE @ (conversion_matrix(wl, "rgbs") @ np.ones(len(wl)))[:3])
@@ -123,7 +124,7 @@ class AirglowLayer(Layer):
         uniforms = {
             "u_airglow_zenith": _vec4(self.zenith_luminance() * self.colour(frame.basis)),
             "u_radius_ratio_sq": (r_obs / r_layer) ** 2,
-            "u_dip_sin": ag.horizon_dip_sin(frame.altitude_m),
+            "u_dip_sin": horizon_dip_sin(frame.altitude_m),
         }
         fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
         fpass.draw(frame.fbo, {**uniforms, **frame.uniforms}, frame.textures)
@@ -181,7 +182,7 @@ class ZodiacalLightLayer(Layer):
         if key != self._key:
             self._matrix = zl.helioecliptic_matrix(obs, t)
             self._key = key
-        self._refraction = refraction_scale(state)
+        self._refraction = state.refraction_scale
 
     def draw(self, frame: DrawContext) -> None:
         if self._matrix is None:
@@ -258,7 +259,7 @@ class LightPollutionLayer(Layer):
             "u_lp_zenith": _vec4(zenith * colour),
             "u_lp_colour": _vec4(colour),
             "u_tau": m.extinction_mag / (2.5 * math.log10(math.e)),
-            "u_dip_sin": ag.horizon_dip_sin(frame.altitude_m),
+            "u_dip_sin": horizon_dip_sin(frame.altitude_m),
             "u_num_cities": n,
             "u_city": cities.ravel().tolist(),
             "u_kappa": lp.CITY_AZIMUTH_KAPPA,

@@ -259,7 +259,7 @@ class LightPollution:
     def luminance(self, directions_enu, observer_height_m: float = 0.0) -> np.ndarray:
         """Artificial luminance (cd/m^2) seen in unit ENU ``directions_enu`` (..., 3); 0 where
         the ray meets the ground."""
-        from skydome.night.airglow import horizon_dip_sin
+        from skydome.physics.refraction import horizon_dip_sin
 
         d = np.asarray(directions_enu, dtype=np.float64)
         z = np.arccos(np.clip(d[..., 2], -1.0, 1.0))

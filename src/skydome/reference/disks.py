@@ -26,8 +26,8 @@ import numpy as np
 
 from skydome.astro import frames
 from skydome.celestial.moon_albedo import albedo_at
+from skydome.core.cameras import PerspectiveCamera
 from skydome.errors import ParameterError
-from skydome.render.cameras import PerspectiveCamera
 
 
 def _check_size(width: int, height: int) -> None:

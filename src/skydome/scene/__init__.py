@@ -1,26 +1,24 @@
-"""The scene: a Sky is a place, a time and layers drawn by one frame graph.
+"""The scene: the lights of an instant and the frame graph that draws a sky's layers.
 
-- :class:`~skydome.scene.sky.Sky`: the front door (also ``skydome.Sky``);
-- :class:`~skydome.scene.state.SkyState`: the lights for one instant;
-- :class:`~skydome.scene.layer.Layer`: what every layer implements;
-- :class:`~skydome.scene.graph.FrameGraph`: draws the layers in physical order.
+- :mod:`~skydome.scene.state`: :func:`state_at`, :func:`state_series` and
+  :func:`abstract_state` make a :class:`~skydome.core.lights.SkyState`;
+- :class:`~skydome.scene.graph.FrameGraph`: draws the layers in physical order, then the
+  post passes; it knows layers only through ``skydome.core.layer.Layer``.
 
-See ``docs/architecture.md``.
+The front door over both is :class:`skydome.Sky`. See ``docs/architecture.md``.
 """
 
-from skydome.scene.graph import FrameGraph
-from skydome.scene.layer import DrawContext, Layer, SpectralBasis
-from skydome.scene.sky import LOOKS, Sky
-from skydome.scene.state import Light, MoonView, SkyState
+from skydome.core.lights import Light, MoonView, SkyState
+from skydome.scene.graph import FrameGraph, TileInputs
+from skydome.scene.state import abstract_state, state_at, state_series
 
 __all__ = [
-    "LOOKS",
-    "DrawContext",
     "FrameGraph",
-    "Layer",
     "Light",
     "MoonView",
-    "Sky",
     "SkyState",
-    "SpectralBasis",
+    "TileInputs",
+    "abstract_state",
+    "state_at",
+    "state_series",
 ]

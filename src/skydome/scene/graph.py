@@ -24,21 +24,42 @@ from __future__ import annotations
 import contextlib
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
-from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
-from skydome.errors import ParameterError
-from skydome.render.base import TILE_SIZE, frame_tiles, input_texture
-from skydome.render.cameras import (
+from skydome.core.basis import SpectralBasis
+from skydome.core.cameras import (
     Camera,
     DirectionsCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
+    effective_altitude_m,
 )
-from skydome.render.frame import Frame
-from skydome.scene.layer import STAGES, DrawContext, Layer, SpectralBasis
+from skydome.core.frame import Frame
+from skydome.core.layer import STAGES, DrawContext, Layer
+from skydome.core.services import VolumeInputs
+from skydome.core.tiles import TILE_SIZE, frame_tiles, input_image, input_texture
+from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
+from skydome.errors import ParameterError
+from skydome.gpu import FullscreenPass, shared_context
+from skydome.physics.constants import M_PER_KM
+
+
+@dataclass
+class TileInputs:
+    """Per-pixel inputs of one tile, as textures of the tile's size (GL rows): the view
+    directions of a DirectionsCamera, a user's scene distances (km) and a user's shadow
+    lengths (km)."""
+
+    direction_map: object = None
+    depth_map: object = None
+    shadow_map: object = None
+
+    def textures(self) -> list:
+        return [t for t in (self.direction_map, self.depth_map, self.shadow_map) if t is not None]
+
 
 #: The largest reduction of the smooth space layers' resolution (per axis).
 MAX_SMOOTH_FACTOR = 4
@@ -52,9 +73,7 @@ def smooth_factor(camera: Camera, frame_size: tuple[int, int], smooth_deg: float
     and direction maps."""
     if not isinstance(camera, (PerspectiveCamera, FisheyeCamera, EquirectCamera)):
         return 1
-    from skydome.render.projection import centre_pixel_angle
-
-    pixel_deg = math.degrees(centre_pixel_angle(camera, *frame_size))
+    pixel_deg = math.degrees(camera.pixel_angle(*frame_size))
     return int(min(max(math.floor(smooth_deg / pixel_deg), 1), MAX_SMOOTH_FACTOR))
 
 
@@ -67,8 +86,11 @@ class FrameGraph:
         ctx: a moderngl context (default: the shared headless one).
         basis: the output channels (default: the atmosphere layer's, else RGBS at the 16
             accurate wavelengths).
-        solar_scale: the Sun's irradiance relative to the tabulated spectrum (1 for the
-            Earth; the atmosphere's ``params.solar_scale``).
+        solar_scale: the Sun's irradiance relative to the tabulated spectrum (default: the
+            air's, ``AirService.solar_scale``, else 1).
+
+    A graph is what its layers' ``prepare`` get (``skydome.core.layer.LayerHost``): the
+    context, the spectral basis, and the services the layers offer one another.
     """
 
     def __init__(
@@ -77,10 +99,8 @@ class FrameGraph:
         *,
         ctx=None,
         basis: SpectralBasis | None = None,
-        solar_scale: float = 1.0,
+        solar_scale: float | None = None,
     ):
-        from skydome.gpu import shared_context
-
         self.ctx = ctx or shared_context()
         names = [layer.name for layer in layers]
         if len(set(names)) != len(names):
@@ -89,7 +109,7 @@ class FrameGraph:
             if layer.stage not in STAGES:
                 raise ParameterError(f"layer {layer.name!r} has unknown stage {layer.stage!r}")
         self.layers = list(layers)
-        self.solar_scale = float(solar_scale)
+        self.solar_scale = 1.0 if solar_scale is None else float(solar_scale)
         self._targets: dict[tuple[int, int], tuple] = {}
         self._staging: dict[tuple[int, int], np.ndarray] = {}
         self._post = None
@@ -110,9 +130,15 @@ class FrameGraph:
         #: still holds that frame while the count has not moved.
         self.generation = 0
         self.basis = basis
+        self._released = False
         for layer in self.layers:  # a volume layer may bring the spectral basis (its tables)
             layer.prepare(self)
         self.basis = basis or self._default_basis()
+        if solar_scale is None:
+            from skydome.core.services import AirService
+
+            air = self.find_service(AirService)
+            self.solar_scale = 1.0 if air is None else float(air.solar_scale)
 
     def _default_basis(self) -> SpectralBasis:
         for layer in self.layers:
@@ -122,6 +148,25 @@ class FrameGraph:
         from skydome.spectra.grids import wavelengths
 
         return SpectralBasis.for_wavelengths(wavelengths("accurate"))
+
+    def find_service(self, kind: type):
+        """The first service of type ``kind`` a layer of this graph offers, or None."""
+        for layer in self.layers:
+            for service in layer.services():
+                if isinstance(service, kind):
+                    return service
+        return None
+
+    def service(self, kind: type):
+        """The service of type ``kind`` a layer of this graph offers; a ParameterError
+        naming it when none does (e.g. clouds without an atmosphere)."""
+        found = self.find_service(kind)
+        if found is None:
+            raise ParameterError(
+                f"no layer of this sky offers {kind.__name__} (its layers: "
+                f"{', '.join(la.name for la in self.layers)})"
+            )
+        return found
 
     def __getitem__(self, name: str) -> Layer:
         for layer in self.layers:
@@ -178,20 +223,24 @@ class FrameGraph:
         frame_size: tuple[int, int],
         tile: tuple[int, int, int, int],
         altitude_m: float,
-        textures: dict | None = None,
+        inputs: TileInputs | None = None,
     ):
-        """Draw every enabled layer into one tile; returns the texture holding it (GL rows)."""
+        """Draw every enabled layer into one tile; returns the texture holding it (GL rows).
+        ``inputs``: the tile's per-pixel inputs (textures of this tile's size)."""
+        inputs = inputs or TileInputs()
         x0, y0, tw, th = tile
         self.generation += 1
         texs, fbos, _ = self._target(tw, th)
         uniforms = {**camera.uniforms(*frame_size), "u_tile_offset": (float(x0), float(y0))}
+        textures = {} if inputs.direction_map is None else {"u_direction_map": inputs.direction_map}
         ctx = self.ctx
 
-        def context(fbo, behind=None) -> DrawContext:
-            fbo.viewport = (0, 0, tw, th)
+        def context(i: int, behind=None, volume: VolumeInputs | None = None) -> DrawContext:
+            fbos[i].viewport = (0, 0, tw, th)
             return DrawContext(
-                ctx, camera, frame_size, tile, fbo, uniforms, dict(textures or {}),
-                altitude_m, self.basis, behind,
+                ctx, camera, frame_size, tile, fbos[i], uniforms, dict(textures), altitude_m,
+                self.basis, behind, volume_inputs=volume, target=texs[i],
+                depth_map=inputs.depth_map,
             )  # fmt: skip
 
         current = 0
@@ -212,7 +261,7 @@ class FrameGraph:
             for layer in space:
                 if layer not in smooth_layers:
                     with self._section(layer.name):
-                        layer.draw(context(fbos[current]))
+                        layer.draw(context(current))
             smooth = self._draw_smooth(smooth_layers, f, camera, frame_size, tile, altitude_m)
             volume = self.active("volume")
             if smooth is not None and not (volume and volume[0].merges_smooth):
@@ -221,17 +270,18 @@ class FrameGraph:
         finally:
             ctx.disable(ctx.BLEND)
             ctx.blend_func = ctx.ONE, ctx.ZERO
-        # What the volume layers give one another for this tile (e.g. light shafts).
-        provided: dict = {}
+        # What the volume layers give one another for this tile (e.g. light shafts), over a
+        # user's own shadow lengths.
+        given = VolumeInputs(shadow_map=inputs.shadow_map)
         for layer in volume:
-            provided.update(layer.inputs(context(fbos[current])))
-        if provided:
-            textures = {**(textures or {}), **provided}
+            offered = layer.inputs(context(current))
+            if offered is not None:
+                given = given.merge(offered)
         for i, layer in enumerate(volume):
             # A volume layer writes every pixel of its target (its light and what it lets
             # through from behind): no clear.
             nxt = 1 - current
-            frame = context(fbos[nxt], behind=texs[current])
+            frame = context(nxt, behind=texs[current], volume=given)
             if i == 0 and smooth is not None:
                 frame.behind_smooth, frame.smooth_map = smooth
             with self._section(layer.name):
@@ -276,8 +326,6 @@ class FrameGraph:
 
     def _add_smooth(self, fbo, size, texture, smooth_map) -> None:
         """Add the reduced smooth light to ``fbo`` (blending ONE, ONE is on)."""
-        from skydome.gpu import FullscreenPass
-
         if self._smooth_pass is None:
             self._smooth_pass = FullscreenPass(self.ctx, "scene/add_smooth.glsl")
         fbo.viewport = (0, 0, *size)
@@ -307,44 +355,72 @@ class FrameGraph:
         exposure: str | float | None = None,
         compensation_ev: float = 0.0,
         tonemap: str | None = None,
+        depth_m=None,
+        shadow_length_m=None,
     ) -> Frame:
         """Draw a whole frame and read it back: a Frame in cd/m^2.
 
         ``exposure``: None (no exposure chosen), ``"auto"`` (the GPU log-average, key 0.18)
         or an exposure scale (m^2/cd); with ``tonemap`` (an operator name) the frame also
         carries ``frame.image``, the uint8 sRGB image tone-mapped on the GPU.
+        ``depth_m``: an (H, W) image of distances (m) to a user's scene along each ray
+        (<= 0 or +inf where there is none): the frame holds the light scattered in front of
+        it, and ``frame.info["transmittance"]`` the (H, W, 3) RGB transmittance to it
+        (composite = scene * transmittance + frame). ``shadow_length_m``: an (H, W) image of
+        the length (m) of each ray, from the camera, in an occluder's shadow (light shafts;
+        +inf: in shadow all along).
         """
         w, h = camera.frame_size(width, height)
-        t0 = time.perf_counter()
-        self.update(state)
+        used_altitude_m = effective_altitude_m(altitude_m)
         inputs = {}
         if isinstance(camera, DirectionsCamera):
-            inputs["u_direction_map"] = camera.directions.astype(np.float32)
+            inputs["direction_map"] = camera.view_directions.astype(np.float32)
+        if depth_m is not None:
+            inputs["depth_map"] = input_image("depth_m", depth_m, (w, h), 1 / M_PER_KM)
+        if shadow_length_m is not None:
+            # +inf: the whole ray is in shadow (1e30 km is past the end of any ray).
+            inputs["shadow_map"] = input_image(
+                "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM, posinf=1e30
+            )
+        t0 = time.perf_counter()
+        self.update(state)
         tile_side = min(TILE_SIZE, max(w, h))
         data = np.empty((h, w, 4), np.float32)
+        outputs: dict[str, np.ndarray] = {}
         last = None
         tiles = list(frame_tiles(w, h, tile_side))
         for x0, y0, tw, th in tiles:
             rows = slice(h - y0 - th, h - y0)  # the tile's rows in the top-first frame
-            owned = {
-                name: input_texture(self.ctx, image[rows, x0 : x0 + tw])
-                for name, image in inputs.items()
-            }
+            tile_inputs = TileInputs(
+                **{
+                    name: input_texture(self.ctx, image[rows, x0 : x0 + tw])
+                    for name, image in inputs.items()
+                }
+            )
             try:
-                last = self.draw_tile(camera, (w, h), (x0, y0, tw, th), altitude_m, owned)
-                staging = self._staging.get((tw, th))  # kept: page faults cost more than reads
-                if staging is None:
-                    staging = self._staging[(tw, th)] = np.empty((th, tw, 4), np.float32)
-                last.read_into(staging, alignment=1)
-                data[rows, x0 : x0 + tw] = staging[::-1]
+                last = self.draw_tile(camera, (w, h), (x0, y0, tw, th), altitude_m, tile_inputs)
+                data[rows, x0 : x0 + tw] = self._read_tile(last, tw, th)
+                for layer in self.active("volume"):
+                    for name, tex in layer.outputs().items():
+                        out = outputs.setdefault(name, np.empty((h, w, 4), np.float32))
+                        out[rows, x0 : x0 + tw] = self._read_tile(tex, tw, th)
             finally:
-                for tex in owned.values():
+                for tex in tile_inputs.textures():
                     tex.release()
         render_ms = (time.perf_counter() - t0) * 1e3
-        info = {"render_ms": render_ms, "layers": [la.name for la in self.layers if la.enabled]}
+        info = {
+            "render_ms": render_ms,
+            "layers": [la.name for la in self.layers if la.enabled],
+            "camera": camera.name,
+            "altitude_m": used_altitude_m,
+        }
+        if used_altitude_m != float(altitude_m):  # raised to the lowest camera height
+            info["altitude_requested_m"] = float(altitude_m)
         for layer in self.layers:
             if layer.enabled:
                 info.update(layer.info())
+        if "transmittance" in outputs:
+            info["transmittance"] = outputs["transmittance"][..., :3]
         frame = Frame(data, info)
         scale = self._exposure_scale(
             exposure, compensation_ev, last if len(tiles) == 1 else None, data
@@ -365,6 +441,16 @@ class FrameGraph:
             if self.overlays:
                 info["overlays"] = list(self.overlays)
         return frame
+
+    def _read_tile(self, texture, tw: int, th: int) -> np.ndarray:
+        """A tile's float texture read back, row 0 at the top (through a staging array kept
+        per size: a fresh bytes object per read costs ~5x more above glibc's 32 MB mmap
+        threshold, and page faults cost more than reads)."""
+        staging = self._staging.get((tw, th))
+        if staging is None:
+            staging = self._staging[(tw, th)] = np.empty((th, tw, 4), np.float32)
+        texture.read_into(staging, alignment=1)
+        return staging[::-1]
 
     def _display_image(
         self, source, state, camera, size, tonemap: str, scale: float, measured: bool = False
@@ -503,7 +589,6 @@ class FrameGraph:
         if not self.night_vision:
             return texture
         from skydome.display.night_vision import NightVision
-        from skydome.render.projection import centre_pixel_angle
 
         if self._night_vision is None:
             self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
@@ -515,7 +600,7 @@ class FrameGraph:
         return self._night_vision.apply(
             texture,
             size,
-            pixel_angle_rad=centre_pixel_angle(camera, *size),
+            pixel_angle_rad=camera.pixel_angle(*size),
             adaptation=meter,
             time_s=time_s,
         )

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from skydome.errors import ParameterError
 from skydome.spectra.tables import (
     WAVELENGTH_MAX_NM,
     WAVELENGTH_MIN_NM,
@@ -89,13 +90,13 @@ def spectral_to_rgbs_matrix(wavelengths_nm, illuminant: str = "sun") -> np.ndarr
     """
     wl = np.sort(np.asarray(wavelengths_nm, dtype=np.float64))
     if not np.array_equal(wl, np.asarray(wavelengths_nm, dtype=np.float64)):
-        raise ValueError("wavelengths must be sorted in increasing order")
+        raise ParameterError("wavelengths must be sorted in increasing order")
     fine = np.arange(WAVELENGTH_MIN_NM, WAVELENGTH_MAX_NM + 0.5 * _FINE_STEP_NM, _FINE_STEP_NM)
     weights = _hat_weights(fine, wl)  # (F, N)
     if illuminant == "sun":
         weights = weights * solar_irradiance(fine)[:, None]
     elif illuminant != "none":
-        raise ValueError(f"illuminant must be 'sun' or 'none', got {illuminant!r}")
+        raise ParameterError(f"illuminant must be 'sun' or 'none', got {illuminant!r}")
     # Trapezoid rule on the 1 nm grid.
     dl = np.full(fine.shape, _FINE_STEP_NM)
     dl[0] = dl[-1] = 0.5 * _FINE_STEP_NM
@@ -103,3 +104,32 @@ def spectral_to_rgbs_matrix(wavelengths_nm, illuminant: str = "sun") -> np.ndarr
     rgb = XYZ_TO_LINEAR_SRGB @ xyz
     scot = SCOTOPIC_EFFICACY_LM_PER_W * (scotopic_efficiency(fine) * dl) @ weights  # (N,)
     return np.vstack([rgb, scot[None, :]])
+
+
+#: The output channels a spectral conversion can give: (R, G, B, scotopic) luminance, or the
+#: 4 wavelengths themselves (a debugging mode of the tables).
+OUTPUTS = ("rgbs", "spectral")
+
+
+def conversion_matrix(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
+    """(4, N) matrix from N transfer values (per unit solar irradiance) to output channels.
+
+    ``"rgbs"``: (R, G, B, scotopic) luminance in cd/m^2 for the tabulated solar spectrum
+    (:func:`spectral_to_rgbs_matrix`); ``"spectral"``: the identity (exactly 4 wavelengths).
+    """
+    wl = np.asarray(wavelengths_nm, dtype=np.float64)
+    if output == "spectral":
+        if len(wl) != 4:
+            raise ParameterError("spectral output needs exactly 4 wavelengths")
+        return np.eye(4)
+    if output != "rgbs":
+        raise ParameterError(f"output {output!r} must be one of {', '.join(OUTPUTS)}")
+    return spectral_to_rgbs_matrix(wl)
+
+
+def solar_luminance(wavelengths_nm) -> float:
+    """Photopic luminance (cd/m^2) of transfer values of 1 at every wavelength (the
+    tabulated solar spectrum at 1 au, 1 sr^-1), as the RGBS conversion of these wavelengths
+    sees it."""
+    rgbs = conversion_matrix(wavelengths_nm, "rgbs") @ np.ones(len(wavelengths_nm))
+    return float(SRGB_LUMINANCE @ rgbs[:3])

@@ -24,13 +24,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
+from skydome.core.cameras import MAX_ALTITUDE_M, EquirectCamera, FisheyeCamera, PerspectiveCamera
 from skydome.errors import ParameterError
-from skydome.render.base import MAX_ALTITUDE_M
-from skydome.render.cameras import (
-    EquirectCamera,
-    FisheyeCamera,
-    PerspectiveCamera,
-)
 
 #: Projections the viewer offers (the cube map's strip is not a view).
 PROJECTIONS = ("perspective", "fisheye", "equirect")

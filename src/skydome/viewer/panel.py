@@ -58,8 +58,6 @@ class Panel:
         self.rebuild = AtmosphereRebuild()
         self.knobs: Knobs | None = None
         self.config = None
-        self.night = True
-        self.light_pollution = None
         self.rects: dict[str, tuple[float, float, float, float]] = {}
         self.message = ""
         self.search_text = ""
@@ -68,13 +66,11 @@ class Panel:
         self._time_text_jd: float | None = None
         self._drawn = False
 
-    def configure(self, *, atmosphere, config=None, night: bool = True, light_pollution=None):
-        """The atmosphere shown (AtmosphereParams), its tables' config and the layers'
-        choices a rebuild keeps."""
-        self.knobs = Knobs.of(atmosphere)
-        self.config = config
-        self.night = bool(night)
-        self.light_pollution = light_pollution
+    def configure(self, description) -> None:
+        """The sky shown (a SkyDescription): its atmosphere's knobs and its tables' config,
+        which a rebuild keeps with the rest of the description."""
+        self.knobs = Knobs.of(description.atmosphere)
+        self.config = description.config
 
     # ------------------------------------------------------------------ input
 
@@ -400,9 +396,7 @@ class Panel:
             return
         params, config = done
         try:
-            sky = build_sky(
-                scene.base, params, config, night=self.night, light_pollution=self.light_pollution
-            )
+            sky = build_sky(scene.base, params, config)
         except Exception as exc:
             self.message = f"atmosphere: {exc}"
             return

@@ -2,7 +2,7 @@
 
 GL contexts belong to one thread, and a CPU rasterizer's precomputation takes seconds, so
 the tables are computed in a child process with its own headless context
-(``PrecomputedRenderer``, which writes them to the disk cache, ``$SKYDOME_CACHE``),
+(``atmosphere.tables.load_tables``, which writes them to the disk cache, ``$SKYDOME_CACHE``),
 reporting its progress through a queue. When it is done the viewer builds the new Sky in
 its own context from the cache (a fraction of a second: one slow frame) and swaps it in
 (``ViewerScene.replace_sky``). A second change while one is running stops that one and
@@ -101,12 +101,13 @@ def clamp_knobs(knobs: Knobs, **changes: float) -> Knobs:
 
 def _precompute(params, config, messages) -> None:  # runs in the child process
     try:
-        from skydome.render.precomputed import PrecomputedRenderer
+        from skydome.atmosphere.tables import load_tables
+        from skydome.gpu import shared_context
 
         def progress(stage: str, fraction: float) -> None:
             messages.put(("progress", str(stage), float(fraction)))
 
-        PrecomputedRenderer(params, config, progress=progress)
+        load_tables(shared_context(), params, config, progress=progress)
         messages.put(("done", "", 1.0))
     except BaseException as exc:  # reported to the viewer, which keeps the old tables
         messages.put(("error", f"{type(exc).__name__}: {exc}", 0.0))
@@ -201,31 +202,15 @@ class AtmosphereRebuild:
         self.status = RebuildStatus()
 
 
-def build_sky(template, params, config=None, *, night: bool = True, light_pollution=None):
-    """A Sky like ``template`` (its place, time, context, display settings and clouds) with
-    the atmosphere ``params``: its tables load from the cache when a rebuild put them there."""
-    from skydome.atmosphere.layer import AtmosphereLayer
-    from skydome.clouds.layer import CloudLayer
-    from skydome.scene.sky import Sky, default_layers
+def build_sky(template, params, config=None):
+    """A Sky like ``template`` (its description: place, time, layers, clouds and display;
+    its context) with the atmosphere ``params`` and tables ``config``: its tables load from
+    the cache when a rebuild put them there."""
+    from skydome.sky import Sky
 
-    air = AtmosphereLayer(params, config=config)
-    abstract = template.observer is None
-    layers = default_layers(air, night=night and not abstract, light_pollution=light_pollution)
-    display = {
-        "night_vision": template.night_vision,
-        "overlays": template.overlays,
-        "ctx": template.graph.ctx,
-    }
-    clouds = next((la for la in template.layers if isinstance(la, CloudLayer)), None)
-    if clouds is not None:
-        display["clouds"] = CloudLayer(clouds.clouds, quality=clouds.quality, shafts=clouds.shafts)
-    if abstract:
-        layers = [la for la in layers if la.name != "moon"]
-        sun = template.state.sun
-        return Sky(
-            sun_elevation_deg=sun.elevation_deg,
-            sun_azimuth_deg=sun.azimuth_deg,
-            layers=layers,
-            **display,
-        )
-    return Sky(template.observer, template.state.time, layers=layers, **display)
+    changes = {"atmosphere": params}
+    if config is not None:
+        changes["config"] = config
+    sky = Sky(template.description.with_(**changes), ctx=template.graph.ctx)
+    sky.graph.set_display(night_vision=template.night_vision, overlays=template.overlays)
+    return sky

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from skydome.core.frame import Frame
 from skydome.errors import ParameterError
-from skydome.render.frame import Frame
-from skydome.scene.sky import Sky
+from skydome.sky import Sky
 from skydome.viewer.controls import Controls, ViewState
 
 #: The most the Sun or the Moon may move (deg) before a new time is drawn: a tenth of
@@ -26,7 +26,7 @@ def initial_state(sky: Sky, **overrides: Any) -> ViewState:
     """A ViewState for ``sky``'s place and time, the camera on what ``skydome render``
     would look at (the Sun, or at night the Moon when it is up, else south); then
     ``overrides`` (ViewState fields)."""
-    from skydome.scene.sky import default_look
+    from skydome.sky import default_look
 
     state = sky.state
     fields: dict[str, Any] = {}
@@ -119,13 +119,16 @@ class ViewerScene:
             key = (s.jd_utc, s.latitude_deg, s.longitude_deg, s.elevation_m)
         if (key != self._key or self._sky is None) and not (not s.abstract and self._hold(key)):
             if s.abstract:
-                self._sky = self.base.with_sun(s.sun_elevation_deg, s.sun_azimuth_deg)
+                from skydome.scene.state import abstract_state
+
+                state = abstract_state(s.sun_elevation_deg, s.sun_azimuth_deg)
+                self._sky = Sky._view(self.base, state)
             else:
                 from skydome.astro.time import Time
-                from skydome.scene.state import SkyState
+                from skydome.scene.state import state_at
 
-                state = self._pending or SkyState.at_place(self.observer(), Time.from_utc(s.jd_utc))
-                self._sky = Sky(_graph=self.base.graph, _state=state)
+                state = self._pending or state_at(self.observer(), Time.from_utc(s.jd_utc))
+                self._sky = Sky._view(self.base, state)
             self._key = key
         self._pending = None
         graph = self.base.graph
@@ -147,13 +150,13 @@ class ViewerScene:
         import numpy as np
 
         from skydome.astro.time import Time
-        from skydome.scene.state import SkyState
+        from skydome.scene.state import state_at
 
         self._pending = None
         s = self.controls.state
         if not s.playing or self._sky is None or self._key is None or self._key[1:] != key[1:]:
             return False
-        state = SkyState.at_place(self.observer(), Time.from_utc(s.jd_utc))
+        state = state_at(self.observer(), Time.from_utc(s.jd_utc))
         old = self._sky.state
         w = 1280.0 if self.view_width_px is None else float(self.view_width_px)
         fov = s.fov_deg if s.projection == "perspective" else 360.0
@@ -227,7 +230,7 @@ class ViewerScene:
         changes. When only the display changes (an exposure, the tone map, night vision,
         overlays) the post passes alone run again, from the kept float frame."""
         from skydome.display.exposure import scale_to_ev100
-        from skydome.scene.sky import _exposure_scale
+        from skydome.sky import exposure_scale
 
         s = self.controls.state
         self.view_width_px = int(size[0])
@@ -262,7 +265,7 @@ class ViewerScene:
                 s.camera(),
                 altitude_m=self.altitude_m(),
                 size=size,
-                exposure=_exposure_scale(exposure, comp),
+                exposure=exposure_scale(exposure, comp),
                 compensation_ev=comp,
                 tonemap=s.tonemap,
                 measure=adapt,
@@ -313,14 +316,14 @@ class ViewerScene:
         self._sky = None
         self._key = None
         if old.graph is not sky.graph:
-            old.graph.release()
+            old.release()
 
     def release(self) -> None:
         """Free the GPU resources of the sky shown (and of the kept frame)."""
         if self._cache is not None:
             self._cache.release()
             self._cache = None
-        self.base.graph.release()
+        self.base.release()
 
 
 class FrameCache:

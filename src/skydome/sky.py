@@ -1,4 +1,4 @@
-"""Sky: a place, a time and a list of layers, rendered by one frame graph.
+"""Sky: a place, a time and layers, rendered by one frame graph.
 
 >>> from skydome import Sky
 >>> sky = Sky("Valletta", "2018-03-01T19:00Z")          # or Sky((35.9, 14.5), ...)
@@ -6,39 +6,34 @@
 >>> later = sky.at("2018-03-01T23:00Z")                 # same tables, new lights
 
 The abstract mode has no place or time, only a Sun: ``Sky(sun_elevation_deg=5,
-sun_azimuth_deg=250)``.
+sun_azimuth_deg=250)``. A Sky is made from a frozen :class:`~skydome.description.SkyDescription`
+(``Sky(description)``, or the same settings as keywords); it holds GPU memory until
+:meth:`Sky.release`, the end of a ``with`` block, or its garbage collection.
 """
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
-import numpy as np
-
+from skydome.clouds.layer import CloudLayer
+from skydome.core.cameras import Camera, EquirectCamera, PerspectiveCamera
+from skydome.core.frame import Frame
+from skydome.core.layer import Layer
+from skydome.core.lights import SkyState
+from skydome.description import NIGHT_LAYERS, SkyDescription
+from skydome.display.exposure import COMPENSATION_RANGE, ev100_to_scale
 from skydome.errors import ParameterError, check_range
-from skydome.render.cameras import Camera, PerspectiveCamera
-from skydome.render.frame import Frame
+from skydome.night.glow_layer import LightPollutionLayer
 from skydome.scene.graph import FrameGraph
-from skydome.scene.layer import Layer
-from skydome.scene.state import SkyState
+
+__all__ = ["EYE_HEIGHT_M", "LOOKS", "NIGHT_LAYERS", "Sky", "aim_camera", "default_look"]
 
 #: Height of the eye above the ground at the place (m): a standing observer.
 EYE_HEIGHT_M = 1.7
 #: Where ``look=`` can aim the default camera.
 LOOKS = ("sun", "moon", "zenith", "north", "east", "south", "west")
 _COMPASS = {"north": 0.0, "east": 90.0, "south": 180.0, "west": 270.0}
-
-
-def observer_for(place: Any, **weather):
-    """An ``Observer`` for a place: an Observer, a ``Place`` of the gazetteer, a place name,
-    or ``(lat, lon[, elevation_m])``."""
-    from skydome.astro import Observer
-
-    if isinstance(place, Observer):
-        return place
-    from skydome.astro.places import parse_place
-
-    return parse_place(place).observer(**weather)
 
 
 def aim_camera(
@@ -62,81 +57,11 @@ def aim_camera(
     return PerspectiveCamera(fov_deg=fov_deg, yaw_deg=yaw, pitch_deg=pitch)
 
 
-def _exposure_scale(exposure, compensation_ev: float):
+def exposure_scale(exposure, compensation_ev: float):
     """The frame graph's exposure from a Sky's: "auto" and None as they are, an EV100 number
     as its scale (m^2/cd); the compensation checked."""
-    from skydome.display.exposure import COMPENSATION_RANGE, ev100_to_scale
-
     check_range("exposure compensation", compensation_ev, *COMPENSATION_RANGE, "EV")
     return exposure if exposure is None or exposure == "auto" else ev100_to_scale(exposure)
-
-
-#: The layers of the night sky a Sky with a place has (in this order, before the air).
-NIGHT_LAYERS = ("stars", "planets", "milky_way", "zodiacal_light", "airglow")
-
-
-def light_pollution_layer(light_pollution: Any) -> Layer | None:
-    """The light-pollution layer for ``light_pollution``: None (none), a Bortle class (int
-    1-9), a ``LightPollution`` model or a ``LightPollutionLayer``."""
-    if light_pollution is None:
-        return None
-    from skydome.night.glow_layer import LightPollutionLayer
-    from skydome.night.light_pollution import LightPollution
-
-    if isinstance(light_pollution, LightPollutionLayer):
-        return light_pollution
-    if isinstance(light_pollution, LightPollution):
-        return LightPollutionLayer(light_pollution)
-    if isinstance(light_pollution, (int, np.integer)) and not isinstance(light_pollution, bool):
-        return LightPollutionLayer.from_bortle(int(light_pollution))
-    raise ParameterError(
-        f"light_pollution {light_pollution!r} must be a Bortle class 1-9, a LightPollution "
-        "or a LightPollutionLayer"
-    )
-
-
-def default_layers(
-    atmosphere_layer: Layer, *, night: bool = True, light_pollution: Any = None
-) -> list[Layer]:
-    """A sky's layers: the Sun and the Moon; with ``night``, the stars, the planets, the
-    Milky Way, the zodiacal light and the airglow; the atmosphere; the light pollution."""
-    from skydome.celestial.moon import MoonLayer
-    from skydome.celestial.sun import SunLayer
-
-    layers: list[Layer] = [SunLayer(), MoonLayer()]
-    if night:
-        from skydome.celestial.milky_way import MilkyWayLayer
-        from skydome.celestial.planets import PlanetsLayer
-        from skydome.celestial.stars import StarsLayer
-        from skydome.night.glow_layer import AirglowLayer, ZodiacalLightLayer
-
-        layers += [
-            StarsLayer(),
-            PlanetsLayer(),
-            MilkyWayLayer(),
-            ZodiacalLightLayer(),
-            AirglowLayer(),
-        ]
-    layers.append(atmosphere_layer)
-    glow = light_pollution_layer(light_pollution)
-    if glow is not None:
-        layers.append(glow)
-    return layers
-
-
-def cloud_layer(clouds: Any, quality: str = "full") -> Layer | None:
-    """The cloud layer for ``clouds``: None (none), a preset name, a ``Clouds`` or a
-    ``CloudLayer``."""
-    if clouds is None:
-        return None
-    from skydome.clouds.layer import CloudLayer
-    from skydome.clouds.params import Clouds
-
-    if isinstance(clouds, CloudLayer):
-        return clouds
-    if isinstance(clouds, (str, Clouds)):
-        return CloudLayer(clouds, quality=quality)
-    raise ParameterError(f"clouds {clouds!r} must be a preset name, a Clouds or a CloudLayer")
 
 
 def default_look(state: SkyState) -> str:
@@ -147,30 +72,58 @@ def default_look(state: SkyState) -> str:
     return "moon" if state.moon.elevation_deg > 0.0 else "zenith"
 
 
+def _placed(layers: list[Layer], extra: list[Layer]) -> list[Layer]:
+    """``layers`` with ``extra`` added: a cloud layer just after the atmosphere (clouds lie
+    nearer than the air beyond them), the others at the end."""
+    out = list(layers)
+    for layer in extra:
+        names = [la.name for la in out]
+        if isinstance(layer, CloudLayer):
+            if "atmosphere" not in names:
+                raise ParameterError("clouds need an atmosphere layer in the same sky")
+            out.insert(names.index("atmosphere") + 1, layer)
+        else:
+            out.append(layer)
+    return out
+
+
+def _fresh(layer: Layer) -> Layer:
+    """A new, unprepared copy of ``layer`` (its constructor's arguments), enabled as it is."""
+    return layer.fresh()
+
+
 class Sky:
     """The sky over a place at a time, or of a Sun at an elevation (the abstract mode).
 
     Args:
-        place: an ``Observer``, a gazetteer name (``skydome places``), a ``Place`` or a
-            ``(lat_deg, lon_deg[, elevation_m])`` tuple. None for the abstract mode.
+        place: a :class:`~skydome.description.SkyDescription` (then no other settings), an
+            ``Observer``, a gazetteer name (``skydome places``), a ``Place`` or a
+            ``(lat_deg, lon_deg[, elevation_m])`` tuple; None for the abstract mode.
         time: anything ``skydome.astro.to_time`` accepts (ISO 8601; naive is UTC).
         atmosphere: a preset name or ``AtmosphereParams``.
         sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (apparent, degrees).
-        layers: the layers to draw (default: :func:`default_layers`: with a place, the night
-            sky too); a list of ``Layer`` objects replaces them, ``extra_layers`` adds to
-            them.
-        night: with a place and the default layers, draw the night sky (stars, planets,
-            Milky Way, zodiacal light, airglow); the abstract mode has none.
-        light_pollution: a Bortle class (1-9), a ``skydome.night.LightPollution`` or None.
+        pressure_hPa, temperature_C: the weather that bends the light (refraction).
+        model: "precomputed" (every scattering order, the default) or "single".
+        config: the atmosphere tables' ``PrecomputeConfig``; ``samples``: the single
+            model's samples per view ray.
+        night: with a place, draw the night sky (stars, planets, Milky Way, zodiacal light,
+            airglow).
+        light_pollution: a Bortle class (1-9), a ``skydome.LightPollution``, or a
+            ``LightPollutionLayer``.
         clouds: a preset name ("fair", "overcast", "storm", "cirrus", "clear"), a
             ``skydome.Clouds`` or a ``CloudLayer``: drawn just after the atmosphere.
         night_vision: show the image as a dark-adapted eye sees it (display only).
         overlays: names of ``skydome.display.overlays.OVERLAYS`` ("lines", "labels",
             "grid") or a comma list, drawn over the image (display only).
-        config: the atmosphere tables' ``PrecomputeConfig``.
+        layers: the layers to draw instead of the description's; ``extra_layers`` adds to
+            them.
         progress: ``progress(stage, fraction)`` while tables are precomputed.
         ctx: a moderngl context (default: the shared headless one; a window's for a viewer).
-        pressure_hPa, temperature_C: the weather that bends the light (refraction).
+
+    A Sky owns its frame graph and layers; the tables, textures and compiled shaders behind
+    them are shared with every other Sky of the same context that needs the same ones.
+    ``release()`` (or ``with Sky(...) as sky:``) frees its GPU memory now; garbage
+    collection does it otherwise.
     """
 
     def __init__(
@@ -179,73 +132,86 @@ class Sky:
         time: Any = None,
         atmosphere: Any = "earth",
         *,
-        sun_elevation_deg: float | None = None,
-        sun_azimuth_deg: float = 180.0,
         layers: list[Layer] | None = None,
         extra_layers: list[Layer] = (),
-        config=None,
         progress=None,
         ctx=None,
-        pressure_hPa: float | None = None,
-        temperature_C: float | None = None,
-        night: bool = True,
-        light_pollution: Any = None,
         clouds: Any = None,
-        night_vision: bool = False,
-        overlays: Any = (),
-        _graph: FrameGraph | None = None,
-        _state: SkyState | None = None,
+        light_pollution: Any = None,
+        **settings: Any,
     ):
-        if _graph is not None:  # from at(): the same layers, a new state
-            self.graph, self.state, self.observer = _graph, _state, _state.observer
-            return
-        abstract = place is None
-        if abstract and time is not None:
-            raise ParameterError("a time needs a place: give place=(lat, lon) or a place name")
-        if abstract and sun_elevation_deg is None:
-            raise ParameterError("give a place and a time, or sun_elevation_deg for a Sun alone")
-        if not abstract and sun_elevation_deg is not None:
-            raise ParameterError(
-                "a place and a time set the Sun: drop sun_elevation_deg, or drop the place"
-            )
-        weather = {}
-        if pressure_hPa is not None:
-            weather["pressure_hPa"] = pressure_hPa
-        if temperature_C is not None:
-            weather["temperature_C"] = temperature_C
-        if abstract:
-            self.observer = None
-            self.state = SkyState.abstract(sun_elevation_deg, sun_azimuth_deg)
+        extra = list(extra_layers)
+        if isinstance(clouds, CloudLayer):
+            extra.append(clouds)
+            clouds = None
+        if isinstance(light_pollution, LightPollutionLayer):
+            extra.append(light_pollution)
+            light_pollution = None
+        if isinstance(place, SkyDescription):
+            given = [k for k, v in (("time", time), ("clouds", clouds),
+                                    ("light_pollution", light_pollution)) if v is not None]
+            if given or settings or atmosphere != "earth":
+                raise ParameterError(
+                    "give a SkyDescription alone, or settings as keywords: not both"
+                )  # fmt: skip
+            description = place
         else:
-            if time is None:
-                raise ParameterError("a place needs a time (ISO 8601, e.g. 2018-03-01T19:00Z)")
-            self.observer = observer_for(place, **weather)
-            self.state = SkyState.at_place(self.observer, time)
+            description = SkyDescription.of(
+                place, time, atmosphere, clouds=clouds, light_pollution=light_pollution,
+                **settings,
+            )  # fmt: skip
         if layers is None:
-            from skydome.atmosphere.layer import AtmosphereLayer
-
-            air = AtmosphereLayer(atmosphere, config=config, progress=progress)
-            layers = default_layers(
-                air, night=night and not abstract, light_pollution=light_pollution
-            )
-        elif light_pollution is not None:
+            layers = description.layers(progress)
+        elif description.light_pollution is not None or description.clouds is not None:
             raise ParameterError(
-                "light_pollution adds to the default layers: with layers=[...] add a "
-                "LightPollutionLayer yourself"
+                "light_pollution and clouds add to the default layers: with layers=[...] add "
+                "a LightPollutionLayer or a CloudLayer yourself"
             )
-        layers = [*layers, *extra_layers]
-        sky_clouds = cloud_layer(clouds)
-        if sky_clouds is not None:
-            names = [la.name for la in layers]
-            if "atmosphere" not in names:
-                raise ParameterError("clouds need an atmosphere layer in the same sky")
-            layers.insert(names.index("atmosphere") + 1, sky_clouds)
-        atmosphere_layer = next((la for la in layers if la.name == "atmosphere"), None)
-        solar_scale = atmosphere_layer.params.solar_scale if atmosphere_layer is not None else 1.0
-        self.graph = FrameGraph(layers, ctx=ctx, solar_scale=solar_scale)
-        self.graph.set_display(night_vision=night_vision, overlays=overlays)
+        layers = _placed(list(layers), extra)
+        self.description = description
+        self.state = description.state()
+        self.graph = FrameGraph(layers, ctx=ctx)
+        self.graph.set_display(night_vision=description.night_vision, overlays=description.overlays)
+        # GPU memory goes with the Sky: released by release(), a with block, or when the Sky
+        # is garbage collected (not at exit, when the context may be gone).
+        self._finalizer = weakref.finalize(self, self.graph.release)
+        self._finalizer.atexit = False
+        self._view_of: Sky | None = None
+
+    @classmethod
+    def _view(cls, sky: Sky, state: SkyState) -> Sky:
+        """A Sky drawing ``sky``'s graph at another ``state`` (for a window that moves the
+        time every frame): it shares the graph and its settings, and owns nothing."""
+        view = cls.__new__(cls)
+        view.description, view.state, view.graph = sky.description, state, sky.graph
+        view._finalizer = None
+        view._view_of = sky
+        return view
+
+    # ------------------------------------------------------------------ lifetime
+
+    def release(self) -> None:
+        """Free this sky's GPU memory now (its targets, passes and layers; shared tables
+        and textures when no other sky holds them). The sky cannot draw afterwards."""
+        if self._finalizer is not None:
+            self._finalizer()
+
+    @property
+    def released(self) -> bool:
+        return self._finalizer is not None and not self._finalizer.alive
+
+    def __enter__(self) -> Sky:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
 
     # ------------------------------------------------------------------ display
+
+    @property
+    def observer(self):
+        """The place (an ``Observer``), None in the abstract mode."""
+        return self.description.observer
 
     @property
     def night_vision(self) -> bool:
@@ -268,14 +234,32 @@ class Sky:
     # ------------------------------------------------------------------ the sky at other times
 
     def at(self, time: Any) -> Sky:
-        """The same sky (place, layers and their tables) at another ``time``."""
+        """The same sky at another ``time``: a new Sky with its own layers and settings (the
+        layers on and off, night vision and overlays as this one's now), sharing this one's
+        tables, textures and compiled shaders."""
         if self.observer is None:
             raise ParameterError("an abstract sky (a Sun elevation) has no time: make a new Sky")
-        return Sky(_graph=self.graph, _state=SkyState.at_place(self.observer, time))
+        return self._remade(self.description.with_(time=time))
 
     def with_sun(self, elevation_deg: float, azimuth_deg: float = 180.0) -> Sky:
-        """The same layers with the abstract mode's Sun at an apparent elevation, azimuth."""
-        return Sky(_graph=self.graph, _state=SkyState.abstract(elevation_deg, azimuth_deg))
+        """The same air lit by a Sun alone at an apparent elevation and azimuth (deg): a new
+        Sky (the abstract mode), sharing this one's tables."""
+        d = self.description.with_(
+            observer=None, time=None, sun_elevation_deg=elevation_deg,
+            sun_azimuth_deg=azimuth_deg, light_pollution=None,
+        )  # fmt: skip
+        keep = [la for la in self.layers if la.name not in ("moon", *NIGHT_LAYERS)]
+        keep = [la for la in keep if not isinstance(la, LightPollutionLayer)]
+        return self._remade(d, keep)
+
+    def _remade(self, description: SkyDescription, layers: list[Layer] | None = None) -> Sky:
+        layers = [_fresh(la) for la in (self.layers if layers is None else layers)]
+        sky = Sky(description, layers=layers, ctx=self.graph.ctx)
+        sky.graph.set_display(
+            night_vision=self.graph.night_vision, overlays=self.graph.overlays,
+            seed=self.graph.night_vision_seed,
+        )  # fmt: skip
+        return sky
 
     # ------------------------------------------------------------------ layers
 
@@ -318,14 +302,23 @@ class Sky:
         exposure: str | float | None = "auto",
         compensation_ev: float = 0.0,
         tonemap: str | None = None,
+        depth_m=None,
+        shadow_length_m=None,
     ) -> Frame:
         """A frame in cd/m^2 (read back once). Without a ``camera``, a 90 deg perspective one
         aimed by ``look`` (:func:`aim_camera`; default: :func:`default_look`). ``exposure``:
         "auto" (GPU log-average), an
         EV100 number, or None; with ``tonemap`` (e.g. "filmic") ``frame.image`` holds the
-        uint8 sRGB image. ``frame.info`` says where the lights were and what was used."""
+        uint8 sRGB image. ``frame.info`` says where the lights were and what was used.
+
+        ``depth_m``: an (H, W) image of distances (m) to a scene of yours along each ray
+        (<= 0 or +inf where there is none): in front of it the frame holds the light the air
+        scatters, and ``frame.info["transmittance"]`` the (H, W, 3) RGB transmittance to
+        it, so that ``scene * transmittance + frame`` is your scene seen through the air
+        (aerial perspective). ``shadow_length_m``: an (H, W) image of the length (m) of each
+        ray, from the camera, in the shadow of something of yours (light shafts)."""
         cam = camera or self.camera(look or default_look(self.state))
-        scale = _exposure_scale(exposure, compensation_ev)
+        scale = exposure_scale(exposure, compensation_ev)
         frame = self.graph.render(
             self.state,
             cam,
@@ -335,9 +328,10 @@ class Sky:
             exposure=scale,
             compensation_ev=compensation_ev,
             tonemap=tonemap,
+            depth_m=depth_m,
+            shadow_length_m=shadow_length_m,
         )
         frame.info.update(self.state.summary())
-        frame.info["camera"] = cam.name
         if self.state.time is not None:
             frame.info["time"] = str(self.state.time.iso())
         return frame
@@ -362,7 +356,7 @@ class Sky:
         exposure is read back and applied as a fixed scale (cheaper on a CPU rasterizer).
         Returns the exposure scale used (m^2/cd, compensation included) when known on the
         CPU, else None."""
-        scale = _exposure_scale(exposure, compensation_ev)
+        scale = exposure_scale(exposure, compensation_ev)
         return self.graph.draw(
             self.state,
             framebuffer,
@@ -381,8 +375,6 @@ class Sky:
         import io
 
         from PIL import Image
-
-        from skydome.render.cameras import EquirectCamera
 
         frame = self.render(EquirectCamera(), 512, 256, tonemap="filmic")
         buf = io.BytesIO()

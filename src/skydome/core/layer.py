@@ -1,79 +1,49 @@
-"""The layer interface of the scene, and what the frame graph hands a layer when it draws.
+"""The layer interface, and what the frame graph hands a layer when it draws.
 
 A layer owns its parameters, its GLSL files (``shaders/<its folder>/``) and its passes, in
 three stages:
 
-- ``prepare(graph)``: once, when its parameters change (tables, textures: may be cached);
+- ``prepare(host)``: once, when it joins a frame graph (tables, textures: may be cached);
 - ``update(state)``: when the time or the place changes (light directions, irradiances);
 - ``draw(frame)``: every frame, for one camera, into the frame graph's float target.
 
 Layers of the ``"space"`` stage draw light from beyond the atmosphere (the Sun's and the
-Moon's disks, later the stars) additively and unattenuated; layers of the ``"volume"``
-stage (the atmosphere, later clouds and fog) composite over what lies behind them: they
-read it from ``frame.behind`` and write ``behind * transmittance + in-scattered light`` over
-their own segment of each ray. A layer never edits another.
+Moon's disks, the stars) additively and unattenuated; layers of the ``"volume"`` stage (the
+atmosphere, clouds) composite over what lies behind them: they read it from
+``frame.behind`` and write ``behind * transmittance + in-scattered light`` over their own
+segment of each ray. A layer never edits another, and never imports another: what one
+offers the others is a typed service (``skydome.core.services``).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar, Protocol
 
-import numpy as np
+from skydome.core.basis import SpectralBasis
+from skydome.core.cameras import Camera, disk_scissor
+from skydome.core.services import VolumeInputs
+from skydome.gpu import FullscreenPass
 
-from skydome.errors import ParameterError
-from skydome.render.cameras import Camera
+if TYPE_CHECKING:
+    from skydome.core.lights import SkyState
 
 STAGES = ("space", "volume")
 
 
-@dataclass(frozen=True)
-class SpectralBasis:
-    """How spectral values become a frame's four channels.
+class LayerHost(Protocol):
+    """What a layer's ``prepare`` gets: the frame graph, as far as a layer may know it."""
 
-    ``to_output`` (4, N) takes N transfer values (per unit of the tabulated solar spectral
-    irradiance, at ``wavelengths_nm``) to the output channels: (R, G, B, scotopic) in cd/m^2
-    for ``output="rgbs"`` (``spectral_to_rgbs_matrix``), or the 4 wavelengths themselves for
-    ``output="spectral"`` (the identity). Every layer of one graph uses the same basis, the
-    atmosphere's when it has one.
-    """
+    ctx: object
+    basis: SpectralBasis | None
+    solar_scale: float
 
-    wavelengths_nm: np.ndarray
-    to_output: np.ndarray
-    output: str = "rgbs"
+    def service(self, kind: type):
+        """The service of type ``kind`` another layer of the graph provides (a
+        ParameterError naming what is missing when none does)."""
 
-    @classmethod
-    def for_wavelengths(cls, wavelengths_nm, output: str = "rgbs") -> SpectralBasis:
-        from skydome.atmosphere.precompute import conversion_matrix
-
-        wl = np.asarray(wavelengths_nm, dtype=np.float64)
-        return cls(wl, conversion_matrix(wl, output), output)
-
-    @property
-    def groups(self) -> int:
-        return len(self.wavelengths_nm) // 4
-
-    def group_matrices(self) -> list[float]:
-        """``to_output`` as one GLSL mat4 per group of 4 wavelengths (column j = wavelength
-        j of the group), flattened for a ``uniform mat4 u_spectral_to_rgbs[NUM_GROUPS]``."""
-        m = self.to_output
-        return np.concatenate(
-            [m[:, 4 * g : 4 * g + 4].T.ravel() for g in range(self.groups)]
-        ).tolist()
-
-    def colour(self, relative_spectrum) -> np.ndarray:
-        """Output channels per unit luminance of light with this spectral shape relative to
-        the solar spectrum (e.g. the Moon's albedo): for ``rgbs``, RGB with Y = 1 and the
-        scotopic-to-photopic ratio; for ``spectral``, the shape itself per unit luminance."""
-        from skydome.atmosphere.precompute import conversion_matrix
-        from skydome.spectra import SRGB_LUMINANCE
-
-        f = np.asarray(relative_spectrum, dtype=np.float64)
-        rgbs = conversion_matrix(self.wavelengths_nm, "rgbs") @ f
-        y = float(SRGB_LUMINANCE @ rgbs[:3])
-        if not y > 0:
-            raise ParameterError("a light's spectrum must have a positive luminance")
-        return (self.to_output @ f) / y
+    def find_service(self, kind: type):
+        """The service of type ``kind`` another layer of the graph provides, or None."""
 
 
 @dataclass
@@ -88,6 +58,9 @@ class DrawContext:
     ``behind_smooth``: for the first volume layer when it ``merges_smooth``, the smooth
     space layers' light at a reduced resolution (read it with ``common/behind.glsl``'s
     ``light_behind`` compiled with BEHIND_SMOOTH, uniform ``u_smooth_map``), else None.
+    ``volume_inputs``: what the volume layers give one another for this tile.
+    ``target``: the texture ``fbo`` draws into; ``depth_map``: a user's scene distances
+    (km, <= 0 where there is none) as a texture of this tile, or None.
     """
 
     ctx: object
@@ -102,13 +75,17 @@ class DrawContext:
     behind: object = None
     behind_smooth: object = None
     smooth_map: tuple = (0.0, 0.0, 0.0, 0.0)
+    volume_inputs: VolumeInputs | None = None
+    target: object = None
+    depth_map: object = None
 
 
 class Layer:
-    """Base class of the scene's layers (see the module docstring).
+    """Base class of the frame graph's layers (see the module docstring).
 
-    Subclasses set ``name`` and ``stage`` and implement ``draw``; ``prepare``, ``update``
-    and ``release`` are optional. ``enabled = False`` leaves a layer out of the frame.
+    Subclasses set ``name`` and ``stage`` and implement ``draw``; ``prepare``, ``update``,
+    ``services`` and ``release`` are optional. ``enabled = False`` leaves a layer out of the
+    frame.
     """
 
     name: ClassVar[str] = ""
@@ -121,27 +98,48 @@ class Layer:
     #: ``common/behind.glsl``); otherwise the graph adds that light before it draws.
     merges_smooth: ClassVar[bool] = False
 
+    def __new__(cls, *args, **kwargs):
+        layer = super().__new__(cls)
+        # The constructor's arguments, to make the layer again (fresh) for another sky.
+        layer._arguments = (args, kwargs)
+        return layer
+
     def __init__(self, *, enabled: bool = True):
         self.enabled = bool(enabled)
-        self.graph = None
-        self._passes: dict[tuple, object] = {}
+        self.graph: LayerHost | None = None
+        self._passes: dict[tuple, FullscreenPass] = {}
 
-    def full_screen_pass(self, ctx, shader: str, camera: Camera, defines: dict | None = None):
-        """The layer's pass ``shader`` compiled for ``camera``'s model with ``defines``, once
-        per combination (kept until :meth:`release`)."""
-        from skydome.gpu import FullscreenPass
+    def fresh(self) -> Layer:
+        """A new, unprepared layer made with this one's constructor arguments (parameters,
+        not GPU objects), enabled as this one is: for another sky (``Sky.at``). A layer
+        whose later settings matter copies them here."""
+        args, kwargs = self._arguments
+        layer = type(self)(*args, **kwargs)
+        layer.enabled = self.enabled
+        return layer
 
-        defines = {**(defines or {}), "CAMERA_MODEL": camera.model}
+    def full_screen_pass(
+        self, ctx, shader: str, camera: Camera | None = None, defines: dict | None = None
+    ) -> FullscreenPass:
+        """The layer's pass ``shader`` compiled for ``camera``'s model (if any) with
+        ``defines``, once per combination (kept until :meth:`release`)."""
+        defines = dict(defines or {})
+        if camera is not None:
+            defines["CAMERA_MODEL"] = camera.model
         key = (shader, tuple(sorted(defines.items())))
         if key not in self._passes:
             self._passes[key] = FullscreenPass(ctx, shader, defines)
         return self._passes[key]
 
-    def prepare(self, graph) -> None:
+    def prepare(self, host: LayerHost) -> None:
         """Create GPU resources (called once, by the graph, before the first draw)."""
-        self.graph = graph
+        self.graph = host
 
-    def update(self, state) -> None:
+    def services(self) -> tuple:
+        """The typed services this layer offers the others (``skydome.core.services``)."""
+        return ()
+
+    def update(self, state: SkyState) -> None:
         """Take a new SkyState (the time or the place changed)."""
 
     @staticmethod
@@ -150,10 +148,8 @@ class Layer:
     ):
         """Draw ``fpass`` only over the pixels that can see a disk of angular radius
         ``radius_rad`` around ``direction`` (a scissor rectangle from the camera's inverse
-        mapping, render.cameras.disk_scissor): a full-screen pass costs every pixel on a
-        CPU rasterizer even where it writes nothing."""
-        from skydome.render.cameras import disk_scissor
-
+        mapping): a full-screen pass costs every pixel on a CPU rasterizer even where it
+        writes nothing."""
         w, h = frame.frame_size
         x0, y0, tw, th = frame.tile
         rects = disk_scissor(frame.camera, w, h, direction, radius_rad)
@@ -171,14 +167,18 @@ class Layer:
         finally:
             frame.fbo.scissor = None
 
-    def inputs(self, frame: DrawContext) -> dict:
-        """Per-pixel textures this layer provides to the volume layers of this tile before
-        any of them draws (sampler name -> texture, e.g. the clouds' shadow lengths for the
-        atmosphere's light shafts, ``u_shadow_map``); called for the volume layers only."""
-        return {}
+    def inputs(self, frame: DrawContext) -> VolumeInputs | None:
+        """Per-pixel inputs this volume layer gives the other volume layers of this tile
+        before any of them draws (the clouds' shadow lengths for the air's light shafts)."""
+        return None
 
     def draw(self, frame: DrawContext) -> None:
         raise NotImplementedError
+
+    def outputs(self) -> dict:
+        """Textures this layer made for the last tile beside the frame (name -> texture of
+        the tile's size, read back into ``frame.info[name]``); none by default."""
+        return {}
 
     def info(self) -> dict:
         """What the layer reports in a frame's ``info`` (its last update)."""

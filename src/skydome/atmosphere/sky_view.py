@@ -21,6 +21,18 @@ DEFAULT_SKY_VIEW_SIZE = (256, 256)
 AERIAL_SIZE = (32, 64, 64)
 
 
+def check_sky_view_size(size) -> tuple[int, int]:
+    """(azimuth, elevation) texels of sky-view tables: at least 2, and an even elevation
+    count of at least 4 (two halves)."""
+    try:
+        w, h = (int(v) for v in size)
+    except (TypeError, ValueError):
+        raise ParameterError(f"sky-view size must be two integers, got {size!r}") from None
+    if w < 2 or h < 4 or h % 2:
+        raise ParameterError(f"sky-view size must be (>= 2, even >= 4) texels, got {size}")
+    return w, h
+
+
 class SkyViewTables:
     """Sky-view tables of a precomputed atmosphere, one pair of textures per light slot.
 
@@ -33,9 +45,7 @@ class SkyViewTables:
     def __init__(
         self, ctx, defines: dict[str, object], size: tuple[int, int] = DEFAULT_SKY_VIEW_SIZE
     ):
-        w, h = (int(v) for v in size)
-        if w < 2 or h < 4 or h % 2:
-            raise ParameterError(f"sky-view size must be (>= 2, even >= 4) texels, got {size}")
+        w, h = check_sky_view_size(size)
         self.ctx = ctx
         self.size = (w, h)
         self._passes = (

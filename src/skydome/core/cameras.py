@@ -1,0 +1,426 @@
+"""Cameras: how pixels map to view directions in the observer's ENU frame, and back.
+
+The per-pixel mapping lives in ``shaders/common/camera.glsl`` (pixel -> direction) and
+``shaders/common/camera_project.glsl`` (direction -> pixel); each camera class holds and
+validates its parameters, gives the shader its uniforms, and carries the float64 twins of
+both mappings as methods (``directions``, ``project``) with the solid angle of a pixel
+(``solid_angle``). The tests hold the twins to ``camera_ray``.
+
+Frame positions are GL pixel coordinates of the whole frame: x to the right, y up from the
+bottom edge, pixel (i, j) covering [i, i + 1] x [j, j + 1] (its centre, gl_FragCoord, at
+i + 0.5). A ``DirectionsCamera`` has no closed-form mapping (its pixels are arbitrary).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from skydome.errors import ParameterError, check_choice, check_range
+from skydome.physics.geometry import direction_from_angles
+
+__all__ = [
+    "CAMERAS",
+    "Camera",
+    "CubemapCamera",
+    "DirectionsCamera",
+    "EquirectCamera",
+    "FisheyeCamera",
+    "PerspectiveCamera",
+    "check_size",
+    "direction_from_angles",
+    "disk_scissor",
+    "make_camera",
+]
+
+#: Largest frame side accepted (pixels); bigger frames exceed typical GL texture limits.
+MAX_SIDE = 16384
+#: Valid ranges (deg) of the perspective camera's horizontal field of view and orientation.
+FOV_RANGE_DEG = (0.01, 179.0)
+PITCH_RANGE_DEG = (-90.0, 90.0)
+YAW_RANGE_DEG = (-360.0, 360.0)
+ROLL_RANGE_DEG = (-360.0, 360.0)
+#: Largest camera altitude accepted (m).
+MAX_ALTITUDE_M = 1e8
+#: Cameras closer to the ground are raised to this height (m): float32 positions in km are
+#: resolved to about 0.5 m at the planet radius.
+MIN_ALTITUDE_M = 1.0
+
+
+def check_size(width: int, height: int) -> tuple[int, int]:
+    """Validate a frame size; returns it as ints."""
+    for name, v in (("width", width), ("height", height)):
+        if not isinstance(v, (int, np.integer)) or not 1 <= v <= MAX_SIDE:
+            raise ParameterError(f"frame {name} = {v} must be an integer in [1, {MAX_SIDE}]")
+    return int(width), int(height)
+
+
+def effective_altitude_m(altitude_m: float) -> float:
+    """The camera altitude (m) the renderers use: ``altitude_m`` checked, and raised to
+    MIN_ALTITUDE_M when below it."""
+    h = check_range("altitude", altitude_m, 0.0, MAX_ALTITUDE_M, "m")
+    return max(h, MIN_ALTITUDE_M)
+
+
+def check_direction(name: str, direction) -> np.ndarray:
+    """A finite non-zero 3-vector, normalised."""
+    s = np.asarray(direction, dtype=np.float64).reshape(-1)
+    n = float(np.linalg.norm(s)) if s.shape == (3,) and np.all(np.isfinite(s)) else 0.0
+    if n == 0.0:
+        raise ParameterError(f"{name} must be a finite non-zero 3-vector, got {direction!r}")
+    return s / n
+
+
+def _unit(directions) -> np.ndarray:
+    d = np.asarray(directions, dtype=np.float64)
+    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Base class; ``model`` selects the mapping in common/camera.glsl."""
+
+    model: ClassVar[int] = -1
+    name: ClassVar[str] = ""
+    #: Whether the camera has closed-form mappings (project, directions, solid_angle).
+    has_projection: ClassVar[bool] = True
+
+    def frame_size(self, width: int, height: int) -> tuple[int, int]:
+        """Size of the image this camera renders for a requested ``width`` x ``height``."""
+        return check_size(width, height)
+
+    def uniforms(self, width: float, height: float) -> dict[str, object]:
+        return {"u_resolution": (float(width), float(height))}
+
+    # ------------------------------------------------------------------ float64 twins
+
+    def _no_mapping(self):
+        return ParameterError(f"a {self.name} camera has no forward mapping (no point sources)")
+
+    def project(self, directions, width: int, height: int):
+        """Frame positions (x, y) in GL pixels of unit ENU ``directions`` (..., 3) for a frame
+        of ``width`` x ``height`` (the camera's frame size), and a mask of the directions the
+        camera sees (in front of a perspective camera, above the fisheye's horizon)."""
+        raise self._no_mapping()
+
+    def solid_angle(self, directions, width: int, height: int) -> np.ndarray:
+        """Solid angle (sr) of one pixel of the frame where it sees each of ``directions``."""
+        raise self._no_mapping()
+
+    def directions(self, x, y, width: int, height: int):
+        """The view directions at frame positions (x, y) (GL pixels), as camera.glsl
+        computes them for pixel centres, and a mask of the positions that see the sky."""
+        raise ParameterError(f"a {self.name} camera has no closed-form pixel mapping")
+
+    def pixel_angle(self, width: int, height: int) -> float:
+        """Angular size (rad) of a pixel at the frame's centre: the square root of its solid
+        angle (0 for a camera without a closed-form mapping)."""
+        if not self.has_projection:
+            return 0.0
+        d, _ = self.directions(0.5 * width, 0.5 * height, width, height)
+        return float(np.sqrt(self.solid_angle(d, width, height)))
+
+    def _disk_rects(self, d: np.ndarray, w: int, h: int) -> list | None:
+        """Pixel rectangles (x0, y0, x1, y1; GL: y up) holding the directions ``d`` (N, 3),
+        or None where the camera has no simple inverse (draw everything)."""
+        return None
+
+
+@dataclass(frozen=True)
+class PerspectiveCamera(Camera):
+    """Pinhole camera. ``fov_deg`` is the horizontal field of view; ``yaw_deg`` the azimuth of
+    the view direction (from north through east), ``pitch_deg`` its elevation, ``roll_deg`` a
+    rotation about the view direction (positive tilts the camera's up vector towards
+    its right, so the scene turns counter-clockwise in the image)."""
+
+    fov_deg: float = 90.0
+    yaw_deg: float = 0.0
+    pitch_deg: float = 0.0
+    roll_deg: float = 0.0
+    model: ClassVar[int] = 0
+    name: ClassVar[str] = "perspective"
+
+    def __post_init__(self):
+        check_range("fov_deg", self.fov_deg, *FOV_RANGE_DEG, "deg")
+        check_range("pitch_deg", self.pitch_deg, *PITCH_RANGE_DEG, "deg")
+        check_range("yaw_deg", self.yaw_deg, *YAW_RANGE_DEG, "deg")
+        check_range("roll_deg", self.roll_deg, *ROLL_RANGE_DEG, "deg")
+
+    def basis(self) -> np.ndarray:
+        """3x3 matrix with columns right, up, forward in ENU."""
+        forward = direction_from_angles(self.pitch_deg, self.yaw_deg)
+        # At the zenith/nadir the horizontal reference is the yaw direction itself.
+        ref = np.array([0.0, 0.0, 1.0])
+        if abs(forward[2]) > 0.999999:
+            ref = -np.sign(forward[2]) * direction_from_angles(0.0, self.yaw_deg)
+        right = np.cross(forward, ref)
+        right /= np.linalg.norm(right)
+        up = np.cross(right, forward)
+        c, s = math.cos(math.radians(self.roll_deg)), math.sin(math.radians(self.roll_deg))
+        right, up = c * right - s * up, s * right + c * up
+        return np.stack([right, up, forward], axis=1)
+
+    def uniforms(self, width: float, height: float) -> dict[str, object]:
+        return {
+            **super().uniforms(width, height),
+            # GLSL mat3 is column-major: pass the columns one after the other.
+            "u_camera_basis": tuple(self.basis().T.ravel()),
+            "u_tan_half_fov": math.tan(math.radians(self.fov_deg) / 2.0),
+        }
+
+    def project(self, directions, width: int, height: int):
+        d = _unit(directions)
+        w, h = float(width), float(height)
+        local = d @ self.basis()  # (right, up, forward)
+        t = math.tan(math.radians(self.fov_deg) / 2.0)
+        f = local[..., 2]
+        ok = f > 1e-9
+        safe = np.where(ok, f, 1.0)
+        x = (local[..., 0] / (safe * t) + 1.0) * 0.5 * w
+        y = (local[..., 1] / (safe * t / (w / h)) + 1.0) * 0.5 * h
+        return x, y, ok
+
+    def solid_angle(self, directions, width: int, height: int) -> np.ndarray:
+        local = _unit(directions) @ self.basis()
+        f = np.maximum(local[..., 2], 1e-12)
+        step = 2.0 * math.tan(math.radians(self.fov_deg) / 2.0) / float(width)
+        # dOmega = dA cos^3(theta) on the plane at unit distance: cos(theta) = f / |local|.
+        return step * step * f**3
+
+    def directions(self, x, y, width: int, height: int):
+        x, y, w, h = _positions(x, y, width, height)
+        t = math.tan(math.radians(self.fov_deg) / 2.0)
+        local = np.stack(
+            np.broadcast_arrays((2 * x / w - 1) * t, (2 * y / h - 1) * t / (w / h), 1.0), -1
+        )
+        return _unit(local @ self.basis().T), np.ones(np.broadcast(x, y).shape, bool)
+
+    def _disk_rects(self, d, w, h):
+        forward = d @ self.basis()[:, 2]
+        if np.all(forward <= 0.0):
+            return []  # wholly behind the camera
+        if np.any(forward <= 1e-6):
+            return None
+        x, y, _ = self.project(d, w, h)
+        return [(x.min(), y.min(), x.max(), y.max())]
+
+
+@dataclass(frozen=True)
+class FisheyeCamera(Camera):
+    """Equidistant 180-degree fisheye looking at the zenith: centre = zenith, the inscribed
+    circle = horizon, north up and east left (as seen looking up). Pixels outside are 0."""
+
+    model: ClassVar[int] = 1
+    name: ClassVar[str] = "fisheye"
+
+    def project(self, directions, width: int, height: int):
+        d = _unit(directions)
+        w, h = float(width), float(height)
+        zenith = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
+        az = np.arctan2(d[..., 0], d[..., 1])
+        rho = zenith / (0.5 * math.pi) * 0.5 * min(w, h)
+        return 0.5 * w - rho * np.sin(az), 0.5 * h + rho * np.cos(az), zenith <= 0.5 * math.pi
+
+    def solid_angle(self, directions, width: int, height: int) -> np.ndarray:
+        d = _unit(directions)
+        k = (0.5 * math.pi) / (0.5 * min(float(width), float(height)))  # rad per pixel
+        z = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
+        return k * k * np.where(z > 1e-9, np.sin(z) / np.maximum(z, 1e-12), 1.0)
+
+    def directions(self, x, y, width: int, height: int):
+        x, y, w, h = _positions(x, y, width, height)
+        side = min(w, h)
+        px, py = (x - 0.5 * w) / (0.5 * side), (y - 0.5 * h) / (0.5 * side)
+        rho = np.hypot(px, py)
+        zen, az = rho * 0.5 * math.pi, np.arctan2(-px, py)
+        d = np.stack([np.sin(zen) * np.sin(az), np.sin(zen) * np.cos(az), np.cos(zen)], -1)
+        return _unit(d), rho <= 1.0
+
+    def _disk_rects(self, d, w, h):
+        x, y, _ = self.project(d, w, h)
+        return [(x.min(), y.min(), x.max(), y.max())]
+
+
+@dataclass(frozen=True)
+class EquirectCamera(Camera):
+    """Equirectangular 360x180 environment map: azimuth 0 (north) at the left edge increasing
+    eastward, zenith at the top row, nadir at the bottom."""
+
+    model: ClassVar[int] = 2
+    name: ClassVar[str] = "equirect"
+
+    def project(self, directions, width: int, height: int):
+        d = _unit(directions)
+        w, h = float(width), float(height)
+        el = np.arcsin(np.clip(d[..., 2], -1.0, 1.0))
+        az = np.mod(np.arctan2(d[..., 0], d[..., 1]), 2.0 * math.pi)
+        return az / (2.0 * math.pi) * w, (el / math.pi + 0.5) * h, np.ones(d.shape[:-1], bool)
+
+    def solid_angle(self, directions, width: int, height: int) -> np.ndarray:
+        d = _unit(directions)
+        cos_el = np.sqrt(np.maximum(1.0 - d[..., 2] ** 2, 0.0))
+        return (2.0 * math.pi / float(width)) * (math.pi / float(height)) * cos_el
+
+    def directions(self, x, y, width: int, height: int):
+        x, y, w, h = _positions(x, y, width, height)
+        az, el = x / w * 2 * math.pi, (y / h - 0.5) * math.pi
+        d = np.stack([np.sin(az) * np.cos(el), np.cos(az) * np.cos(el), np.sin(el)], -1)
+        return _unit(d), np.ones(np.broadcast(x, y).shape, bool)
+
+    def _disk_rects(self, d, w, h):
+        x, y, _ = self.project(d, w, h)
+        el = np.arcsin(np.clip(d[:, 2], -1.0, 1.0))
+        if np.max(np.abs(el)) > math.radians(89.0):  # around a pole: whole rows
+            return [(0.0, y.min(), float(w), float(h) if el.max() > 0 else y.max())]
+        if np.ptp(x) > 0.5 * w:  # across the seam at azimuth 0: one rectangle each side
+            a = np.where(x > 0.5 * w, x - w, x)
+            return [(a.min() + w, y.min(), float(w), y.max()), (0.0, y.min(), a.max(), y.max())]
+        return [(x.min(), y.min(), x.max(), y.max())]
+
+
+@dataclass(frozen=True)
+class CubemapCamera(Camera):
+    """Six square faces side by side (+X east, -X west, +Y north, -Y south, +Z up, -Z down),
+    each seen from inside with up = zenith (and north at the top for the up/down faces).
+    The requested height is the face size; the image is 6·height wide."""
+
+    model: ClassVar[int] = 3
+    name: ClassVar[str] = "cubemap"
+
+    def frame_size(self, width: int, height: int) -> tuple[int, int]:
+        check_size(width, height)
+        return check_size(6 * int(height), int(height))
+
+    @staticmethod
+    def _face(d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Face index (camera.glsl's order) and face coordinates p in [-1, 1]^2."""
+        ax = np.argmax(np.abs(d), axis=-1)
+        comp = np.take_along_axis(d, ax[..., None], axis=-1)[..., 0]
+        face = 2 * ax + (comp < 0)
+        m = np.abs(comp)
+        x, y, z = d[..., 0] / m, d[..., 1] / m, d[..., 2] / m
+        # Inverses of cube_face_direction: +X (1,-px,py), -X (-1,px,py), +Y (px,1,py),
+        # -Y (-px,-1,py), +Z (-px,py,1), -Z (px,py,-1).
+        px = np.choose(face, [-y, y, x, -x, -x, x])
+        py = np.choose(face, [z, z, z, z, y, y])
+        return face, px, py
+
+    def project(self, directions, width: int, height: int):
+        d = _unit(directions)
+        face, px, py = self._face(d)
+        side = float(height)
+        x = face * side + (px + 1.0) * 0.5 * side
+        return x, (py + 1.0) * 0.5 * side, np.ones(d.shape[:-1], bool)
+
+    def solid_angle(self, directions, width: int, height: int) -> np.ndarray:
+        d = _unit(directions)
+        m = np.max(np.abs(d), axis=-1)
+        step = 2.0 / float(height)
+        return step * step * m**3
+
+    def directions(self, x, y, width: int, height: int):
+        x, y, _, h = _positions(x, y, width, height)
+        side = h
+        face = np.clip(np.floor(x / side), 0, 5).astype(int)
+        px, py = np.mod(x, side) / side * 2 - 1, y / side * 2 - 1
+        one = np.ones_like(px)
+        d = np.stack(
+            [
+                np.choose(face, [one, -one, px, -px, -px, px]),
+                np.choose(face, [-px, px, one, -one, py, py]),
+                np.choose(face, [py, py, py, py, one, -one]),
+            ],
+            -1,
+        )
+        return _unit(d), np.ones(np.broadcast(x, y).shape, bool)
+
+
+@dataclass(frozen=True, eq=False)
+class DirectionsCamera(Camera):
+    """One pixel per given direction: ``directions`` is (H, W, 3) or (N, 3) of ENU vectors
+    (N directions render as an N x 1 frame). For sampling the sky in chosen directions."""
+
+    view_directions: np.ndarray = None
+    model: ClassVar[int] = 4
+    name: ClassVar[str] = "directions"
+    has_projection: ClassVar[bool] = False
+
+    def __post_init__(self):
+        d = np.asarray(self.view_directions, dtype=np.float64)
+        if d.ndim == 2:
+            d = d[None]
+        if d.ndim != 3 or d.shape[-1] != 3 or not np.all(np.isfinite(d)):
+            raise ParameterError(
+                f"directions must be a finite (H, W, 3) or (N, 3) array, got shape {d.shape}"
+            )
+        norm = np.linalg.norm(d, axis=-1, keepdims=True)
+        if np.any(norm == 0):
+            raise ParameterError("directions must be non-zero vectors")
+        check_size(d.shape[1], d.shape[0])
+        object.__setattr__(self, "view_directions", d / norm)
+
+    def frame_size(self, width: int | None = None, height: int | None = None) -> tuple[int, int]:
+        return self.view_directions.shape[1], self.view_directions.shape[0]
+
+
+def _positions(x, y, width, height):
+    return (
+        np.asarray(x, dtype=np.float64),
+        np.asarray(y, dtype=np.float64),
+        float(width),
+        float(height),
+    )
+
+
+CAMERAS = {
+    "perspective": PerspectiveCamera,
+    "fisheye": FisheyeCamera,
+    "equirect": EquirectCamera,
+    "cubemap": CubemapCamera,
+}
+
+
+def make_camera(name: str, **kwargs) -> Camera:
+    """Camera by name; only the perspective camera takes fov/yaw/pitch/roll."""
+    check_choice("camera", name, CAMERAS, "camera")
+    if name != "perspective":
+        return CAMERAS[name]()
+    return PerspectiveCamera(**kwargs)
+
+
+def _rim(direction: np.ndarray, radius_rad: float, points: int = 16) -> np.ndarray:
+    """The centre and ``points`` directions on a circle of angular radius ``radius_rad``
+    around the unit vector ``direction`` (N + 1, 3)."""
+    u = direction / np.linalg.norm(direction)
+    e1 = np.cross(u, [0.0, 0.0, 1.0] if abs(u[2]) < 0.9 else [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(u, e1)
+    a = np.linspace(0.0, 2.0 * np.pi, points, endpoint=False)
+    ring = math.cos(radius_rad) * u + math.sin(radius_rad) * (
+        np.cos(a)[:, None] * e1 + np.sin(a)[:, None] * e2
+    )
+    return np.vstack([u, ring])
+
+
+def disk_scissor(
+    camera: Camera, width: int, height: int, direction, radius_rad: float, margin_px: int = 2
+) -> list[tuple[int, int, int, int]] | None:
+    """Pixel rectangles (x, y, w, h; GL: y up from the bottom) holding every pixel that can
+    see a disk of angular radius ``radius_rad`` around ``direction`` (unit ENU), for drawing
+    small sources (the Sun, the Moon, planets) with a scissor test instead of over the
+    whole frame. An empty list when the disk is out of the frame; None when the camera has
+    no simple inverse there (cube maps, direction maps): draw everything."""
+    d = np.asarray(direction, dtype=np.float64)
+    rects = camera._disk_rects(_rim(d, radius_rad), width, height)
+    if rects is None:
+        return None
+    out = []
+    for x0, y0, x1, y1 in rects:
+        ax, ay = max(math.floor(x0) - margin_px, 0), max(math.floor(y0) - margin_px, 0)
+        bx, by = min(math.ceil(x1) + margin_px, width), min(math.ceil(y1) + margin_px, height)
+        if bx > ax and by > ay:
+            out.append((ax, ay, bx - ax, by - ay))
+    return out

@@ -1,0 +1,325 @@
+"""One frozen description of a sky: what ``Sky``, the command line, the time-lapse and the
+viewer's rebuild all build from.
+
+>>> from skydome import SkyDescription, Sky
+>>> d = SkyDescription.of("Valletta", "2018-03-01T19:00Z", clouds="fair", light_pollution=6)
+>>> sky = Sky(d)
+>>> later = Sky(d.with_(time="2018-03-01T23:00Z"))
+
+A description holds values, never GL objects: a place (an ``Observer``) and a time, or a Sun
+alone (the abstract mode); the air (``AtmosphereParams``, its model and tables); the night
+sky, light pollution and clouds; the display settings. :meth:`SkyDescription.layers` makes
+the layers it describes, in drawing order.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
+
+import numpy as np
+
+from skydome.astro import Observer, Time, to_time
+from skydome.astro.places import parse_place
+from skydome.atmosphere.layer import MODELS, AtmosphereLayer, atmosphere_params
+from skydome.atmosphere.params import AtmosphereParams
+from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.atmosphere.presets import preset
+from skydome.atmosphere.single import SingleScatteringSky
+from skydome.celestial.milky_way import MilkyWayLayer
+from skydome.celestial.moon import MoonLayer
+from skydome.celestial.planets import PlanetsLayer
+from skydome.celestial.stars import StarsLayer
+from skydome.celestial.sun import SunLayer
+from skydome.clouds.layer import QUALITY, CloudLayer
+from skydome.clouds.params import Clouds
+from skydome.core.layer import Layer
+from skydome.core.lights import SkyState
+from skydome.display.overlays import parse_overlays
+from skydome.errors import ParameterError, check_choice, check_range
+from skydome.night.glow_layer import AirglowLayer, LightPollutionLayer, ZodiacalLightLayer
+from skydome.night.light_pollution import LightPollution
+from skydome.physics.constants import STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C
+from skydome.scene.state import abstract_state, state_at
+
+#: The layers of the night sky a sky with a place has (in this order, before the air).
+NIGHT_LAYERS = ("stars", "planets", "milky_way", "zodiacal_light", "airglow")
+
+
+def observer_for(place: Any, pressure_hPa=None, temperature_C=None) -> Observer:
+    """An ``Observer`` for a place: an Observer, a ``Place`` of the gazetteer, a place name,
+    or ``(lat, lon[, elevation_m])``; with the weather given (refraction)."""
+    weather = {}
+    if pressure_hPa is not None:
+        weather["pressure_hPa"] = pressure_hPa
+    if temperature_C is not None:
+        weather["temperature_C"] = temperature_C
+    if isinstance(place, Observer):
+        return replace(place, **weather) if weather else place
+    return parse_place(place).observer(**weather)
+
+
+def light_pollution_value(value: Any) -> int | LightPollution | None:
+    """None, a Bortle class (1-9) or a LightPollution, checked."""
+    if value is None or isinstance(value, LightPollution):
+        return value
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        if not 1 <= int(value) <= 9:
+            raise ParameterError(f"light_pollution = {value} is outside the valid range 1 to 9")
+        return int(value)
+    raise ParameterError(
+        f"light_pollution {value!r} must be a Bortle class 1-9 or a LightPollution"
+    )
+
+
+@dataclass(frozen=True)
+class SkyDescription:
+    """A sky as values (see the module docstring). Make one with :meth:`of` (which takes
+    what a user types: names, ISO times, preset names) or directly with checked values.
+
+    Attributes:
+        observer: the place (with its weather), or None for a Sun alone.
+        time: the instant (``skydome.astro.Time``), None without a place.
+        sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (apparent, degrees).
+        pressure_hPa, temperature_C: the abstract mode's weather (refraction; pressure 0
+            bends no light). With a place, the observer's.
+        atmosphere: the air.
+        model: "precomputed" (every order, tables) or "single" (single scattering).
+        config: the precomputed model's tables.
+        samples: the single model's samples per view ray.
+        sky_view_size: the sky-view tables' texels (None: 256 x 256).
+        night: with a place, the night sky's layers (stars, planets, Milky Way, zodiacal
+            light, airglow).
+        light_pollution: a Bortle class (1-9), a ``LightPollution`` or None.
+        clouds: the clouds, or None; ``cloud_quality``: "full", "best" or "interactive";
+            ``cloud_shafts``: light shafts in their shadows.
+        night_vision, overlays: the display (the image only, never the frame's data).
+    """
+
+    observer: Observer | None = None
+    time: Time | None = None
+    sun_elevation_deg: float = 30.0
+    sun_azimuth_deg: float = 180.0
+    pressure_hPa: float = STANDARD_PRESSURE_HPA
+    temperature_C: float = STANDARD_TEMPERATURE_C
+    atmosphere: AtmosphereParams = field(default_factory=lambda: preset("earth"))
+    model: str = "precomputed"
+    config: PrecomputeConfig = field(default_factory=PrecomputeConfig)
+    samples: int = 16
+    sky_view_size: tuple[int, int] | None = None
+    night: bool = True
+    light_pollution: int | LightPollution | None = None
+    clouds: Clouds | None = None
+    cloud_quality: str = "full"
+    cloud_shafts: bool = False
+    night_vision: bool = False
+    overlays: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        if self.observer is not None and not isinstance(self.observer, Observer):
+            raise ParameterError(f"observer must be an Observer, got {self.observer!r}")
+        if (self.observer is None) != (self.time is None):
+            raise ParameterError(
+                "a place needs a time and a time needs a place (or give neither, and a Sun "
+                "elevation)"
+            )
+        if self.time is not None and (
+            not isinstance(self.time, Time) or np.shape(self.time.jd_utc) != ()
+        ):
+            raise ParameterError("time must be one instant (skydome.astro.Time)")
+        check_range("sun_elevation_deg", self.sun_elevation_deg, -90.0, 90.0, "deg")
+        check_range("sun_azimuth_deg", self.sun_azimuth_deg, -360.0, 360.0, "deg")
+        check_range("pressure_hPa", self.pressure_hPa, 0.0, 2000.0, "hPa")
+        check_range("temperature_C", self.temperature_C, -100.0, 100.0, "deg C")
+        if not isinstance(self.atmosphere, AtmosphereParams):
+            raise ParameterError(f"atmosphere must be AtmosphereParams, got {self.atmosphere!r}")
+        check_choice("model", self.model, MODELS, "model")
+        if not isinstance(self.config, PrecomputeConfig):
+            raise ParameterError(f"config must be a PrecomputeConfig, got {self.config!r}")
+        SingleScatteringSky.check_samples(self.samples)
+        light_pollution_value(self.light_pollution)
+        if self.light_pollution is not None and self.abstract:
+            raise ParameterError("light pollution needs a place and a time")
+        if self.clouds is not None and not isinstance(self.clouds, Clouds):
+            raise ParameterError(f"clouds must be a Clouds or None, got {self.clouds!r}")
+        check_choice("cloud_quality", self.cloud_quality, QUALITY, "cloud quality")
+        object.__setattr__(self, "overlays", tuple(self.overlays))
+        if self.model == "single" and (
+            self.clouds is not None or self.night_vision or self.overlays or self.observer
+        ):
+            raise ParameterError(
+                "the single-scattering model renders a Sun alone: no place, clouds, night "
+                "vision or overlays (use the default model for those)"
+            )
+
+    # ------------------------------------------------------------------ from what users type
+
+    @classmethod
+    def of(
+        cls,
+        place: Any = None,
+        time: Any = None,
+        atmosphere: str | AtmosphereParams = "earth",
+        *,
+        sun_elevation_deg: float | None = None,
+        sun_azimuth_deg: float = 180.0,
+        pressure_hPa: float | None = None,
+        temperature_C: float | None = None,
+        model: str = "precomputed",
+        config: PrecomputeConfig | None = None,
+        samples: int = 16,
+        sky_view_size: tuple[int, int] | None = None,
+        night: bool = True,
+        light_pollution: Any = None,
+        clouds: Clouds | str | None = None,
+        cloud_quality: str = "full",
+        cloud_shafts: bool = False,
+        night_vision: bool = False,
+        overlays: Any = (),
+    ) -> SkyDescription:
+        """A description from what a user gives: ``place`` an ``Observer``, a gazetteer
+        name, a ``Place`` or ``(lat_deg, lon_deg[, elevation_m])`` (None: a Sun alone at
+        ``sun_elevation_deg``); ``time`` anything ``skydome.astro.to_time`` accepts (ISO
+        8601; naive is UTC); ``atmosphere`` a preset name or ``AtmosphereParams``;
+        ``clouds`` a preset name or a ``Clouds``; ``overlays`` names or a comma list."""
+        abstract = place is None
+        if abstract and time is not None:
+            raise ParameterError("a time needs a place: give place=(lat, lon) or a place name")
+        if abstract and sun_elevation_deg is None:
+            raise ParameterError("give a place and a time, or sun_elevation_deg for a Sun alone")
+        if not abstract and sun_elevation_deg is not None:
+            raise ParameterError(
+                "a place and a time set the Sun: drop sun_elevation_deg, or drop the place"
+            )
+        if not abstract and time is None:
+            raise ParameterError("a place needs a time (ISO 8601, e.g. 2018-03-01T19:00Z)")
+        weather = {}
+        observer = instant = None
+        if abstract:
+            if pressure_hPa is not None:
+                weather["pressure_hPa"] = float(pressure_hPa)
+            if temperature_C is not None:
+                weather["temperature_C"] = float(temperature_C)
+        else:
+            observer = observer_for(place, pressure_hPa, temperature_C)
+            instant = to_time(time)
+            if instant.shape != ():
+                raise ParameterError(f"a sky is for one instant; got {instant.shape} times")
+        if isinstance(clouds, str):
+            clouds = Clouds(clouds)
+        if isinstance(overlays, str):
+            overlays = parse_overlays(overlays)
+        elif overlays:
+            overlays = parse_overlays(",".join(overlays))
+        return cls(
+            observer=observer,
+            time=instant,
+            sun_elevation_deg=30.0 if sun_elevation_deg is None else float(sun_elevation_deg),
+            sun_azimuth_deg=float(sun_azimuth_deg),
+            atmosphere=atmosphere_params(atmosphere),
+            model=model,
+            config=config or PrecomputeConfig(),
+            samples=samples,
+            sky_view_size=sky_view_size,
+            night=bool(night),
+            light_pollution=light_pollution_value(light_pollution),
+            clouds=clouds,
+            cloud_quality=cloud_quality,
+            cloud_shafts=bool(cloud_shafts),
+            night_vision=bool(night_vision),
+            overlays=tuple(overlays),
+            **weather,
+        )
+
+    def with_(self, **changes) -> SkyDescription:
+        """A copy with ``changes``: fields of the description, or what :meth:`of` takes for
+        them (``time="2018-03-01T23:00Z"``, ``atmosphere="hazy"``, ``clouds="fair"``,
+        ``place="Paranal"``)."""
+        names = {f.name for f in fields(self)}
+        unknown = set(changes) - names - {"place"}
+        if unknown:
+            raise ParameterError(
+                f"unknown sky setting {sorted(unknown)[0]!r}; the settings are "
+                f"{', '.join(sorted(names))}"
+            )
+        if "place" in changes:
+            place = changes.pop("place")
+            changes["observer"] = None if place is None else observer_for(place)
+        if isinstance(changes.get("time"), (str, int, float)) or (
+            "time" in changes and changes["time"] is not None and not isinstance(changes["time"], Time)
+        ):
+            changes["time"] = to_time(changes["time"])
+        if isinstance(changes.get("atmosphere"), str):
+            changes["atmosphere"] = preset(changes["atmosphere"])
+        if isinstance(changes.get("clouds"), str):
+            changes["clouds"] = Clouds(changes["clouds"])
+        if isinstance(changes.get("overlays"), str):
+            changes["overlays"] = parse_overlays(changes["overlays"])
+        return replace(self, **changes)
+
+    # ------------------------------------------------------------------ what it makes
+
+    @property
+    def abstract(self) -> bool:
+        """True for a Sun alone (no place or time)."""
+        return self.observer is None
+
+    def state(self) -> SkyState:
+        """The lights at the description's instant (or of its Sun alone)."""
+        if self.abstract:
+            return abstract_state(
+                self.sun_elevation_deg,
+                self.sun_azimuth_deg,
+                pressure_hPa=self.pressure_hPa,
+                temperature_C=self.temperature_C,
+            )
+        return state_at(self.observer, self.time)
+
+    def atmosphere_layer(self, progress=None) -> AtmosphereLayer:
+        extra = {} if self.sky_view_size is None else {"sky_view_size": self.sky_view_size}
+        return AtmosphereLayer(
+            self.atmosphere,
+            model=self.model,
+            config=self.config,
+            samples=self.samples,
+            spectral=self.config.wavelengths,
+            progress=progress,
+            **extra,
+        )
+
+    def layers(self, progress=None) -> list[Layer]:
+        """The layers of this sky in drawing order: the Sun and (with a place) the Moon;
+        with a place and ``night``, the stars, the planets, the Milky Way, the zodiacal
+        light and the airglow; the atmosphere; the clouds; the light pollution. The single
+        model is the atmosphere alone (it draws its own Sun)."""
+        air = self.atmosphere_layer(progress)
+        if self.model == "single":
+            return [air]
+        layers: list[Layer] = [SunLayer()]
+        if not self.abstract:
+            layers.append(MoonLayer())
+            if self.night:
+                layers += [
+                    StarsLayer(),
+                    PlanetsLayer(),
+                    MilkyWayLayer(),
+                    ZodiacalLightLayer(),
+                    AirglowLayer(),
+                ]
+        layers.append(air)
+        if self.clouds is not None:
+            layers.append(
+                CloudLayer(self.clouds, quality=self.cloud_quality, shafts=self.cloud_shafts)
+            )
+        glow = self.light_pollution_layer()
+        if glow is not None:
+            layers.append(glow)
+        return layers
+
+    def light_pollution_layer(self) -> LightPollutionLayer | None:
+        lp = self.light_pollution
+        if lp is None:
+            return None
+        if isinstance(lp, LightPollution):
+            return LightPollutionLayer(lp)
+        return LightPollutionLayer.from_bortle(lp)

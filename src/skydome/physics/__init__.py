@@ -1,0 +1,11 @@
+"""Physics: float64 formulas and constants with one home each.
+
+Host code and the tests use them; where a shader needs the same formula, its GLSL function
+names the twin here and ``tests/test_glsl_twins.py`` holds the two together.
+
+- :mod:`~skydome.physics.constants`: J2000, the astronomical unit, the Earth's radii, units;
+- :mod:`~skydome.physics.phase`: Rayleigh, Henyey-Greenstein and Cornette-Shanks phase functions;
+- :mod:`~skydome.physics.refraction`: the refraction laws (Bennett, Saemundsson), the weather's
+  factor on them, their per-pixel form, the dip of the horizon;
+- :mod:`~skydome.physics.packing`: spectral values packed 4 to a vec4 / mat4 for the shaders.
+"""

@@ -1,0 +1,117 @@
+"""Atmospheric refraction: the laws, the weather's factor on them, their per-pixel form, and
+the dip of the horizon. GLSL twin: ``shaders/common/refraction.glsl``.
+
+Bennett (1982) gives the refraction R to subtract from an apparent altitude, Saemundsson
+(1986) the one to add to a true altitude (Meeus, Astronomical Algorithms, eq. 16.3-16.4):
+both R = a / tan(h + b / (h + c)) arcmin, scaled by the weather's (P / 1010 hPa)(283 K / T).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from skydome.physics.constants import (
+    EARTH_MEAN_RADIUS_M,
+    STANDARD_PRESSURE_HPA,
+    STANDARD_TEMPERATURE_C,
+    ZERO_CELSIUS_K,
+)
+
+#: (a arcmin, b deg, c deg, lowest altitude deg) of Bennett's law (apparent -> true): defined
+#: for h0 >= -1 deg, accurate to 0.07' over 0-90 deg.
+BENNETT = (1.0, 7.31, 4.4, -1.0)
+#: The same of Saemundsson's law (true -> apparent), consistent with Bennett's to 4".
+SAEMUNDSSON = (1.02, 10.3, 5.11, -1.9)
+#: Nodes of the per-pixel refraction table over the sine of the apparent elevation, -1 to 1.
+REFRACTION_TABLE_SIZE = 4096
+
+
+def refraction_scale(pressure_hPa, temperature_C) -> np.ndarray | float:
+    """The weather's factor (P / 1010 hPa)(283 K / (273 K + T)) on the refraction laws (0
+    when the pressure is 0: no refraction)."""
+    p = np.asarray(pressure_hPa, dtype=np.float64) / STANDARD_PRESSURE_HPA
+    t = (ZERO_CELSIUS_K + STANDARD_TEMPERATURE_C) / (
+        ZERO_CELSIUS_K + np.asarray(temperature_C, dtype=np.float64)
+    )
+    out = p * t
+    return float(out) if out.ndim == 0 else out
+
+
+def cot_refraction(alt_deg, law: tuple[float, float, float, float], scale=1.0) -> np.ndarray:
+    """R = a / tan(h + b / (h + c)) arcmin for ``law`` = (a, b, c, lowest), 0 below the
+    lowest altitude and at the zenith, times ``scale`` (the weather's factor)."""
+    a, b, c, lowest = law
+    h = np.asarray(alt_deg, dtype=float)
+    hc = np.maximum(h, lowest)
+    r = a / np.tan(np.radians(hc + b / (hc + c)))
+    r = np.where(h >= lowest, r, 0.0)
+    r = np.where(h >= 90.0, 0.0, np.maximum(r, 0.0))
+    return r * scale
+
+
+def refraction_bennett(
+    apparent_alt_deg, pressure_hPa=STANDARD_PRESSURE_HPA, temperature_C=STANDARD_TEMPERATURE_C
+) -> np.ndarray:
+    """Refraction R (arcmin) to subtract from an apparent altitude (deg) to get the true one
+    (Bennett's law; 0 below -1 deg: a body so far below the horizon is not seen)."""
+    scale = refraction_scale(pressure_hPa, temperature_C)
+    return cot_refraction(apparent_alt_deg, BENNETT, scale)
+
+
+def refraction_saemundsson(
+    true_alt_deg, pressure_hPa=STANDARD_PRESSURE_HPA, temperature_C=STANDARD_TEMPERATURE_C
+) -> np.ndarray:
+    """Refraction R (arcmin) to add to a true (airless) altitude (deg) to get the apparent
+    one (Saemundsson's law; 0 below -1.9 deg, where the apparent altitude is about -1 deg)."""
+    scale = refraction_scale(pressure_hPa, temperature_C)
+    return cot_refraction(true_alt_deg, SAEMUNDSSON, scale)
+
+
+def airless_offset(z, scale: float = 1.0) -> np.ndarray:
+    """Float64 twin of ``airless_direction`` in ``shaders/common/refraction.glsl`` (Bennett's
+    law, then two Saemundsson steps), as one number per sine ``z`` of the apparent
+    elevation: the airless direction of a unit apparent one ``d`` is parallel to
+    ``d + k (z d - up)`` with k = tan(R) / cos(h), R the refraction (rad). ``scale`` is the
+    weather's factor (:func:`refraction_scale`); 0 gives k = 0."""
+    z = np.clip(np.asarray(z, dtype=np.float64), -1.0, 1.0)
+    c = np.sqrt(np.maximum(1.0 - z * z, 0.0))
+    h = np.degrees(np.arctan2(z, c))
+    r = np.radians(cot_refraction(h, BENNETT, scale) / 60.0)
+    for _ in range(2):
+        r = np.radians(cot_refraction(h - np.degrees(r), SAEMUNDSSON, scale) / 60.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(c > 0.0, np.tan(r) / c, 0.0)
+
+
+@lru_cache(maxsize=8)
+def airless_offset_table(scale: float) -> np.ndarray:
+    """:func:`airless_offset` at REFRACTION_TABLE_SIZE nodes z = -1 + 2 i / (n - 1), float32
+    (read-only), for ``common/airless_table.glsl``: one linear fetch by the pixel's z instead
+    of the refraction's trigonometry (the node at the zenith, where ``z d - up`` vanishes,
+    takes its neighbour's value)."""
+    n = REFRACTION_TABLE_SIZE
+    k = airless_offset(np.linspace(-1.0, 1.0, n), scale)
+    k[-1] = k[-2]
+    out = k.astype(np.float32)
+    out.setflags(write=False)
+    return out
+
+
+def airless_offset_lookup(z, scale: float = 1.0) -> np.ndarray:
+    """Float64 twin of the shaders' fetch: :func:`airless_offset_table` interpolated linearly
+    in z between its nodes."""
+    t = airless_offset_table(float(scale)).astype(np.float64)
+    x = (np.clip(np.asarray(z, dtype=np.float64), -1.0, 1.0) + 1.0) * 0.5 * (len(t) - 1)
+    i = np.clip(np.floor(x).astype(int), 0, len(t) - 2)
+    f = x - i
+    return (1.0 - f) * t[i] + f * t[i + 1]
+
+
+def horizon_dip_sin(observer_height_m) -> float:
+    """sin of the dip of the ground's horizon below the horizontal for an observer at
+    ``observer_height_m`` above a spherical Earth of the mean radius: a ray with elevation
+    below -dip hits it."""
+    r = EARTH_MEAN_RADIUS_M + max(float(observer_height_m), 0.0)
+    return float(np.sqrt(max(1.0 - (EARTH_MEAN_RADIUS_M / r) ** 2, 0.0)))
