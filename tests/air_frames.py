@@ -59,6 +59,20 @@ class AirFrames:
         return self.layer.sky
 
     @property
+    def tables(self):
+        """The precomputed model's tables."""
+        return self.layer.sky.tables
+
+    @property
+    def transmittance(self):
+        """The single model's transmittance table."""
+        return self.layer.sky.transmittance
+
+    @property
+    def view_samples(self) -> int:
+        return self.layer.sky.view_samples
+
+    @property
     def wavelengths_nm(self) -> np.ndarray:
         return self.layer.sky.wavelengths_nm
 

@@ -50,7 +50,7 @@ def test_bad_input_is_one_line_and_status_2(tmp_path, args, words):
     ],
 )
 def test_view_and_render_check_place_time_and_sun_alike(tmp_path, args):
-    """One helper (cli.place_options.place_time_sun) checks these flags for both commands:
+    """One helper (cli.describe.place_time_sun) checks these flags for both commands:
     the same bad flags give the same one-line message."""
     view = run_cli("view", *args, "--frames", "1", cwd=tmp_path)
     render = run_cli("render", *args, "--size", "16x8", cwd=tmp_path)
@@ -61,13 +61,16 @@ def test_view_and_render_check_place_time_and_sun_alike(tmp_path, args):
 
 def test_view_without_time_takes_now_where_render_asks_for_it():
     from datetime import datetime, timezone
+    from types import SimpleNamespace
 
-    from skydome.cli.place_options import place_time_sun
+    from skydome.cli.describe import place_time_sun
     from skydome.errors import ParameterError
 
+    flags = SimpleNamespace(place="Valletta", lat=None, lon=None, elevation=None,
+                            sun_elevation=None, sun_azimuth=None, look=None)  # fmt: skip
     with pytest.raises(ParameterError, match="a place needs --time"):
-        place_time_sun("Valletta", None, None, None, None, None, None, None)
-    pts = place_time_sun("Valletta", None, None, None, None, None, None, None, default_now=True)
+        place_time_sun(flags, None)
+    pts = place_time_sun(flags, None, default_now=True)
     now = datetime.now(timezone.utc).timestamp() / 86400.0 + 2440587.5  # Unix epoch = JD
     assert abs(float(pts.time.jd_utc) - now) < 60.0 / 86400.0  # within a minute of now
     assert not pts.abstract and pts.sun_elevation_deg == 30.0

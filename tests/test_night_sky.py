@@ -46,7 +46,7 @@ def dark_sky():
 def test_a_sky_with_a_place_has_the_night_layers_and_the_abstract_mode_none(dark_sky):
     names = [layer.name for layer in dark_sky.layers]
     assert names == ["sun", "moon", *NIGHT_LAYERS, "atmosphere"]
-    assert [la.name for la in Sky(sun_elevation_deg=10.0).layers] == ["sun", "moon", "atmosphere"]
+    assert [la.name for la in Sky(sun_elevation_deg=10.0).layers] == ["sun", "atmosphere"]
     plain = Sky(LA_PALMA, DARK, night=False)
     assert [la.name for la in plain.layers] == ["sun", "moon", "atmosphere"]
     lit = Sky(LA_PALMA, DARK, light_pollution=8)

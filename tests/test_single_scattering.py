@@ -294,7 +294,8 @@ def test_no_nan_every_pixel_written():
             (FisheyeCamera(), 100.0, 89.9),
         ]:
             w, h = cam.frame_size(64, 32)
-            r._target(w, h)[1].clear(float("nan"), float("nan"), float("nan"), float("nan"))
+            for fbo in r.graph._target(w, h)[1]:  # both targets of the graph, filled with NaN
+                fbo.clear(float("nan"), float("nan"), float("nan"), float("nan"))
             data = r.render(
                 cam, 64, 32, sun_direction=direction_from_angles(el, 33.0), altitude_m=alt
             ).data

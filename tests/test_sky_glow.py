@@ -10,7 +10,6 @@ import pytest
 
 from skydome import Sky
 from skydome.core.cameras import DirectionsCamera, FisheyeCamera, direction_from_angles
-from skydome.core.cameras import refraction as rf
 from skydome.errors import ParameterError
 from skydome.night import (
     AirglowLayer,
@@ -24,6 +23,7 @@ from skydome.night import (
 )
 from skydome.night import airglow as ag
 from skydome.night import zodiacal as zl
+from skydome.physics import refraction as rf
 from skydome.scene.state import state_at
 from skydome.spectra import SRGB_LUMINANCE
 

@@ -35,9 +35,7 @@ def _scene(window, **fields):
     from skydome.viewer.scene import ViewerScene, initial_state
 
     sky = Sky("Valletta", "2018-03-01T12:00Z", ctx=window.ctx, night=False, config=TINY_TABLES)
-    window.panel.configure(
-        atmosphere=sky.layer("atmosphere").params, config=TINY_TABLES, night=False
-    )
+    window.panel.configure(sky.description)
     return ViewerScene(sky, Controls(initial_state(sky, **fields)))
 
 

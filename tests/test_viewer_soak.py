@@ -82,7 +82,7 @@ def test_soak_keeps_memory_flat_and_leaks_no_gl_objects(x_display):  # noqa: F81
         sky = Sky("Paranal", "2024-07-05T00:00Z", ctx=win.ctx, config=TINY_TABLES)
         params = sky.layer("atmosphere").params
         hazy = params.with_aerosol(aod_550=0.4)
-        win.panel.configure(atmosphere=params, config=TINY_TABLES)
+        win.panel.configure(sky.description)
         scene = ViewerScene(sky, Controls(initial_state(sky, speed=3600.0)))
         c = scene.controls
         jd0 = c.state.jd_utc

@@ -8,12 +8,23 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from skydome.core.cameras import FisheyeCamera, PerspectiveCamera, render_sky
+from skydome import FisheyeCamera, PerspectiveCamera, Sky
 from skydome.display import auto_exposure, ev100_to_scale, tonemap
 from skydome.io import atomic_write, write_outputs, write_png
 from skydome.scene.state import state_series
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "gallery"
+
+
+def render_sky(*, sun_elevation_deg, sun_azimuth_deg=180.0, camera, width, height,
+               atmosphere="earth", model="precomputed", altitude_m=1.7, **frame_kwargs):
+    """A frame (cd/m^2, no exposure) of a Sun alone over ``atmosphere`` (a Sky of the abstract
+    mode: the Sun's disk and the air, or the single-scattering model's own)."""
+    with Sky(sun_elevation_deg=sun_elevation_deg, sun_azimuth_deg=sun_azimuth_deg,
+             atmosphere=atmosphere, model=model) as sky:  # fmt: skip
+        return sky.render(camera, width, height, altitude_m=altitude_m, exposure=None,
+                          **frame_kwargs)  # fmt: skip
+
 
 # name: (sun elevation, sun azimuth, camera altitude m, camera or None, atmosphere)
 # Exposure is automatic except where an EV100 is given: a sunset over a ground that single
@@ -127,8 +138,6 @@ def aerial_perspective(w: int, h: int) -> None:
     composite = scene x transmittance + in-scattered light (Sun 6 deg, camera at 2 m)."""
     import numpy as np
 
-    from skydome.core.cameras import direction_from_angles, get_renderer
-
     cam = PerspectiveCamera(fov_deg=90, yaw_deg=230, pitch_deg=5)
     x, y = np.arange(w)[None, :], np.arange(h)[:, None]
     depth_m = np.zeros((h, w))
@@ -139,9 +148,8 @@ def aerial_perspective(w: int, h: int) -> None:
     ):
         top = h * (base + amp * np.sin(freq * x / w + dist_m / 1e4))
         depth_m = np.where(y > top, dist_m, depth_m)
-    frame = get_renderer().render(
-        cam, w, h, sun_direction=direction_from_angles(6.0, 250.0), altitude_m=2.0, depth_m=depth_m
-    )
+    frame = render_sky(sun_elevation_deg=6.0, sun_azimuth_deg=250.0, camera=cam, width=w,
+                       height=h, altitude_m=2.0, depth_m=depth_m)  # fmt: skip
     hills = np.where(depth_m[..., None] > 0, np.array([30.0, 40.0, 25.0]), 0.0)  # cd/m^2
     composite = frame.rgb + frame.info["transmittance"] * hills
     ldr = tonemap(composite, "filmic", auto_exposure(composite))
@@ -154,15 +162,11 @@ def light_shafts(w: int, h: int) -> None:
     """Crepuscular rays: 14 wedges around the Sun (4 deg) whose first 8 km lie in shadow."""
     import numpy as np
 
-    from skydome.core.cameras import direction_from_angles, get_renderer
-
     cam = PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10)
     angle = np.arctan2((0.59 * h - np.arange(h))[:, None], (np.arange(w) - w / 2)[None, :])
     shadow_m = np.where(np.sin(14 * angle) > 0.3, 8000.0, 0.0)
-    sun = direction_from_angles(4.0, 250.0)
-    frame = get_renderer().render(
-        cam, w, h, sun_direction=sun, altitude_m=2.0, shadow_length_m=shadow_m
-    )
+    frame = render_sky(sun_elevation_deg=4.0, sun_azimuth_deg=250.0, camera=cam, width=w,
+                       height=h, altitude_m=2.0, shadow_length_m=shadow_m)  # fmt: skip
     ldr = tonemap(frame, "filmic", auto_exposure(frame.rgb * (shadow_m[..., None] == 0)))
     path = OUT / "precomputed-light-shafts.png"
     atomic_write(
@@ -236,7 +240,6 @@ def cloud_views(w: int, h: int) -> None:
     from skydome.clouds.layer import CloudLayer
     from skydome.clouds.params import Clouds
     from skydome.core.cameras import PerspectiveCamera as Cam
-    from skydome.scene import Sky
 
     valletta = (35.8989, 14.5146, 56.0)
     # name: (time, clouds, look (yaw from the Sun's azimuth, pitch), fov, altitude m, shafts, note)
@@ -267,7 +270,7 @@ def cloud_views(w: int, h: int) -> None:
         path = OUT / f"{name}.png"
         atomic_write(path, lambda tmp, f=frame, n=note: write_png(tmp, f.image, {"views": n}))
         print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
-        sky.graph.release()
+        sky.release()
     # A moonlit cloudy night: Valletta, 2018-03-01 23:00 UTC, the full Moon 63 deg up.
     sky = Sky("Valletta", "2018-03-01T23:00Z", clouds=Clouds("fair", coverage=0.5, seed=3))
     moon = sky.state.moon
@@ -284,7 +287,6 @@ def scene_views(w: int, h: int) -> None:
     night, and a strip from a 24-hour time-lapse."""
     import numpy as np
 
-    from skydome.scene import Sky
     from skydome.sky import aim_camera
 
     def save(name: str, image, note: str) -> None:
@@ -336,7 +338,6 @@ def night_views(w: int, h: int) -> None:
     the stars turning over four hours, and the overlays."""
     import numpy as np
 
-    from skydome.scene import Sky
 
     def save(name: str, image, note: str) -> None:
         path = OUT / f"{name}.png"

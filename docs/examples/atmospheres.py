@@ -8,9 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
+from skydome import PerspectiveCamera, Sky
 from skydome.atmosphere import PRESETS, preset
 from skydome.atmosphere.illuminance import horizontal_illuminance
-from skydome.core.cameras import PerspectiveCamera, render_sky
 from skydome.display import ev100_to_scale, tonemap
 from skydome.errors import ParameterError
 from skydome.io import write_outputs
@@ -42,14 +42,8 @@ except ParameterError as exc:  # bad values name the valid range
 camera = PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10)
 panels = []
 for label, params in (("earth", "earth"), ("hazy", "hazy"), ("smoky", smoky)):
-    frame = render_sky(
-        sun_elevation_deg=10,
-        sun_azimuth_deg=250,
-        camera=camera,
-        width=320,
-        height=180,
-        atmosphere=params,
-    )
+    with Sky(sun_elevation_deg=10, sun_azimuth_deg=250, atmosphere=params) as sky:
+        frame = sky.render(camera, 320, 180, exposure=None)
     panels.append(tonemap(frame, "filmic", ev100_to_scale(13.0)))
     (ill,) = horizontal_illuminance(10.0, atmosphere=params)
     print(

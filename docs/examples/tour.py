@@ -5,8 +5,7 @@ import os
 import sys
 from pathlib import Path
 
-from skydome import Sky
-from skydome.core.cameras import FisheyeCamera, PerspectiveCamera, render_sky
+from skydome import FisheyeCamera, PerspectiveCamera, Sky
 from skydome.display import auto_exposure, tonemap
 from skydome.io import write_outputs
 
@@ -33,14 +32,10 @@ night = sky.at("2018-03-01T20:00Z")
 frame = night.render(FisheyeCamera(), 256, 256, tonemap="filmic")
 write_outputs(out / "tour-night-allsky.png", None, frame.image)
 
-# 3. A Sun alone (no place, no time), the renderer's view, tone mapped in NumPy.
-frame = render_sky(
-    sun_elevation_deg=5,
-    sun_azimuth_deg=250,
-    width=320,
-    height=180,
-    camera=PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10),
-)
+# 3. A Sun alone (no place, no time), the frame in cd/m^2 tone mapped in NumPy.
+with Sky(sun_elevation_deg=5, sun_azimuth_deg=250) as sun_alone:  # its GPU memory freed after
+    camera = PerspectiveCamera(fov_deg=90, yaw_deg=250, pitch_deg=10)
+    frame = sun_alone.render(camera, 320, 180, exposure=None)
 image = tonemap(frame, "filmic", auto_exposure(frame, clip_percentile=99.5))
 write_outputs(
     [out / "tour-sun5.png", out / "tour-sun5.exr"], frame.data, image, metadata=frame.info

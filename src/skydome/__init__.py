@@ -2,49 +2,22 @@
 
 >>> from skydome import Sky
 >>> frame = Sky("Valletta", "2018-03-01T19:00Z").render(look="moon", tonemap="filmic")
->>> frame.luminance.max()          # cd/m^2
 
-The names a user needs are here; the packages below hold the rest (``docs/architecture.md``
-shows how they stand on one another):
-
-- a sky: :class:`Sky` (a place and a time, or a Sun alone), described by a frozen
-  :class:`SkyDescription`; its parts :class:`Clouds`, :class:`AtmosphereParams` (presets:
-  :func:`preset`), :class:`LightPollution`;
-- cameras: :class:`PerspectiveCamera`, :class:`FisheyeCamera`, :class:`EquirectCamera`,
-  :class:`CubemapCamera`, :class:`DirectionsCamera`; frames: :class:`Frame` (cd/m^2);
-- places and times: :class:`Observer`, :func:`find_place`, :func:`to_time`;
-- layers for a sky of your own: :class:`Layer`, :class:`AtmosphereLayer`,
-  :class:`CloudLayer`;
-- output: :func:`tonemap`, :func:`write_outputs`;
-- errors: :class:`SkydomeError` and its kinds.
+The public names live in :mod:`skydome.api` (documented there) and are loaded from it on
+first use: ``import skydome`` costs nothing, so that the command line and the gazetteer
+start without NumPy or OpenGL.
 """
 
-from skydome.astro import Observer, to_time
-from skydome.astro.places import find_place
-from skydome.atmosphere import PRESETS as ATMOSPHERES
-from skydome.atmosphere import AtmosphereParams, preset
-from skydome.atmosphere.layer import AtmosphereLayer
-from skydome.clouds import CloudLayer, Clouds, WeatherMap
-from skydome.core.cameras import (
-    CubemapCamera,
-    DirectionsCamera,
-    EquirectCamera,
-    FisheyeCamera,
-    PerspectiveCamera,
-    direction_from_angles,
-)
-from skydome.core.frame import Frame
-from skydome.core.layer import Layer
-from skydome.core.lights import SkyState
-from skydome.description import SkyDescription
-from skydome.display import auto_exposure, tonemap
-from skydome.errors import CacheError, GLError, OutputError, ParameterError, SkydomeError
-from skydome.io import write_outputs
-from skydome.night import LightPollution
-from skydome.sky import Sky
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 from skydome.version import __version__
 
-__all__ = [
+if TYPE_CHECKING:  # what static tools see: every public name
+    from skydome.api import *  # noqa: F403
+
+__all__ = [  # noqa: F405  (the names of skydome.api)
     "ATMOSPHERES",
     "AtmosphereLayer",
     "AtmosphereParams",
@@ -77,3 +50,15 @@ __all__ = [
     "tonemap",
     "write_outputs",
 ]
+
+
+def __getattr__(name: str):
+    if name in __all__:
+        from skydome import api  # the public face: NumPy, OpenGL and every layer
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'skydome' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

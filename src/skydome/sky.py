@@ -147,6 +147,11 @@ class Sky:
         if isinstance(light_pollution, LightPollutionLayer):
             extra.append(light_pollution)
             light_pollution = None
+        if layers is not None and (clouds is not None or light_pollution is not None):
+            raise ParameterError(
+                "light_pollution and clouds add to the default layers: with layers=[...] add "
+                "a LightPollutionLayer or a CloudLayer yourself"
+            )
         if isinstance(place, SkyDescription):
             given = [k for k, v in (("time", time), ("clouds", clouds),
                                     ("light_pollution", light_pollution)) if v is not None]
@@ -162,11 +167,6 @@ class Sky:
             )  # fmt: skip
         if layers is None:
             layers = description.layers(progress)
-        elif description.light_pollution is not None or description.clouds is not None:
-            raise ParameterError(
-                "light_pollution and clouds add to the default layers: with layers=[...] add "
-                "a LightPollutionLayer or a CloudLayer yourself"
-            )
         layers = _placed(list(layers), extra)
         self.description = description
         self.state = description.state()

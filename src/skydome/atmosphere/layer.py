@@ -31,6 +31,7 @@ from skydome.core.layer import DrawContext, Layer, LayerHost
 from skydome.core.lights import SkyState
 from skydome.core.services import AirLights, AirService, LookupTables
 from skydome.errors import ParameterError, check_choice
+from skydome.gpu.textures import release_all
 from skydome.physics.constants import AU_KM
 from skydome.physics.geometry import elevation_deg
 from skydome.spectra import solar_luminance
@@ -245,8 +246,7 @@ class AtmosphereLayer(Layer):
     def release(self) -> None:
         super().release()
         for tex, fbo, _ in self._transmittance.values():
-            fbo.release()
-            tex.release()
+            release_all(fbo, tex)
         self._transmittance.clear()
         if self.sky is not None:
             self.sky.release()

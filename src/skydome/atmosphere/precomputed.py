@@ -34,7 +34,7 @@ from skydome.core.cameras import effective_altitude_m
 from skydome.core.layer import DrawContext
 from skydome.core.services import AirLights, LookupTables
 from skydome.gpu import FullscreenPass
-from skydome.gpu.textures import linear_clamped
+from skydome.gpu.textures import linear_clamped, release_all
 from skydome.physics.constants import M_PER_KM
 from skydome.physics.packing import mat4_groups
 
@@ -336,8 +336,7 @@ class PrecomputedSky:
             p.release()
         self._passes.clear()
         if self._vt is not None:
-            for obj in self._vt[:3]:
-                obj.release()
+            release_all(self._vt[1], self._vt[0], self._vt[2])
             self._vt = None
         if self.sky_view is not None:
             self.sky_view.release()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
-from skydome.gpu.textures import copy_array_to_3d, linear_clamped, release_unbound
+from skydome.gpu.textures import copy_array_to_3d, linear_clamped, release_all, release_unbound
 
 #: Default table size (azimuth from the light over [0, 180] deg, elevation), texels.
 DEFAULT_SKY_VIEW_SIZE = (256, 256)
@@ -142,10 +142,7 @@ class SkyViewTables:
 
     def release(self) -> None:
         for texs, fbo, _ in self._slots.values():
-            if fbo is not None:
-                fbo.release()
-            for tex in texs:
-                tex.release()
+            release_all(fbo, *texs)
         self._slots.clear()
         for fpass in (*self._passes, self._aerial_pass):
             if fpass is not None:

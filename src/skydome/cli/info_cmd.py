@@ -9,11 +9,11 @@ def register(app: typer.Typer) -> None:
     @app.command()
     def info() -> None:
         """Print the skydome version, the OpenGL renderer and version, and whether it is software."""
-        import skydome
+        from skydome.version import __version__
         from skydome.gpu import gl_info, shared_context
 
         gi = gl_info(shared_context())
-        typer.echo(f"skydome {skydome.__version__}")
+        typer.echo(f"skydome {__version__}")
         typer.echo(f"OpenGL renderer: {gi.renderer}")
         typer.echo(f"OpenGL vendor:   {gi.vendor}")
         typer.echo(f"OpenGL version:  {gi.version}")

@@ -15,7 +15,7 @@ import warnings
 import typer
 import typer.core
 
-import skydome
+from skydome.version import __version__
 from skydome.errors import SkydomeError
 
 # Typer >= 0.2x carries its own copy of Click as typer._click; older releases use click.
@@ -46,7 +46,7 @@ for _name in COMMAND_MODULES:
 
 def _print_version(value: bool) -> None:
     if value:
-        typer.echo(f"skydome {skydome.__version__}")
+        typer.echo(f"skydome {__version__}")
         raise typer.Exit()
 
 

@@ -14,6 +14,13 @@ def release_unbound(obj) -> None:
     obj.release()
 
 
+def release_all(*objects) -> None:
+    """Release GL objects (None skipped), framebuffers unbound first (:func:`release_unbound`)."""
+    for obj in objects:
+        if obj is not None:
+            release_unbound(obj)
+
+
 def linear_clamped(tex, ctx):
     """Set ``tex`` (2D, array or 3D) to linear filtering with clamped edges; returns it."""
     tex.filter = (ctx.LINEAR, ctx.LINEAR)

@@ -44,6 +44,7 @@ from skydome.core.tiles import TILE_SIZE, frame_tiles, input_image, input_textur
 from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass, shared_context
+from skydome.gpu.textures import release_all
 from skydome.physics.constants import M_PER_KM
 
 
@@ -206,9 +207,7 @@ class FrameGraph:
         self.generation += 1
         for key in [k for k in self._targets if k != keep]:
             texs, fbos, depth = self._targets.pop(key)
-            for obj in (*fbos, *texs, depth):
-                if obj is not None:
-                    obj.release()
+            release_all(*fbos, *texs, depth)
         for key in [k for k in self._staging if k != keep]:
             del self._staging[key]
 
@@ -620,9 +619,7 @@ class FrameGraph:
         """Free the targets, the post passes and every layer's GPU resources."""
         self.generation += 1
         for texs, fbos, depth in self._targets.values():
-            for obj in (*fbos, *texs, depth):
-                if obj is not None:
-                    obj.release()
+            release_all(*fbos, *texs, depth)
         self._targets.clear()
         self._staging.clear()
         for obj in (
