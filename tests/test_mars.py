@@ -117,9 +117,7 @@ def _sky_b_over_r(sun_elevation_deg: float, points):
 
     sun = direction_from_angles(sun_elevation_deg, 180.0)
     dirs = np.array([direction_from_angles(e, a) for e, a in points])
-    frame = precomputed_frames("mars").render(
-        DirectionsCamera(dirs), 0, 0, sun_direction=sun
-    )
+    frame = precomputed_frames("mars").render(DirectionsCamera(dirs), 0, 0, sun_direction=sun)
     rgb = frame.data[0, :, :3].astype(np.float64)
     assert np.all(np.isfinite(rgb)) and np.all(rgb > 0.0)
     return rgb[:, 2] / rgb[:, 0]

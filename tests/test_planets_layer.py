@@ -257,9 +257,7 @@ def test_the_switch_between_point_and_disk_conserves_the_light():
     fluxes, modes = [], []
     for size in (96, 128, 160, 192):  # Jupiter's radius crosses DISK_MIN_RADIUS_PX here
         frame = sky.render(cam, size, size, exposure=None)
-        px = view.angular_radius_rad / math.sqrt(
-            float(cam.solid_angle(view.direction, size, size))
-        )
+        px = view.angular_radius_rad / math.sqrt(float(cam.solid_angle(view.direction, size, size)))
         modes.append(frame.info["planets"]["jupiter"]["disk"])
         assert modes[-1] == (px >= DISK_MIN_RADIUS_PX)
         fluxes.append(_flux(frame, perspective_pixel_solid_angles(cam, size, size)))

@@ -81,9 +81,7 @@ def test_mars_sunset_is_blue_around_the_sun():
     near = [(5.0, 188.0), (8.0, 186.0), (12.0, 180.0)]
     far = [(5.0, 270.0), (5.0, 90.0), (20.0, 270.0)]
     dirs = np.array([direction_from_angles(e, a) for e, a in near + far])
-    frame = precomputed_frames("mars").render(
-        DirectionsCamera(dirs), 0, 0, sun_direction=sun
-    )
+    frame = precomputed_frames("mars").render(DirectionsCamera(dirs), 0, 0, sun_direction=sun)
     rgb = frame.data[0, :, :3].astype(np.float64)
     b_over_r = rgb[:, 2] / rgb[:, 0]
     assert b_over_r[:3].min() > 1.1 * b_over_r[3:].max(), b_over_r

@@ -176,7 +176,9 @@ def test_light_shafts_with_a_scene_match_direct_lookups(altitude_m, sun_elevatio
 
 def test_tables_are_redrawn_only_when_needed():
     r = AirFrames(
-        preset("earth"), config=precomputed_renderer().sky.config, ctx=precomputed_renderer().graph.ctx
+        preset("earth"),
+        config=precomputed_renderer().sky.config,
+        ctx=precomputed_renderer().graph.ctx,
     )
     sun = direction_from_angles(20.0, 100.0)
     r.render(PerspectiveCamera(yaw_deg=0.0), 16, 8, sun_direction=sun)

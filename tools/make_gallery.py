@@ -16,8 +16,18 @@ from skydome.scene.state import state_series
 OUT = Path(__file__).resolve().parents[1] / "docs" / "gallery"
 
 
-def render_sky(*, sun_elevation_deg, sun_azimuth_deg=180.0, camera, width, height,
-               atmosphere="earth", model="precomputed", altitude_m=1.7, **frame_kwargs):
+def render_sky(
+    *,
+    sun_elevation_deg,
+    sun_azimuth_deg=180.0,
+    camera,
+    width,
+    height,
+    atmosphere="earth",
+    model="precomputed",
+    altitude_m=1.7,
+    **frame_kwargs,
+):
     """A frame (cd/m^2, no exposure) of a Sun alone over ``atmosphere`` (a Sky of the abstract
     mode: the Sun's disk and the air, or the single-scattering model's own)."""
     with Sky(sun_elevation_deg=sun_elevation_deg, sun_azimuth_deg=sun_azimuth_deg,
@@ -337,7 +347,6 @@ def night_views(w: int, h: int) -> None:
     sky under Bortle 8 at the same exposure, night vision off and on, twilight with Venus,
     the stars turning over four hours, and the overlays."""
     import numpy as np
-
 
     def save(name: str, image, note: str) -> None:
         path = OUT / f"{name}.png"

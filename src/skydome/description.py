@@ -246,7 +246,9 @@ class SkyDescription:
             place = changes.pop("place")
             changes["observer"] = None if place is None else observer_for(place)
         if isinstance(changes.get("time"), (str, int, float)) or (
-            "time" in changes and changes["time"] is not None and not isinstance(changes["time"], Time)
+            "time" in changes
+            and changes["time"] is not None
+            and not isinstance(changes["time"], Time)
         ):
             changes["time"] = to_time(changes["time"])
         if isinstance(changes.get("atmosphere"), str):

@@ -153,8 +153,15 @@ class Sky:
                 "a LightPollutionLayer or a CloudLayer yourself"
             )
         if isinstance(place, SkyDescription):
-            given = [k for k, v in (("time", time), ("clouds", clouds),
-                                    ("light_pollution", light_pollution)) if v is not None]
+            given = [
+                k
+                for k, v in (
+                    ("time", time),
+                    ("clouds", clouds),
+                    ("light_pollution", light_pollution),
+                )
+                if v is not None
+            ]
             if given or settings or atmosphere != "earth":
                 raise ParameterError(
                     "give a SkyDescription alone, or settings as keywords: not both"

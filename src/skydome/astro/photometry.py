@@ -143,4 +143,9 @@ def earthshine_lux(sun_illuminance_lux: float, earth_phase_angle_rad: float, moo
     a = float(earth_phase_angle_rad)
     phase_law = (math.sin(a) + (math.pi - a) * math.cos(a)) / math.pi
     geometric_albedo = 2.0 / 3.0 * 0.30
-    return sun_illuminance_lux * geometric_albedo * phase_law * (EARTH_EQUATORIAL_RADIUS_KM / moon_km) ** 2
+    return (
+        sun_illuminance_lux
+        * geometric_albedo
+        * phase_law
+        * (EARTH_EQUATORIAL_RADIUS_KM / moon_km) ** 2
+    )

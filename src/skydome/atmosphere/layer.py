@@ -48,9 +48,7 @@ def atmosphere_params(atmosphere: str | AtmosphereParams) -> AtmosphereParams:
         return atmosphere
     if isinstance(atmosphere, str):
         return preset(atmosphere)
-    raise ParameterError(
-        f"atmosphere {atmosphere!r} must be a preset name or an AtmosphereParams"
-    )
+    raise ParameterError(f"atmosphere {atmosphere!r} must be a preset name or an AtmosphereParams")
 
 
 class AtmosphereLayer(Layer):

@@ -138,7 +138,9 @@ class PrecomputedSky:
         self.setup_s = time.perf_counter() - t0
         self.uniforms = self.tables.uniforms()
         self.textures = self.tables.textures()
-        self.sky_view = SkyViewTables(ctx, self.tables.defines(), sky_view_size) if sky_view else None
+        self.sky_view = (
+            SkyViewTables(ctx, self.tables.defines(), sky_view_size) if sky_view else None
+        )
         self._passes: dict[tuple, FullscreenPass] = {}
         self._vt = None  # the view-transmittance table: [texture, framebuffer, pass, radius]
         self._behind: dict | None = None
@@ -344,4 +346,3 @@ class PrecomputedSky:
         for obj in self._owned:
             obj.release()
         self._owned.clear()
-

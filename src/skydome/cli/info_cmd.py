@@ -9,8 +9,8 @@ def register(app: typer.Typer) -> None:
     @app.command()
     def info() -> None:
         """Print the skydome version, the OpenGL renderer and version, and whether it is software."""
-        from skydome.version import __version__
         from skydome.gpu import gl_info, shared_context
+        from skydome.version import __version__
 
         gi = gl_info(shared_context())
         typer.echo(f"skydome {__version__}")

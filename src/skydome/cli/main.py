@@ -15,8 +15,8 @@ import warnings
 import typer
 import typer.core
 
-from skydome.version import __version__
 from skydome.errors import SkydomeError
+from skydome.version import __version__
 
 # Typer >= 0.2x carries its own copy of Click as typer._click; older releases use click.
 _click = getattr(typer.core, "_click", None) or importlib.import_module("click")

@@ -125,4 +125,3 @@ class SkyState:
                 moon_illuminance_lux=self.moon.illuminance_lux,
             )
         return out
-

@@ -74,9 +74,7 @@ class AirService(ABC):
         ground."""
 
     @abstractmethod
-    def aerial_perspective(
-        self, radius_km: float, lights: AirLights
-    ) -> tuple[dict, dict] | None:
+    def aerial_perspective(self, radius_km: float, lights: AirLights) -> tuple[dict, dict] | None:
         """(uniforms, textures) of the aerial-perspective tables of ``lights`` seen from
         ``radius_km`` (``atmosphere/aerial_lookup.glsl``), or None above the air (look the
         4D tables up instead)."""

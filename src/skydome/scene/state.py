@@ -82,9 +82,7 @@ def state_series(observer, times) -> list[SkyState]:
     pole = np.array([0.0, math.cos(lat), math.sin(lat)])  # the true pole of date in ENU
     out = []
     for i in range(t.shape[0]):
-        sun = _light(
-            "sun", s.enu[i], s.enu_unrefracted[i], s.distance_km[i], s.illuminance_lux[i]
-        )
+        sun = _light("sun", s.enu[i], s.enu_unrefracted[i], s.distance_km[i], s.illuminance_lux[i])
         moon = _light(
             "moon", m.enu[i], m.enu_unrefracted[i], m.distance_km[i], m.illuminance_lux[i]
         )
