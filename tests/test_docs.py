@@ -241,5 +241,5 @@ def test_site_builds_strict(tmp_path):
     tour = (site / "tour.html").read_text(encoding="utf-8")
     assert "write_outputs" in tour and "--8&lt;--" not in tour
     api = (site / "api" / "scene.html").read_text(encoding="utf-8")
-    assert "skydome.scene.sky.Sky" in api and "def render" not in api  # rendered, not source
+    assert "skydome.sky.Sky" in api and "def render" not in api  # rendered, not source
     assert (site / "gallery" / "night-milky-way.png").exists()

@@ -205,7 +205,15 @@ class Sky:
 
     @property
     def released(self) -> bool:
-        return self._finalizer is not None and not self._finalizer.alive
+        """True once :meth:`release` has freed this sky's GPU memory (or, for a view of
+        another sky, once that one has)."""
+        if self._view_of is not None:
+            return self._view_of.released
+        return not self._finalizer.alive
+
+    def _check_alive(self) -> None:
+        if self.released:
+            raise ParameterError("this sky was released: make a new one (Sky(...)) to draw")
 
     def __enter__(self) -> Sky:
         return self
@@ -324,6 +332,7 @@ class Sky:
         it, so that ``scene * transmittance + frame`` is your scene seen through the air
         (aerial perspective). ``shadow_length_m``: an (H, W) image of the length (m) of each
         ray, from the camera, in the shadow of something of yours (light shafts)."""
+        self._check_alive()
         cam = camera or self.camera(look or default_look(self.state))
         scale = exposure_scale(exposure, compensation_ev)
         frame = self.graph.render(
@@ -363,6 +372,7 @@ class Sky:
         exposure is read back and applied as a fixed scale (cheaper on a CPU rasterizer).
         Returns the exposure scale used (m^2/cd, compensation included) when known on the
         CPU, else None."""
+        self._check_alive()
         scale = exposure_scale(exposure, compensation_ev)
         return self.graph.draw(
             self.state,
