@@ -204,13 +204,13 @@ class AtmosphereLayer(Layer):
             self.sky.draw(frame, self.lights(), directions=self.output_directions)
             return
         lights = self._frame_lights(frame.altitude_m)
-        to_output = self.spectral_basis.to_output
+        behind = self.behind_inputs(frame)
         if frame.depth_map is None:
-            self.sky.draw(frame, lights, to_output)
+            self.sky.draw(frame, lights, behind)
             return
         _, _, tw, th = frame.tile
         tex, fbo = self._transmittance_target(frame, (tw, th))
-        self.sky.draw(frame, lights, to_output, depth_map=frame.depth_map, transmittance_fbo=fbo)
+        self.sky.draw(frame, lights, behind, depth_map=frame.depth_map, transmittance_fbo=fbo)
         self._outputs["transmittance"] = tex
 
     def _transmittance_target(self, frame: DrawContext, size):
@@ -268,7 +268,7 @@ class _AirOfLayer(AirService):
         return self._layer.lookup()
 
     def ground_albedo(self) -> float:
-        return float(np.mean(self._layer.sky.uniforms["u_ground_albedo"]))
+        return self._layer.sky.ground_albedo
 
     def camera_position_km(self, altitude_m: float) -> tuple[float, float, float]:
         return camera_position_km(self._layer.params, altitude_m)

@@ -51,23 +51,30 @@ import math
 import time
 import weakref
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from skydome.atmosphere.inputs import (
+    AirGeometry,
+    AirSpectra,
+    LookupInputs,
+    TransmittanceInputs,
+    geometry_inputs,
+    mie_kink_radius_km,
+    mie_phase_defines,
+    profile_defines,
+    spectra_inputs,
+)
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.transmittance import TransmittanceTable
-from skydome.atmosphere.uniforms import (
-    geometry_uniforms,
-    mie_phase_defines,
-    profile_defines,
-    spectral_uniforms,
-)
-from skydome.errors import CacheError, ParameterError
+from skydome.errors import CacheError
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.textures import copy_array_to_3d, linear_clamped, release_unbound
-from skydome.spectra import LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, spectral_to_rgbs_matrix
+from skydome.physics.packing import mat4, mat4_groups
+from skydome.spectra import LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, conversion_matrix
 
 __all__ = [
     "PrecomputeConfig",
@@ -90,21 +97,6 @@ F16_TABLE_MAX = 16384.0
 # ----------------------------------------------------------------------------------------------
 # Spectral conversions
 # ----------------------------------------------------------------------------------------------
-
-
-def conversion_matrix(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
-    """(4, N) matrix from N transfer values (per unit solar irradiance) to lookup results.
-
-    ``"rgbs"``: (R, G, B, scotopic) luminance in cd/m^2 for the tabulated solar spectrum
-    (``spectral_to_rgbs_matrix``, the same as the single-scattering renderer); ``"spectral"``:
-    the identity (4 wavelengths).
-    """
-    wl = np.asarray(wavelengths_nm, dtype=np.float64)
-    if output == "spectral":
-        if len(wl) != 4:
-            raise ParameterError("spectral output needs exactly 4 wavelengths")
-        return np.eye(4)
-    return spectral_to_rgbs_matrix(wl)
 
 
 def output_matrix(output: str = "rgbs") -> np.ndarray:
@@ -131,17 +123,6 @@ def table_matrix(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
     return to_xyzs @ m
 
 
-def _mat4(m: np.ndarray) -> list[float]:
-    """A 4x4 matrix as a GLSL mat4 uniform (column-major)."""
-    return np.asarray(m, dtype=np.float64).T.ravel().tolist()
-
-
-def _group_mats(matrix: np.ndarray) -> list[float]:
-    """mat4 uniforms per group of 4 columns (GLSL column j = wavelength j of the group)."""
-    groups = matrix.shape[1] // 4
-    return np.concatenate([matrix[:, 4 * g : 4 * g + 4].T.ravel() for g in range(groups)]).tolist()
-
-
 def transmittance_weights(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
     """(4, N) non-negative weights, rows summing to 1, giving a transmittance per output channel.
 
@@ -156,6 +137,14 @@ def transmittance_weights(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
     if output == "spectral":
         return np.eye(4)
     m = np.maximum(conversion_matrix(wl, output), 0.0) * (wl / 550.0) ** -4
+    return m / m.sum(axis=1, keepdims=True)
+
+
+def behind_transmittance_weights(to_output: np.ndarray) -> np.ndarray:
+    """(4, N) weights W with T_c = sum_l W[c, l] T(l) the transmittance of output channel c
+    for light of the solar spectrum's shape: M[c, l] / sum_l M[c, l], M = ``to_output`` (the
+    signed sRGB rows included: exact, since each channel is linear in the spectrum)."""
+    m = np.asarray(to_output, dtype=np.float64)
     return m / m.sum(axis=1, keepdims=True)
 
 
@@ -210,28 +199,82 @@ def gauss_legendre(n: int, a: float = -1.0, b: float = 1.0) -> np.ndarray:
     return np.stack([a + h * (x + 1.0), h * w], axis=1)
 
 
-def _ray_rules(n: int) -> dict[str, object]:
-    """Gauss-Legendre rules on [0, 1] with n, n/2, n/4 and n/8 nodes (atmosphere/
-    precompute_common.glsl; the last two when n is a multiple of 8)."""
-    rules = {
-        "u_ray_rule": gauss_legendre(n, 0.0, 1.0).ravel().tolist(),
-        "u_ray_rule_half": gauss_legendre(n // 2, 0.0, 1.0).ravel().tolist(),
-    }
+@dataclass(frozen=True)
+class QuadratureInputs(ShaderInputs):
+    """The quadrature rules of ``atmosphere/precompute_common.glsl`` as (node, weight)
+    pairs: along rays (n, n/2, and n/4, n/8, 3n/4 when n is a multiple of 8 nodes on [0, 1]),
+    over the view cosine above and below the horizon and over azimuth (cos, sin), and over
+    the cosine for the irradiance."""
+
+    u_ray_rule: list[float]
+    u_ray_rule_half: list[float]
+    u_ray_rule_quarter: list[float] | None = None
+    u_ray_rule_eighth: list[float] | None = None
+    u_ray_rule_three_quarters: list[float] | None = None
+    u_mu_rule_sky: list[float] | None = None
+    u_mu_rule_ground: list[float] | None = None
+    u_phi_cs: list[float] | None = None
+    u_irr_mu_rule: list[float] | None = None
+
+
+@dataclass(frozen=True)
+class PrecomputeInputs(ShaderInputs):
+    """A stage of the precomputation (``atmosphere/precompute_*.glsl``): the air and its
+    transmittance, the quadrature rules, the lit-density normalisation's mapping, the
+    conversion of spectral values to the tables' channels, and the stage's own tables and
+    sizes (None where a stage has none)."""
+
+    geometry: AirGeometry
+    spectra: AirSpectra
+    transmittance: TransmittanceInputs
+    rules: QuadratureInputs
+    u_kink_radius: float
+    u_mu_s_min: float
+    u_mu_s_knee: float
+    u_spectral_to_table: list[float]
+    u_density_size: tuple[float, float, float, float] | None = None
+    u_ms_size: tuple[float, float, float, float] | None = None
+    u_scattering_size: tuple[float, float, float, float] | None = None
+    u_table_scale: float | None = None
+    u_irradiance_size: tuple[float, float] | None = None
+    u_ms_log_interp: list[float] | None = None
+    u_render_to_table: list[float] | None = None
+    u_density: object = None
+    u_field: object = None
+    u_ground_irradiance: object = None
+
+
+def quadrature_rules(
+    ray_samples: int,
+    directions: tuple[int, int, int] | None = None,
+    irradiance_mu: int | None = None,
+) -> QuadratureInputs:
+    """The Gauss-Legendre rules of a stage: ``ray_samples`` nodes along rays; the
+    ``directions`` (sky, ground, azimuth) of the sphere quadrature; ``irradiance_mu``
+    cosines of the irradiance."""
+    n = int(ray_samples)
+
+    def rule(k: int, a: float = 0.0, b: float = 1.0) -> list[float]:
+        return gauss_legendre(k, a, b).ravel().tolist()
+
+    extra = {}
     if n % 8 == 0:
-        rules["u_ray_rule_quarter"] = gauss_legendre(n // 4, 0.0, 1.0).ravel().tolist()
-        rules["u_ray_rule_eighth"] = gauss_legendre(n // 8, 0.0, 1.0).ravel().tolist()
-        rules["u_ray_rule_three_quarters"] = gauss_legendre(3 * n // 4, 0.0, 1.0).ravel().tolist()
-    return rules
-
-
-def _direction_rules(directions: tuple[int, int, int]) -> dict[str, object]:
-    n_sky, n_ground, n_phi = directions
-    phi = (np.arange(n_phi) + 0.5) * 2.0 * math.pi / n_phi
-    return {
-        "u_mu_rule_sky": gauss_legendre(n_sky).ravel().tolist(),
-        "u_mu_rule_ground": gauss_legendre(n_ground).ravel().tolist(),
-        "u_phi_cs": np.stack([np.cos(phi), np.sin(phi)], axis=1).ravel().tolist(),
-    }
+        extra = dict(
+            u_ray_rule_quarter=rule(n // 4),
+            u_ray_rule_eighth=rule(n // 8),
+            u_ray_rule_three_quarters=rule(3 * n // 4),
+        )
+    if directions is not None:
+        n_sky, n_ground, n_phi = directions
+        phi = (np.arange(n_phi) + 0.5) * 2.0 * math.pi / n_phi
+        extra.update(
+            u_mu_rule_sky=rule(n_sky, -1.0, 1.0),
+            u_mu_rule_ground=rule(n_ground, -1.0, 1.0),
+            u_phi_cs=np.stack([np.cos(phi), np.sin(phi)], axis=1).ravel().tolist(),
+        )
+    if irradiance_mu is not None:
+        extra["u_irr_mu_rule"] = rule(int(irradiance_mu), -1.0, 1.0)
+    return QuadratureInputs(rule(n), rule(n // 2), **extra)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -241,12 +284,16 @@ def _direction_rules(directions: tuple[int, int, int]) -> dict[str, object]:
 _PROGRAMS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _program(ctx, name: str, defines: dict[str, object], layered: bool = False) -> FullscreenPass:
-    """A compiled pass, cached per context (compiling costs ~0.1 s on llvmpipe)."""
+def _program(
+    ctx, name: str, defines: dict[str, object], layered: bool = False, inputs: tuple = ()
+) -> FullscreenPass:
+    """A compiled pass of a stage (inputs: ``PrecomputeInputs``, or ``inputs``), cached per
+    context (compiling costs ~0.1 s on llvmpipe)."""
+    inputs = inputs or (PrecomputeInputs,)
     cache = _PROGRAMS.setdefault(ctx, {})
-    key = (name, tuple(sorted(defines.items())), layered)
+    key = (name, tuple(sorted(defines.items())), layered, inputs)
     if key not in cache:
-        cache[key] = FullscreenPass(ctx, name, defines, layered=layered)
+        cache[key] = FullscreenPass(ctx, name, defines, inputs=inputs, layered=layered)
     return cache[key]
 
 
@@ -322,6 +369,7 @@ class PrecomputedAtmosphere:
     multiple_log_range: tuple[float, float] = (0.0, 1.0)
     orders_computed: int = 0
     timings: dict[str, float] = field(default_factory=dict)
+    _inputs: LookupInputs | None = field(default=None, repr=False)
 
     @property
     def wavelengths_nm(self) -> np.ndarray:
@@ -339,35 +387,36 @@ class PrecomputedAtmosphere:
             **mie_phase_defines(self.params),
         }
 
-    def uniforms(self) -> dict[str, object]:
-        """Every uniform of ``atmosphere/precomputed_lookup.glsl`` (and of spectral/transmittance GLSL)."""
-        cfg = self.config
-        wl = self.wavelengths_nm
-        return {
-            **geometry_uniforms(self.params),
-            **spectral_uniforms(self.params, wl),
-            "u_spectral_to_rgbs": _group_mats(conversion_matrix(wl, cfg.output)),
-            "u_transmittance_to_output": _group_mats(transmittance_weights(wl, cfg.output)),
-            "u_table_to_output": _mat4(output_matrix(cfg.output)),
-            "u_transmittance_size": self.transmittance_size,
-            "u_mu_s_min": self.mu_s_min,
-            "u_mu_s_knee": math.radians(cfg.mu_s_knee_deg),
-            "u_scattering_size": cfg.glsl_size(cfg.scattering_size),
-            "u_scattering_scale": 1.0 / self.table_scale,
-            "u_multiple_scattering_size": cfg.glsl_size(cfg.multiple_size),
-            "u_multiple_scattering_log_range": tuple(self.multiple_log_range),
-            "u_irradiance_size": tuple(float(s) for s in cfg.irradiance_size),
-        }
-
-    def textures(self) -> dict[str, object]:
-        """Sampler uniform name -> texture."""
-        return {
-            "u_transmittance_lut": self.transmittance_texture,
-            "u_scattering_texture": self.scattering,
-            "u_single_mie_texture": self.single_mie,
-            "u_multiple_scattering_texture": self.multiple_scattering,
-            "u_irradiance_spectral": self.irradiance_spectral,
-        }
+    def inputs(self) -> LookupInputs:
+        """The tables as ``atmosphere/precomputed_lookup.glsl`` reads them (made once)."""
+        if self._inputs is None:
+            cfg = self.config
+            wl = self.wavelengths_nm
+            to_output = conversion_matrix(wl, cfg.output)
+            self._inputs = LookupInputs(
+                geometry=geometry_inputs(self.params),
+                spectra=spectra_inputs(self.params, wl, cfg.output),
+                transmittance=TransmittanceInputs(
+                    self.transmittance_texture, self.transmittance_size
+                ),
+                u_transmittance_to_output=mat4_groups(transmittance_weights(wl, cfg.output)),
+                u_table_to_output=mat4(output_matrix(cfg.output)),
+                u_mu_s_min=self.mu_s_min,
+                u_mu_s_knee=math.radians(cfg.mu_s_knee_deg),
+                u_scattering_size=cfg.glsl_size(cfg.scattering_size),
+                u_scattering_scale=1.0 / self.table_scale,
+                u_multiple_scattering_size=cfg.glsl_size(cfg.multiple_size),
+                u_multiple_scattering_log_range=tuple(self.multiple_log_range),
+                u_irradiance_size=tuple(float(s) for s in cfg.irradiance_size),
+                # the light behind the air: per-channel weights of its spectral
+                # transmittance (exact for light of the solar spectrum's shape)
+                u_behind_transmittance=mat4_groups(behind_transmittance_weights(to_output)),
+                u_scattering_texture=self.scattering,
+                u_single_mie_texture=self.single_mie,
+                u_multiple_scattering_texture=self.multiple_scattering,
+                u_irradiance_spectral=self.irradiance_spectral,
+            )
+        return self._inputs
 
     def memory_bytes(self) -> int:
         """GPU memory of the tables (bytes)."""
@@ -519,11 +568,25 @@ class _Precomputation:
         self._released.append(obj)
         return obj
 
-    def _spectral(self, wl) -> dict[str, object]:
-        return {
-            **spectral_uniforms(self.params, wl),
-            "u_spectral_to_table": _group_mats(table_matrix(wl, self.cfg.output)),
-        }
+    def _inputs(
+        self, wl, rules: QuadratureInputs, to_table=None, **stage
+    ) -> PrecomputeInputs:
+        """A stage's inputs at the wavelengths ``wl`` (to the tables' channels by
+        ``to_table``, default ``table_matrix``), with its ``rules`` and ``stage`` fields."""
+        cfg = self.cfg
+        return PrecomputeInputs(
+            geometry=self.geometry,
+            spectra=spectra_inputs(self.params, wl, cfg.output),
+            transmittance=self.transmittance_inputs,
+            rules=rules,
+            u_kink_radius=mie_kink_radius_km(self.params),
+            u_mu_s_min=self.mu_s_min,
+            u_mu_s_knee=math.radians(cfg.mu_s_knee_deg),
+            u_spectral_to_table=mat4_groups(
+                table_matrix(wl, cfg.output) if to_table is None else to_table
+            ),
+            **stage,
+        )
 
     def _to_3d(self, arr, dtype: str = "f4"):
         """Copy a float32 texture array into a new (linearly filtered) 3D texture."""
@@ -540,13 +603,10 @@ class _Precomputation:
                 "transmittance", 1.0, TransmittanceTable, ctx, self.params,
                 cfg.transmittance_size, cfg.transmittance_steps,
             )  # fmt: skip
-            self.base = {
-                **geometry_uniforms(self.params),
-                "u_transmittance_size": self.transmittance.size,
-                "u_mu_s_min": self.mu_s_min,
-                "u_mu_s_knee": math.radians(cfg.mu_s_knee_deg),
-            }
-            self.t_tex = {"u_transmittance_lut": self.transmittance.texture}
+            self.geometry = geometry_inputs(self.params)
+            self.transmittance_inputs = TransmittanceInputs(
+                self.transmittance.texture, self.transmittance.size
+            )
             self._setup_ms()
             orders = 1
             j_total = None
@@ -598,14 +658,12 @@ class _Precomputation:
             "N_MU_GROUND": n_ground,
             "N_PHI": n_phi,
         }
-        self.ms_uniforms = {
-            **self.base,
-            **self._spectral(self.ms_wl),
-            **_ray_rules(cfg.ms_samples),
-            **_direction_rules(cfg.directions),
-            "u_density_size": cfg.glsl_size(cfg.ms_size),
-            "u_ms_size": cfg.glsl_size(cfg.multiple_size),
-        }
+        self.ms_inputs = self._inputs(
+            self.ms_wl,
+            quadrature_rules(cfg.ms_samples, cfg.directions),
+            u_density_size=cfg.glsl_size(cfg.ms_size),
+            u_ms_size=cfg.glsl_size(cfg.multiple_size),
+        )
         w, h, d = self.j_shape
         self.j3d = self._keep(linear_clamped(ctx.texture3d((w, h, d * gm), 4, dtype="f4"), ctx))
         if cfg.orders < 2:
@@ -626,13 +684,13 @@ class _Precomputation:
         if log_j is not None:
             self.j3d.write(np.ascontiguousarray(log_j, dtype="f4").tobytes())
         self.field_fbo.viewport = (0, 0, *self.field.size)
-        textures = {**self.t_tex, "u_density": self.j3d, "u_ground_irradiance": self.ground}
-        prog.draw(self.field_fbo, self.ms_uniforms, textures)
+        inputs = replace(self.ms_inputs, u_density=self.j3d, u_ground_irradiance=self.ground)
+        prog.draw(self.field_fbo, inputs)
 
     def _ground_irradiance(self) -> None:
         prog = _program(self.ctx, "atmosphere/precompute_ground_irradiance.glsl", self.ms_defines)
         self.ground_fbo.viewport = (0, 0, *self.ground.size)
-        prog.draw(self.ground_fbo, self.ms_uniforms, {"u_field": self.field})
+        prog.draw(self.ground_fbo, replace(self.ms_inputs, u_field=self.field))
 
     def _density(self) -> np.ndarray:
         """ln J_n from the field of order n-1, as (groups * r, mu, nu * mu_s, 4) float32."""
@@ -641,7 +699,7 @@ class _Precomputation:
         )
         w, h, d = self.j_shape
         self.j_fbo.viewport = (0, 0, w, h)
-        prog.draw(self.j_fbo, self.ms_uniforms, {"u_field": self.field}, layers=(0, d))
+        prog.draw(self.j_fbo, replace(self.ms_inputs, u_field=self.field), layers=(0, d))
         return np.concatenate([_read_array(a) for a in self.j_arrays], axis=0)
 
     def _upload_density(self, j_total: np.ndarray) -> None:
@@ -668,16 +726,20 @@ class _Precomputation:
         arr = self._keep(ctx.texture_array((w, h, d), 4, dtype="f4"))
         fbo = self._keep(ctx.framebuffer(color_attachments=[arr]))
         fbo.viewport = (0, 0, w, h)
-        defines, uniforms = dict(self.ms_defines), dict(self.ms_uniforms)
+        defines = dict(self.ms_defines)
+        inputs = replace(self.ms_inputs, u_density=self.j3d)
         interp = self._ms_interp()
         if interp is not None:
             defines.update(MS_LOG_INTERP=1, NUM_RENDER_GROUPS=self.groups)
             # one mat4 per render group: its 4 rows of ln L(render) = W ln L(samples)
-            blocks = [_mat4(interp[4 * k : 4 * k + 4]) for k in range(self.groups)]
-            uniforms["u_ms_log_interp"] = [x for b in blocks for x in b]
-            uniforms["u_render_to_table"] = _group_mats(table_matrix(self.wl, cfg.output))
+            blocks = [mat4(interp[4 * k : 4 * k + 4]) for k in range(self.groups)]
+            inputs = replace(
+                inputs,
+                u_ms_log_interp=[x for b in blocks for x in b],
+                u_render_to_table=mat4_groups(table_matrix(self.wl, cfg.output)),
+            )
         prog = _program(ctx, "atmosphere/precompute_ms_scattering.glsl", defines, layered=True)
-        prog.draw(fbo, uniforms, {**self.t_tex, "u_density": self.j3d}, layers=(0, d))
+        prog.draw(fbo, inputs, layers=(0, d))
         if cfg.ms_dtype == "f4":
             return self._to_3d(arr), (0.0, 1.0)
         data, log_range = encode_log_table(_read_array(arr), cfg.ms_dtype)
@@ -699,16 +761,15 @@ class _Precomputation:
         arrays = [self._keep(ctx.texture_array((w, h, d), 4, dtype="f4")) for _ in range(2)]
         fbo = self._keep(ctx.framebuffer(color_attachments=arrays))
         fbo.viewport = (0, 0, w, h)
-        uniforms = {
-            **self.base,
-            **self._spectral(self.wl),
-            **_ray_rules(cfg.single_samples),
+        inputs = self._inputs(
+            self.wl,
+            quadrature_rules(cfg.single_samples),
             # Linear tables: (R, G, B, scotopic) directly.
-            "u_spectral_to_table": _group_mats(conversion_matrix(self.wl, cfg.output)),
-            "u_scattering_size": cfg.glsl_size(cfg.scattering_size),
-            "u_table_scale": 1.0,
-        }
-        prog.draw(fbo, uniforms, dict(self.t_tex), layers=(0, d))
+            to_table=conversion_matrix(self.wl, cfg.output),
+            u_scattering_size=cfg.glsl_size(cfg.scattering_size),
+            u_table_scale=1.0,
+        )
+        prog.draw(fbo, inputs, layers=(0, d))
         if cfg.dtype == "f4":
             return self._to_3d(arrays[0]), self._to_3d(arrays[1]), 1.0
         data = [_read_array(a) for a in arrays]
@@ -745,18 +806,14 @@ class _Precomputation:
             texs = [self._keep(ctx.texture((ew, eh), 4, dtype="f4")) for _ in range(groups)]
             fbo = self._keep(ctx.framebuffer(color_attachments=texs))
             fbo.viewport = (0, 0, ew, eh)
-            uniforms = {
-                **self.base,
-                **self._spectral(wl),
-                **_ray_rules(samples),
-                "u_irradiance_size": (float(ew), float(eh)),
-                "u_irr_mu_rule": gauss_legendre(n_mu).ravel().tolist(),
-                "u_density_size": cfg.glsl_size(cfg.ms_size),
-            }
-            textures = dict(self.t_tex)
-            if not single:
-                textures["u_density"] = self.j3d
-            prog.draw(fbo, uniforms, textures)
+            inputs = self._inputs(
+                wl,
+                quadrature_rules(samples, irradiance_mu=n_mu),
+                u_irradiance_size=(float(ew), float(eh)),
+                u_density_size=cfg.glsl_size(cfg.ms_size),
+                u_density=None if single else self.j3d,
+            )
+            prog.draw(fbo, inputs)
             # (groups, eh, ew, 4) -> (eh, ew, N) per wavelength
             e = np.stack([_read_2d(t) for t in texs], axis=0).astype(np.float64)
             return np.moveaxis(e, 0, 2).reshape(eh, ew, 4 * groups)

@@ -7,13 +7,29 @@ frame pass calls ``atmosphere/precomputed_lookup.glsl`` itself).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from skydome.atmosphere.inputs import LookupInputs
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, _program
-from skydome.atmosphere.uniforms import M_PER_KM
 from skydome.errors import ParameterError
+from skydome.gpu.inputs import ShaderInputs
+from skydome.gpu.textures import release_all
+from skydome.physics.constants import M_PER_KM
 
 _MAX_WIDTH = 4096
+
+
+@dataclass(frozen=True)
+class ProbeInputs(ShaderInputs):
+    """``atmosphere/precompute_probe.glsl``: the Sun's direction, the shadowed length (km),
+    the queries' points (km, planet centred) and directions with distances (textures)."""
+
+    u_sun_direction: tuple[float, float, float]
+    u_shadow_length: float
+    u_probe_points: object
+    u_probe_dirs: object
 
 
 def _as_rows(a, name: str) -> np.ndarray:
@@ -49,26 +65,22 @@ def _run(
     out = [ctx.texture((w, h), 4, dtype="f4") for _ in range(2)]
     fbo = ctx.framebuffer(color_attachments=out)
     try:
+        defines = {**pa.defines(), "PROBE_MODE": mode, "PROBE_GROUND": ground}
         prog = _program(
-            ctx,
-            "atmosphere/precompute_probe.glsl",
-            {**pa.defines(), "PROBE_MODE": mode, "PROBE_GROUND": ground},
+            ctx, "atmosphere/precompute_probe.glsl", defines, inputs=(LookupInputs, ProbeInputs)
         )
         fbo.viewport = (0, 0, w, h)
         s = np.asarray(sun_direction, dtype=np.float64)
-        uniforms = {
-            **pa.uniforms(),
-            "u_sun_direction": tuple(s / np.linalg.norm(s)),
-            "u_shadow_length": float(shadow_length_km),
-        }
-        prog.draw(fbo, uniforms, {**pa.textures(), "u_probe_points": tex_p, "u_probe_dirs": tex_d})
+        probe = ProbeInputs(
+            tuple(float(v) for v in s / np.linalg.norm(s)), float(shadow_length_km), tex_p, tex_d
+        )
+        prog.draw(fbo, pa.inputs(), probe)
         res = [
             np.frombuffer(t.read(), dtype="f4").reshape(h * w, 4)[:n].astype(np.float64)
             for t in out
         ]
     finally:
-        for obj in (fbo, tex_p, tex_d, *out):
-            obj.release()
+        release_all(fbo, tex_p, tex_d, *out)
     return res[0], res[1]
 
 

@@ -26,17 +26,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skydome.atmosphere.inputs import (
+    FrameMapsInputs,
+    LookupInputs,
+    SkyViewInputs,
+    ViewTransmittanceInputs,
+)
 from skydome.atmosphere.params import AtmosphereParams
+from skydome.atmosphere.precompute import behind_transmittance_weights  # noqa: F401 (its home)
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.sky_view import DEFAULT_SKY_VIEW_SIZE, SkyViewTables
 from skydome.atmosphere.tables import load_tables, shared_tables
-from skydome.core.cameras import effective_altitude_m
-from skydome.core.layer import DrawContext
-from skydome.core.services import AirLights, LookupTables
+from skydome.core.cameras import CameraInputs, effective_altitude_m
+from skydome.core.layer import BehindInputs, DrawContext
+from skydome.core.services import AerialInputs, AirLights, LightInputs, LookupTables
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.textures import linear_clamped, release_all
 from skydome.physics.constants import M_PER_KM
-from skydome.physics.packing import mat4_groups
 
 #: Texels of the view-transmittance table (per camera altitude, over the view cosine).
 VIEW_TRANSMITTANCE_SIZE = 1024
@@ -47,34 +54,26 @@ def camera_position_km(params: AtmosphereParams, altitude_m: float) -> tuple[flo
     return (0.0, 0.0, (params.bottom_radius_m + effective_altitude_m(altitude_m)) / M_PER_KM)
 
 
-def behind_transmittance_weights(to_output: np.ndarray) -> np.ndarray:
-    """(4, N) weights W with T_c = sum_l W[c, l] T(l) the transmittance of output channel c
-    for light of the solar spectrum's shape: M[c, l] / sum_l M[c, l], M = ``to_output`` (the
-    signed sRGB rows included: exact, since each channel is linear in the spectrum)."""
-    m = np.asarray(to_output, dtype=np.float64)
-    return m / m.sum(axis=1, keepdims=True)
-
-
-def draw_with_surface(ctx, fbo, size, fpass, second, uniforms: dict, textures: dict) -> None:
+def draw_with_surface(ctx, fbo, size, fpass, second, inputs: tuple) -> None:
     """One draw over a (w, h) viewport, or a sky + surface pair: the sky pass as is (it
     writes a depth of 0.5 on the pixels that need more work), then ``second`` (compiled with
     SURFACE_PASS) added with an early depth test that keeps it to those pixels. GL's state is
     restored after, an exception included."""
     fbo.viewport = (0, 0, *size)
     if second is None:
-        fpass.draw(fbo, uniforms, textures)
+        fpass.draw(fbo, *inputs)
         return
     try:
         fbo.clear(depth=1.0)
         ctx.enable(ctx.DEPTH_TEST)
         ctx.depth_func = "1"  # the sky pass always writes colour and depth
         fbo.depth_mask = True
-        fpass.draw(fbo, uniforms, textures)
+        fpass.draw(fbo, *inputs)
         ctx.depth_func = ">="  # the triangle's depth is 0.5: passes where 0.5 was written
         fbo.depth_mask = False
         ctx.enable(ctx.BLEND)
         ctx.blend_func = ctx.ONE, ctx.ONE
-        second.draw(fbo, uniforms, textures)
+        second.draw(fbo, *inputs)
     finally:  # an exception mid-draw must not leave the shared context changed: back to
         # GL's defaults (moderngl cannot query the previous state)
         ctx.disable(ctx.BLEND | ctx.DEPTH_TEST)
@@ -83,16 +82,31 @@ def draw_with_surface(ctx, fbo, size, fpass, second, uniforms: dict, textures: d
         ctx.depth_func = "<"
 
 
+@dataclass(frozen=True)
+class ViewTableInputs(ShaderInputs):
+    """``atmosphere/view_transmittance_lut.glsl``: the table's texels, the camera's radius
+    (km) and the view cosine of its horizon."""
+
+    u_table_size: float
+    u_view_radius: float
+    u_view_horizon_mu: float
+
+
+#: The frame passes' inputs: over the 4D tables, and from the sky-view tables.
+DIRECT_INPUTS = (CameraInputs, LookupInputs, LightInputs, BehindInputs, FrameMapsInputs)
+SKY_VIEW_INPUTS = (*DIRECT_INPUTS, SkyViewInputs, AerialInputs, ViewTransmittanceInputs)
+
+
 @dataclass
 class FramePlan:
     """One tile's pass of the precomputed model: ``shader`` compiled with ``extra`` defines,
-    drawn with ``uniforms`` and ``textures``."""
+    drawn with ``inputs`` (for the sky-view path also the tables of the camera's height)."""
 
     shader: str
     extra: tuple[str, ...]
-    uniforms: dict
-    textures: dict
-    sky_view: bool
+    lights: LightInputs
+    sky_view: SkyViewInputs | None = None
+    aerial: AerialInputs | None = None
 
 
 class PrecomputedSky:
@@ -136,24 +150,27 @@ class PrecomputedSky:
             )
             self._owned.append(self.tables)
         self.setup_s = time.perf_counter() - t0
-        self.uniforms = self.tables.uniforms()
-        self.textures = self.tables.textures()
+        self.inputs: LookupInputs = self.tables.inputs()
         self.sky_view = (
             SkyViewTables(ctx, self.tables.defines(), sky_view_size) if sky_view else None
         )
         self._passes: dict[tuple, FullscreenPass] = {}
         self._vt = None  # the view-transmittance table: [texture, framebuffer, pass, radius]
-        self._behind: dict | None = None
         self._path = None  # the last tile's: "sky-view" tables or "direct" 4D lookups
 
     @property
     def wavelengths_nm(self) -> np.ndarray:
         return self.tables.wavelengths_nm
 
-    def lookup(self) -> LookupTables:
-        return LookupTables(self.tables.defines(), dict(self.uniforms), dict(self.textures))
+    @property
+    def ground_albedo(self) -> float:
+        """The ground's albedo averaged over the wavelengths."""
+        return float(np.mean(self.inputs.spectra.u_ground_albedo))
 
-    def pass_for(self, camera, extra: tuple[str, ...], shader: str) -> FullscreenPass:
+    def lookup(self) -> LookupTables:
+        return LookupTables(self.tables.defines(), self.inputs)
+
+    def pass_for(self, camera, extra: tuple[str, ...], shader: str, inputs: tuple):
         """The pass ``shader`` for ``camera``'s model with the ``extra`` defines (compiled
         once per combination)."""
         key = (shader, camera.model, tuple(extra))
@@ -163,7 +180,7 @@ class PrecomputedSky:
                 "CAMERA_MODEL": camera.model,
                 **{name: 1 for name in extra},
             }
-            self._passes[key] = FullscreenPass(self.ctx, shader, defines)
+            self._passes[key] = FullscreenPass(self.ctx, shader, defines, inputs=inputs)
         return self._passes[key]
 
     # ------------------------------------------------------------------ one tile
@@ -176,115 +193,85 @@ class PrecomputedSky:
         shadow: bool = False,
         depth: bool = False,
     ) -> FramePlan:
-        """What a tile needs: the shader, its variant, uniforms and textures, with the
+        """What a tile needs: the shader, its variant and the lights' inputs, with the
         sky-view tables re-aimed at the lights if they moved. ``shadow``: light shafts (a
         shadow-length map); ``depth``: the aerial perspective of a user's scene."""
-        solar = self.params.solar_scale
-        has_light2 = lights.has_moon
-        light2 = lights.moon_direction if has_light2 else (0.0, 0.0, 1.0)
-        uniforms = {
-            **self.uniforms,
-            "u_camera_position": camera_position_km(self.params, altitude_m),
-            "u_sun_direction": tuple(lights.sun_direction),
-            # The tables are for the tabulated solar spectrum: scale to this atmosphere's Sun.
-            "u_sun_scale": float(lights.sun_scale) * solar,
-            "u_light2_direction": tuple(light2),
-            "u_light2_scale": tuple(float(s) * solar for s in lights.moon_scale)
-            if has_light2
-            else (0.0,) * 4,
-        }
-        extra = ["HAS_LIGHT2"] if has_light2 else []
+        position = camera_position_km(self.params, altitude_m)
+        light_inputs = lights.inputs(position, self.params.solar_scale)
+        extra = ["HAS_LIGHT2"] if lights.has_moon else []
         if shadow:
             extra.append("HAS_SHADOW_MAP")
         if depth:
             extra.append("HAS_DEPTH_MAP")
-        radius_km = uniforms["u_camera_position"][2]
-        use_sky_view = self.sky_view is not None and radius_km < self.params.top_radius_m / M_PER_KM
-        textures = dict(self.textures)
-        if use_sky_view:
-            # Tables of the sky seen from this altitude, redrawn when it or a light moves.
-            uniforms.update(self.sky_view.uniforms(radius_km))
-            slots = [("sun", lights.sun_direction)] + ([("light2", light2)] if has_light2 else [])
-            for slot, direction in slots:
-                args = (slot, radius_km, tuple(direction), self.uniforms, self.textures)
-                textures.update(self.sky_view.textures(*args))
-                if depth or (slot == "sun" and shadow):
-                    textures.update(self.sky_view.aerial_textures(*args))
-        shader = "atmosphere/sky_view.glsl" if use_sky_view else "atmosphere/sky_precomputed.glsl"
-        return FramePlan(shader, tuple(extra), uniforms, textures, use_sky_view)
+        radius_km = position[2]
+        if self.sky_view is None or radius_km >= self.params.top_radius_m / M_PER_KM:
+            return FramePlan("atmosphere/sky_precomputed.glsl", tuple(extra), light_inputs)
+        # Tables of the sky seen from this altitude, redrawn when it or a light moves.
+        views = self.sky_view
+        sun = views.textures("sun", radius_km, lights.sun_direction, self.inputs)
+        moon = (None, None)
+        if lights.has_moon:
+            moon = views.textures("light2", radius_km, lights.moon_direction, self.inputs)
+        mapping = views.mapping(radius_km)
+        aerial = AerialInputs(mapping.u_sky_view_size, radius_km, mapping.u_aerial_size)
+        if depth:
+            aerial = views.aerial(radius_km, lights, self.inputs)
+        elif shadow:  # the Sun's light along the shadowed part is taken off the sky
+            sun_aerial = views.aerial_textures("sun", radius_km, lights.sun_direction, self.inputs)
+            aerial = AerialInputs(aerial.u_sky_view_size, radius_km, aerial.u_aerial_size, *sun_aerial)
+        return FramePlan(
+            "atmosphere/sky_view.glsl", tuple(extra), light_inputs, SkyViewInputs(*sun, *moon),
+            aerial,
+        )  # fmt: skip
 
-    def aerial_perspective(self, radius_km: float, lights: AirLights) -> tuple[dict, dict] | None:
-        """(uniforms, textures) of the aerial-perspective tables of ``lights`` seen from
-        ``radius_km``, or None where there are none (above the air, or no sky-view tables)."""
+    def aerial_perspective(self, radius_km: float, lights: AirLights) -> AerialInputs | None:
+        """The aerial-perspective tables of ``lights`` seen from ``radius_km``, or None where
+        there are none (above the air, or no sky-view tables)."""
         if self.sky_view is None or radius_km >= self.params.top_radius_m / M_PER_KM:
             return None
-        views = self.sky_view
-        args = (radius_km, tuple(lights.sun_direction), self.uniforms, self.textures)
-        textures = views.aerial_textures("sun", *args)
-        if lights.has_moon:
-            args = (radius_km, tuple(lights.moon_direction), self.uniforms, self.textures)
-            textures.update(views.aerial_textures("light2", *args))
-        return views.uniforms(radius_km), textures
-
-    def behind_uniforms(self, to_output: np.ndarray) -> dict:
-        """``u_behind_transmittance``: the per-channel weights of the spectral transmittance
-        for the light behind the air (:func:`behind_transmittance_weights`)."""
-        if self._behind is None:
-            weights = behind_transmittance_weights(to_output)
-            self._behind = {"u_behind_transmittance": mat4_groups(weights)}
-        return self._behind
+        return self.sky_view.aerial(radius_km, lights, self.inputs)
 
     def draw(
         self,
         frame: DrawContext,
         lights: AirLights,
-        to_output: np.ndarray,
+        behind: BehindInputs,
         *,
         depth_map=None,
         transmittance_fbo=None,
     ) -> None:
-        """Draw one tile over ``frame.behind`` into ``frame.fbo`` (or, with a user's
+        """Draw one tile over the light ``behind`` into ``frame.fbo`` (or, with a user's
         ``depth_map``, into ``transmittance_fbo``: the frame's target and a transmittance
         attachment)."""
         shadow_map = frame.volume_inputs.shadow_map if frame.volume_inputs else None
         shafts = shadow_map is not None and lights.sun_scale > 0
         depth = depth_map is not None
         plan = self.frame_plan(frame.altitude_m, lights, shadow=shafts, depth=depth)
-        behind = dict(self.behind_uniforms(to_output))
-        textures = {**plan.textures, **frame.textures, "u_behind": frame.behind}
-        if shafts:
-            textures["u_shadow_map"] = shadow_map
-        if depth:
-            textures["u_depth_map"] = depth_map
-        if plan.sky_view:
-            radius_km = plan.uniforms["u_view_radius"]
-            behind.update(self._view_transmittance_uniforms(radius_km))
-            textures["u_view_transmittance"] = self._view_transmittance(radius_km, plan)
+        maps = FrameMapsInputs(depth_map, shadow_map if shafts else None)
         extra = (*plan.extra, "COMPOSITE_BEHIND")
-        if frame.behind_smooth is not None:  # the smooth space layers' light, reduced
+        if behind.u_behind_smooth is not None:  # the smooth space layers' light, reduced
             extra = (*extra, "BEHIND_SMOOTH")
-            textures["u_behind_smooth"] = frame.behind_smooth
-            behind["u_smooth_map"] = frame.smooth_map
-        self._path = "sky-view" if plan.sky_view else "direct"
-        fpass = self.pass_for(frame.camera, extra, plan.shader)
+        inputs = [frame.view, self.inputs, plan.lights, behind, maps]
+        if plan.sky_view is not None:
+            radius_km = plan.aerial.u_view_radius
+            inputs += [plan.sky_view, plan.aerial, self._view_transmittance(radius_km)]
+        kinds = SKY_VIEW_INPUTS if plan.sky_view is not None else DIRECT_INPUTS
+        self._path = "sky-view" if plan.sky_view is not None else "direct"
+        fpass = self.pass_for(frame.camera, extra, plan.shader, kinds)
         # Above the atmosphere the ground is shaded in a second pass; from inside it, the
         # sky-view tables hold the ground and the disk is the Sun layer's.
-        second = (
-            None
-            if plan.sky_view
-            else self.pass_for(frame.camera, (*extra, "SURFACE_PASS"), plan.shader)
-        )
+        second = None
+        if plan.sky_view is None:
+            second = self.pass_for(frame.camera, (*extra, "SURFACE_PASS"), plan.shader, kinds)
         _, _, tw, th = frame.tile
         fbo = transmittance_fbo if depth else frame.fbo
-        uniforms = {**plan.uniforms, **frame.uniforms, **behind}
-        draw_with_surface(self.ctx, fbo, (tw, th), fpass, second, uniforms, textures)
+        draw_with_surface(self.ctx, fbo, (tw, th), fpass, second, tuple(inputs))
 
-    def _view_transmittance_uniforms(self, radius_km: float) -> dict:
+    def _horizon_mu(self, radius_km: float) -> float:
         bottom = self.params.bottom_radius_m / M_PER_KM
-        horizon_mu = -math.sqrt(max(1.0 - (bottom / radius_km) ** 2, 0.0))
-        return {"u_view_horizon_mu": horizon_mu, "u_view_radius": radius_km}
+        return -math.sqrt(max(1.0 - (bottom / radius_km) ** 2, 0.0))
 
-    def _view_transmittance(self, radius_km: float, plan: FramePlan):
+    def _view_transmittance(self, radius_km: float) -> ViewTransmittanceInputs:
         """The view-transmittance table (atmosphere/view_transmittance.glsl) of a camera at
         ``radius_km``, redrawn when the altitude changes."""
         ctx = self.ctx
@@ -294,20 +281,18 @@ class PrecomputedSky:
                 ctx,
                 "atmosphere/view_transmittance_lut.glsl",
                 {**self.tables.defines(), "COMPOSITE_BEHIND": 1},
+                inputs=(LookupInputs, ViewTableInputs),
             )
             self._vt = [tex, ctx.framebuffer(color_attachments=[tex]), fpass, None]
         tex, fbo, fpass, drawn = self._vt
         if drawn != radius_km:
             fbo.viewport = (0, 0, VIEW_TRANSMITTANCE_SIZE, 1)
-            uniforms = {
-                **plan.uniforms,
-                **(self._behind or {}),
-                **self._view_transmittance_uniforms(radius_km),
-                "u_table_size": float(VIEW_TRANSMITTANCE_SIZE),
-            }
-            fpass.draw(fbo, uniforms, self.textures)
+            table = ViewTableInputs(
+                float(VIEW_TRANSMITTANCE_SIZE), radius_km, self._horizon_mu(radius_km)
+            )
+            fpass.draw(fbo, self.inputs, table)
             self._vt[3] = radius_km
-        return tex
+        return ViewTransmittanceInputs(tex, self._horizon_mu(radius_km))
 
     def dark_below_deg(self, altitude_m: float) -> float:
         """The light elevation (deg) below which a light adds nothing to the tables' sky seen

@@ -5,26 +5,48 @@ of the sky's first order, for comparisons and teaching."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from skydome.atmosphere.inputs import (
+    AirGeometry,
+    AirSpectra,
+    TransmittanceInputs,
+    geometry_inputs,
+    mie_phase_defines,
+    profile_defines,
+    spectra_inputs,
+)
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precomputed import camera_position_km
 from skydome.atmosphere.transmittance import TransmittanceTable
-from skydome.atmosphere.uniforms import (
-    geometry_uniforms,
-    mie_phase_defines,
-    profile_defines,
-    spectral_uniforms,
-)
+from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext
 from skydome.core.services import AirLights
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
-from skydome.physics.packing import mat4_groups
-from skydome.spectra import spectral_to_rgbs_matrix, wavelengths
+from skydome.gpu.inputs import ShaderInputs
+from skydome.spectra import wavelengths
 
 #: Ray-march samples per view ray accepted.
 MAX_VIEW_SAMPLES = 4096
+
+
+@dataclass(frozen=True)
+class SingleInputs(ShaderInputs):
+    """``atmosphere/sky_single.glsl``: the camera's planet-centred position (km), the Sun's
+    direction, the samples per view ray, the ordered offsets on or off, the Sun's
+    irradiance relative to the tabulated spectrum."""
+
+    u_camera_position: tuple[float, float, float]
+    u_sun_direction: tuple[float, float, float]
+    u_view_samples: int
+    u_jitter: int
+    u_output_scale: float
+
+
+INPUTS = (CameraInputs, AirGeometry, AirSpectra, TransmittanceInputs, SingleInputs)
 
 
 class SingleScatteringSky:
@@ -57,15 +79,8 @@ class SingleScatteringSky:
         self.jitter = bool(jitter)
         self.transmittance = TransmittanceTable(ctx, params)
         self.groups = len(self.wavelengths_nm) // 4
-        self.uniforms = {
-            **geometry_uniforms(params),
-            **spectral_uniforms(params, self.wavelengths_nm),
-            **self.transmittance.uniforms(),
-            "u_spectral_to_rgbs": mat4_groups(spectral_to_rgbs_matrix(self.wavelengths_nm)),
-            "u_view_samples": self.view_samples,
-            "u_jitter": int(self.jitter),
-            "u_output_scale": params.solar_scale,  # this atmosphere's Sun vs the tabulated one
-        }
+        self.geometry = geometry_inputs(params)
+        self.spectra = spectra_inputs(params, self.wavelengths_nm)
         self._passes: dict[tuple, FullscreenPass] = {}
 
     @staticmethod
@@ -87,34 +102,37 @@ class SingleScatteringSky:
             "CAMERA_MODEL": camera.model,
             **profile_defines(self.params),
             **mie_phase_defines(self.params),
-            "PROFILE_VALUES": ", ".join(f"{v:.9e}" for v in self.uniforms["u_profile"]),
+            "PROFILE_VALUES": ", ".join(f"{v:.9e}" for v in self.geometry.u_profile),
             "PROFILE_INV_STEP_VALUES": ", ".join(
-                f"{v:.9e}" for v in self.uniforms["u_profile_inv_step"]
+                f"{v:.9e}" for v in self.geometry.u_profile_inv_step
             ),
-            "PROFILE_LAST_VALUES": ", ".join(f"{v:.1f}" for v in self.uniforms["u_profile_last"]),
+            "PROFILE_LAST_VALUES": ", ".join(f"{v:.1f}" for v in self.geometry.u_profile_last),
         }
 
     def pass_for(self, camera, extra: tuple[str, ...] = ()) -> FullscreenPass:
         key = (camera.model, extra)
         if key not in self._passes:
             defines = {**self._defines(camera), **{name: 1 for name in extra}}
-            self._passes[key] = FullscreenPass(self.ctx, "atmosphere/sky_single.glsl", defines)
+            self._passes[key] = FullscreenPass(
+                self.ctx, "atmosphere/sky_single.glsl", defines, inputs=INPUTS
+            )
         return self._passes[key]
 
     def draw(self, frame: DrawContext, lights: AirLights, *, directions: bool = False) -> None:
         """Draw one tile (every pixel). ``directions``: each pixel's view direction (xyz,
         w = 1 where the camera covers the pixel) instead of radiance, a debugging aid."""
-        uniforms = {
-            **self.uniforms,
-            **frame.uniforms,
-            "u_camera_position": camera_position_km(self.params, frame.altitude_m),
-            "u_sun_direction": tuple(lights.sun_direction),
-        }
-        textures = {**frame.textures, "u_transmittance_lut": self.transmittance.texture}
+        single = SingleInputs(
+            u_camera_position=camera_position_km(self.params, frame.altitude_m),
+            u_sun_direction=tuple(lights.sun_direction),
+            u_view_samples=self.view_samples,
+            u_jitter=int(self.jitter),
+            u_output_scale=self.params.solar_scale,  # this atmosphere's Sun vs the tabulated
+        )
+        transmittance = TransmittanceInputs(self.transmittance.texture, self.transmittance.size)
         fpass = self.pass_for(frame.camera, ("OUTPUT_DIRECTIONS",) if directions else ())
         _, _, tw, th = frame.tile
         frame.fbo.viewport = (0, 0, tw, th)
-        fpass.draw(frame.fbo, uniforms, textures)
+        fpass.draw(frame.fbo, frame.view, self.geometry, self.spectra, transmittance, single)
 
     def info(self) -> dict:
         return {

@@ -11,8 +11,13 @@ direction changes: turning the camera costs one frame pass.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+from skydome.atmosphere.inputs import LookupInputs
+from skydome.core.services import AerialInputs
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.textures import copy_array_to_3d, linear_clamped, release_all, release_unbound
 
 #: Default table size (azimuth from the light over [0, 180] deg, elevation), texels.
@@ -33,6 +38,17 @@ def check_sky_view_size(size) -> tuple[int, int]:
     return w, h
 
 
+@dataclass(frozen=True)
+class SkyViewTableInputs(ShaderInputs):
+    """``atmosphere/sky_view_mapping.glsl`` and the table passes: the sky-view tables' size,
+    the camera's radius (km), the aerial tables' size, the light a table is drawn for."""
+
+    u_sky_view_size: tuple[float, float]
+    u_view_radius: float
+    u_aerial_size: tuple[float, float, float]
+    u_light_direction: tuple[float, float, float]
+
+
 class SkyViewTables:
     """Sky-view tables of a precomputed atmosphere, one pair of textures per light slot.
 
@@ -48,35 +64,47 @@ class SkyViewTables:
         w, h = check_sky_view_size(size)
         self.ctx = ctx
         self.size = (w, h)
+        inputs = (LookupInputs, SkyViewTableInputs)
+        lut = "atmosphere/sky_view_lut.glsl"
         self._passes = (
-            FullscreenPass(ctx, "atmosphere/sky_view_lut.glsl", defines),  # the upper half: sky
-            FullscreenPass(ctx, "atmosphere/sky_view_lut.glsl", {**defines, "GROUND_HALF": 1}),
+            FullscreenPass(ctx, lut, defines, inputs=inputs),  # the upper half: sky
+            FullscreenPass(ctx, lut, {**defines, "GROUND_HALF": 1}, inputs=inputs),
         )
         self._defines = defines
         self._aerial_pass = None  # compiled on first use
         self._slots: dict[str, tuple[list, object, tuple | None]] = {}
         self.draws = 0  # table passes drawn (a cache-hit counter for tests and benchmarks)
 
-    def uniforms(self, radius_km: float) -> dict[str, object]:
-        """The mappings' uniforms for a camera at ``radius_km`` from the planet's centre."""
-        return {
-            "u_sky_view_size": tuple(float(v) for v in self.size),
-            "u_view_radius": radius_km,
-            "u_aerial_size": tuple(float(v) for v in AERIAL_SIZE),
-        }
+    def mapping(self, radius_km: float, light_direction=(0.0, 0.0, 1.0)) -> SkyViewTableInputs:
+        """The tables' mappings for a camera at ``radius_km`` from the planet's centre (and
+        the light a table pass draws for)."""
+        return SkyViewTableInputs(
+            u_sky_view_size=tuple(float(v) for v in self.size),
+            u_view_radius=float(radius_km),
+            u_aerial_size=tuple(float(v) for v in AERIAL_SIZE),
+            u_light_direction=tuple(float(v) for v in light_direction),
+        )
+
+    def aerial(self, radius_km: float, lights, lookup: ShaderInputs) -> AerialInputs:
+        """The aerial-perspective tables of the Sun and (when it lights the air) the second
+        light of ``lights`` (``AirLights``) from ``radius_km``, redrawn if stale."""
+        sun = self.aerial_textures("sun", radius_km, lights.sun_direction, lookup)
+        moon = (None, None)
+        if lights.has_moon:
+            moon = self.aerial_textures("light2", radius_km, lights.moon_direction, lookup)
+        m = self.mapping(radius_km)
+        return AerialInputs(m.u_sky_view_size, m.u_view_radius, m.u_aerial_size, *sun, *moon)
 
     def textures(
         self,
         slot: str,
         radius_km: float,
         light_direction: tuple[float, float, float],
-        uniforms: dict[str, object],
-        textures: dict[str, object],
-    ) -> dict[str, object]:
-        """Sampler name -> texture of light ``slot`` ("sun" or "light2"), redrawn if stale.
-
-        ``uniforms`` and ``textures`` are those of the atmosphere tables (they do not change
-        for one renderer, so only the radius and the direction decide whether to redraw).
+        lookup: ShaderInputs,
+    ) -> tuple[object, object]:
+        """The (scattering, single Mie) textures of light ``slot`` ("sun" or "light2"),
+        redrawn if stale. ``lookup`` holds the atmosphere tables (they do not change for
+        one set of tables, so only the radius and the direction decide whether to redraw).
         """
         key = (float(radius_km), tuple(float(v) for v in light_direction))
         if slot not in self._slots:
@@ -88,22 +116,21 @@ class SkyViewTables:
         texs, fbo, drawn = self._slots[slot]
         if drawn != key:
             w, h = self.size
-            values = {**uniforms, **self.uniforms(key[0]), "u_light_direction": key[1]}
+            mapping = self.mapping(key[0], key[1])
             for half, fpass in zip((1, 0), self._passes, strict=True):
                 fbo.viewport = (0, half * h // 2, w, h // 2)
-                fpass.draw(fbo, values, textures)
+                fpass.draw(fbo, lookup, mapping)
             self._slots[slot] = (texs, fbo, key)
             self.draws += 1
-        return {f"u_{slot}_scattering": texs[0], f"u_{slot}_single_mie": texs[1]}
+        return texs[0], texs[1]
 
     def aerial_textures(
         self,
         slot: str,
         radius_km: float,
         light_direction: tuple[float, float, float],
-        uniforms: dict[str, object],
-        textures: dict[str, object],
-    ) -> dict[str, object]:
+        lookup: ShaderInputs,
+    ) -> tuple[object, object]:
         """Sampler name -> 3D texture of light ``slot``'s aerial-perspective tables, redrawn if
         stale: drawn into texture arrays (one layer per distance), copied on the GPU into
         linearly filtered 3D textures, and the arrays released (4.2 MB kept per light)."""
@@ -120,14 +147,14 @@ class SkyViewTables:
         if drawn != key:
             if self._aerial_pass is None:
                 self._aerial_pass = FullscreenPass(
-                    self.ctx, "atmosphere/aerial_view_lut.glsl", self._defines, layered=True
-                )
+                    self.ctx, "atmosphere/aerial_view_lut.glsl", self._defines,
+                    inputs=(LookupInputs, SkyViewTableInputs), layered=True,
+                )  # fmt: skip
             layers = [self.ctx.texture_array((w, h, d), 4, dtype="f4") for _ in range(2)]
             fbo = self.ctx.framebuffer(color_attachments=layers)
             try:
                 fbo.viewport = (0, 0, w, h)
-                values = {**uniforms, **self.uniforms(key[0]), "u_light_direction": key[1]}
-                self._aerial_pass.draw(fbo, values, textures, layers=(0, d))
+                self._aerial_pass.draw(fbo, lookup, self.mapping(key[0], key[1]), layers=(0, d))
                 for array, volume in zip(layers, volumes, strict=True):
                     copy_array_to_3d(self.ctx, array, volume)
             finally:
@@ -135,10 +162,7 @@ class SkyViewTables:
                     release_unbound(obj)
             self._slots[name] = (volumes, None, key)
             self.draws += 1
-        return {
-            f"u_{slot}_aerial_scattering": volumes[0],
-            f"u_{slot}_aerial_single_mie": volumes[1],
-        }
+        return volumes[0], volumes[1]
 
     def release(self) -> None:
         for texs, fbo, _ in self._slots.values():

@@ -2,16 +2,26 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from skydome.atmosphere.inputs import AirGeometry, geometry_inputs, profile_defines
 from skydome.atmosphere.params import AtmosphereParams
-from skydome.atmosphere.uniforms import geometry_uniforms, profile_defines
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.textures import release_unbound
 
 DEFAULT_SIZE = (1024, 256)
 #: Simpson intervals per texel (even).
 DEFAULT_STEPS = 300
+
+
+@dataclass(frozen=True)
+class TableSizeInputs(ShaderInputs):
+    """``atmosphere/transmittance_pass.glsl``: the size (texels) of the table it fills."""
+
+    u_transmittance_size: tuple[int, int]
 
 
 class TransmittanceTable:
@@ -36,15 +46,16 @@ class TransmittanceTable:
         self.texture.repeat_x = self.texture.repeat_y = False
         fbo = ctx.framebuffer(color_attachments=[self.texture])
         defines = {"TRANSMITTANCE_STEPS": int(steps), **profile_defines(params)}
-        fill = FullscreenPass(ctx, "atmosphere/transmittance_pass.glsl", defines)
+        fill = FullscreenPass(
+            ctx, "atmosphere/transmittance_pass.glsl", defines,
+            inputs=(AirGeometry, TableSizeInputs),
+        )  # fmt: skip
         fbo.viewport = (0, 0, *self.size)
-        fill.draw(fbo, {**geometry_uniforms(params), "u_transmittance_size": self.size})
+        fill.draw(fbo, geometry_inputs(params), TableSizeInputs(self.size))
         ctx.finish()
         fill.release()
         release_unbound(fbo)  # bound by the draw: unbind it (see release_unbound)
 
-    def uniforms(self) -> dict[str, object]:
-        return {"u_transmittance_size": self.size}
 
     def read(self) -> np.ndarray:
         """The table as (height, width, 3) float32 column densities in km (row 0 = r bottom)."""

@@ -40,15 +40,19 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from skydome.astro import photometry
+from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
-from skydome.core.refraction_table import RefractionTable
+from skydome.core.lights import SkyState
+from skydome.core.refraction_table import AirlessTableInputs, RefractionTable
 from skydome.errors import ParameterError
+from skydome.gpu.inputs import ShaderInputs
 from skydome.io.packaged import read_packaged_npz
-from skydome.scene.state import SkyState
+from skydome.physics.packing import mat3
 from skydome.spectra.blackbody import planck_relative
 
 __all__ = [
@@ -199,6 +203,17 @@ def spectral_shape(wavelengths_nm) -> np.ndarray:
     return shape / planck_relative(550.0, COLOUR_TEMPERATURE_K)[0, 0]
 
 
+@dataclass(frozen=True)
+class MilkyWayInputs(ShaderInputs):
+    """``celestial/milky_way.glsl``: the ENU -> galactic matrix (column-major), the map's
+    colour per S10, its texels per radian (log2, for the level of detail), the map."""
+
+    u_enu_to_galactic: tuple[float, ...]
+    u_colour: tuple[float, float, float, float]
+    u_log2_texels_per_rad: float
+    u_milky_way: object
+
+
 class MilkyWayLayer(Layer):
     """The Milky Way's diffuse light (space stage). ``scale`` multiplies its brightness
     (1 = the calibrated map; 0 to 100)."""
@@ -217,7 +232,7 @@ class MilkyWayLayer(Layer):
             raise ParameterError(f"Milky Way scale = {scale!r} must lie in [0, 100]")
         self.scale = scale
         self._texture = None
-        self._uniforms: dict | None = None
+        self._inputs: MilkyWayInputs | None = None
         self._key = None
         self._np_cache: tuple[int, np.ndarray] | None = None
         self._colour = None
@@ -243,7 +258,7 @@ class MilkyWayLayer(Layer):
             return
         self._key = key
         if state.observer is None or state.time is None:
-            self._uniforms, self._info = None, {}
+            self._inputs, self._info = None, {}
             return
         jd_tt, jd_ut1 = float(state.time.jd_tt), float(state.time.jd_ut1)
         # Precession-nutation moves the map by < 0.2" a day: computed once per day (TT).
@@ -263,11 +278,12 @@ class MilkyWayLayer(Layer):
 
             wl = basis.wavelengths_nm
             self._colour = (basis, basis.colour(spectral_shape(wl) / solar_irradiance(wl)))
-        self._uniforms = {
-            # GLSL mat3 is column-major: the columns of gal_from_enu one after the other.
-            "u_enu_to_galactic": tuple(float(v) for v in gal_from_enu.T.ravel()),
-            "u_colour": tuple(float(v) for v in self._colour[1] * (S10_CD_M2 * self.scale)),
-        }
+        self._inputs = MilkyWayInputs(
+            u_enu_to_galactic=mat3(gal_from_enu),
+            u_colour=tuple(float(v) for v in self._colour[1] * (S10_CD_M2 * self.scale)),
+            u_log2_texels_per_rad=self._log2_texels_per_rad,
+            u_milky_way=self._texture,
+        )
         self._refraction = state.refraction_scale
         gc = enu_from_gal[:, 0]
         self._info = {
@@ -276,23 +292,14 @@ class MilkyWayLayer(Layer):
         }
 
     def draw(self, frame: DrawContext) -> None:
-        if self._uniforms is None or self.scale == 0.0:
+        if self._inputs is None or self.scale == 0.0:
             return
-        uniforms = {
-            **self._uniforms,
-            **self._refraction_table.uniforms(),
-            "u_log2_texels_per_rad": self._log2_texels_per_rad,
-        }
-        fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
-        fpass.draw(
-            frame.fbo,
-            {**uniforms, **frame.uniforms},
-            {
-                **frame.textures,
-                "u_milky_way": self._texture,
-                "u_airless_offset": self._refraction_table.texture(frame.ctx, self._refraction),
-            },
-        )
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, (CameraInputs, MilkyWayInputs, AirlessTableInputs),
+            frame.camera,
+        )  # fmt: skip
+        airless = self._refraction_table.inputs(frame.ctx, self._refraction)
+        fpass.draw(frame.fbo, frame.view, self._inputs, airless)
 
     def info(self) -> dict:
         return dict(self._info)

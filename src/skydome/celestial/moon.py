@@ -23,14 +23,18 @@ through the frame's spectral basis.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from skydome.astro.photometry import magnitude_to_lux, moon_magnitude
 from skydome.celestial.moon_albedo import albedo_at, moon_albedo_map, moon_spectral_albedo
+from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
+from skydome.core.lights import SkyState
+from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.constants import AU_KM
-from skydome.scene.state import SkyState
+from skydome.physics.packing import mat3
 
 #: Gauss-Legendre nodes per dimension of each piece of the CPU disk integral (6 ms a call).
 #: With the albedo map, against a 3000 x 3000 ray-traced grid at phase angles 6, 83, 128 and
@@ -144,6 +148,24 @@ CACHE_RAD = math.radians(0.05)
 CACHE_SIZE = 1e-4
 
 
+@dataclass(frozen=True)
+class MoonInputs(ShaderInputs):
+    """``celestial/moon.glsl``: the disk's airless centre and angular size, the Sun's
+    direction from the Moon, the ENU -> Moon-fixed matrix (column-major), the scales of the
+    sunlit and earthlit photometric laws, the Moon's colour, the refraction factor, the
+    albedo map."""
+
+    u_moon_direction_true: tuple[float, float, float]
+    u_sin_angular_radius: float
+    u_moon_to_sun: tuple[float, float, float]
+    u_enu_to_moon: tuple[float, ...]
+    u_sunlit_scale: float
+    u_earthlit_scale: float
+    u_colour: tuple[float, float, float, float]
+    u_refraction_scale: float
+    u_albedo_map: object
+
+
 class MoonLayer(Layer):
     """The Moon's disk. ``earthshine=False`` leaves the night side black; ``albedo_map=False``
     draws a uniform grey Moon of the same brightness."""
@@ -157,7 +179,7 @@ class MoonLayer(Layer):
         self.earthshine = bool(earthshine)
         self.albedo_map = bool(albedo_map)
         self._texture = None
-        self._uniforms: dict | None = None
+        self._inputs: MoonInputs | None = None
         self._key = None
         self._info: dict = {}
         self._colour = None
@@ -179,7 +201,7 @@ class MoonLayer(Layer):
         self._key = key
         moon, view = state.moon, state.moon_view
         if moon is None or view is None:
-            self._uniforms, self._info = None, {}
+            self._inputs, self._info = None, {}
             return
         self._moon = moon
         sin_r = math.sin(moon.angular_radius_rad)
@@ -198,17 +220,17 @@ class MoonLayer(Layer):
         basis = self.graph.basis
         if self._colour is None or self._colour[0] is not basis:
             self._colour = (basis, basis.colour(moon_spectral_albedo(basis.wavelengths_nm)))
-        self._uniforms = {
-            "u_moon_direction_true": tuple(float(v) for v in u),
-            "u_sin_angular_radius": sin_r,
-            "u_moon_to_sun": tuple(float(v) for v in view.to_sun),
-            # GLSL mat3 is column-major: the columns of enu_to_moon one after the other.
-            "u_enu_to_moon": tuple(np.asarray(enu_to_moon).T.ravel()),
-            "u_sunlit_scale": sunlit_scale,
-            "u_earthlit_scale": earthlit_scale,
-            "u_colour": tuple(float(v) for v in self._colour[1]),
-            "u_refraction_scale": state.refraction_scale,
-        }
+        self._inputs = MoonInputs(
+            u_moon_direction_true=tuple(float(v) for v in u),
+            u_sin_angular_radius=sin_r,
+            u_moon_to_sun=tuple(float(v) for v in view.to_sun),
+            u_enu_to_moon=mat3(enu_to_moon),
+            u_sunlit_scale=sunlit_scale,
+            u_earthlit_scale=earthlit_scale,
+            u_colour=tuple(float(v) for v in self._colour[1]),
+            u_refraction_scale=state.refraction_scale,
+            u_albedo_map=self._texture,
+        )
         self._info = {
             "moon_illuminated_fraction": view.illuminated_fraction,
             "moon_earthshine_lux": view.earthshine_lux,
@@ -237,14 +259,13 @@ class MoonLayer(Layer):
         return values
 
     def draw(self, frame: DrawContext) -> None:
-        if self._uniforms is None:
+        if self._inputs is None:
             return
-        fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
+        fpass = self.full_screen_pass(frame.ctx, self.shader, (CameraInputs, MoonInputs), frame.camera)
         self.draw_small(
             frame,
             fpass,
-            {**self._uniforms, **frame.uniforms},
-            {**frame.textures, "u_albedo_map": self._texture},
+            (frame.view, self._inputs),
             self._moon.direction,
             1.1 * self._moon.angular_radius_rad,
         )

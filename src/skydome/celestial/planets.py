@@ -50,8 +50,10 @@ import numpy as np
 
 from skydome.astro.planets import PLANETS
 from skydome.celestial.planet_colours import planet_albedo
+from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
-from skydome.scene.state import Light, SkyState
+from skydome.core.lights import Light, SkyState
+from skydome.gpu.inputs import ShaderInputs
 
 #: A planet whose disk has at least this radius in frame pixels is drawn as a disk.
 DISK_MIN_RADIUS_PX = 1.0
@@ -165,6 +167,24 @@ def _samples_per_axis(radius_px: float, phase_angle_rad: float) -> int:
     return int(min(32, max(1, math.ceil(max(32.0 / r, 12.0 / width)))))
 
 
+@dataclass(frozen=True)
+class PlanetInputs(ShaderInputs):
+    """``celestial/planet.glsl``: a resolved planet's disk (airless centre, angular size,
+    the Sun's direction from it), the Moon's disk that may hide it, the photometric law's
+    scale (lx per unit integral), its colour, the samples per pixel axis, the refraction
+    factor."""
+
+    u_planet_direction_true: tuple[float, float, float]
+    u_sin_angular_radius: float
+    u_planet_to_sun: tuple[float, float, float]
+    u_moon_direction_true: tuple[float, float, float]
+    u_moon_sin_radius: float
+    u_scale: float
+    u_colour: tuple[float, float, float, float]
+    u_samples: int
+    u_refraction_scale: float
+
+
 class PlanetsLayer(Layer):
     """Mercury to Neptune: disks when at least ``DISK_MIN_RADIUS_PX`` in radius, else points.
 
@@ -273,30 +293,29 @@ class PlanetsLayer(Layer):
         if not integral > 0.0:
             return  # a new planet: nothing lit faces the observer
         fpass = self.full_screen_pass(
-            frame.ctx, self.shader, frame.camera, {"LAW": _LAW_DEFINE[law]}
-        )
+            frame.ctx, self.shader, (CameraInputs, PlanetInputs), frame.camera,
+            {"LAW": _LAW_DEFINE[law]},
+        )  # fmt: skip
         moon = self._moon
-        uniforms = {
-            "u_planet_direction_true": tuple(float(v) for v in view.direction_true),
-            "u_sin_angular_radius": math.sin(view.angular_radius_rad),
-            "u_planet_to_sun": tuple(float(v) for v in view.to_sun),
-            "u_moon_direction_true": (
+        inputs = PlanetInputs(
+            u_planet_direction_true=tuple(float(v) for v in view.direction_true),
+            u_sin_angular_radius=math.sin(view.angular_radius_rad),
+            u_planet_to_sun=tuple(float(v) for v in view.to_sun),
+            u_moon_direction_true=(
                 tuple(float(v) for v in moon.direction_true) if moon else (0.0, 0.0, 1.0)
             ),
-            "u_moon_sin_radius": math.sin(moon.angular_radius_rad) if moon else 0.0,
-            "u_scale": view.illuminance_lux / integral,
-            "u_colour": tuple(float(v) for v in colour),
-            "u_samples": _samples_per_axis(radius_px, view.phase_angle_rad),
-            "u_refraction_scale": self._refraction,
-            **frame.uniforms,
-        }
+            u_moon_sin_radius=math.sin(moon.angular_radius_rad) if moon else 0.0,
+            u_scale=view.illuminance_lux / integral,
+            u_colour=tuple(float(v) for v in colour),
+            u_samples=_samples_per_axis(radius_px, view.phase_angle_rad),
+            u_refraction_scale=self._refraction,
+        )
         # The apparent disk lies within its true radius of the apparent centre (refraction
         # only flattens it); 10 % spare, and draw_small adds 2 pixels for the pixel footprint.
         self.draw_small(
             frame,
             fpass,
-            uniforms,
-            frame.textures,
+            (frame.view, inputs),
             view.direction,
             1.1 * view.angular_radius_rad,
         )

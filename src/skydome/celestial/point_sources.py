@@ -48,19 +48,21 @@ source along x and along y.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
 
 from skydome.core.cameras import (
+    CameraInputs,
     CubemapCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
 )
 from skydome.errors import ParameterError
-from skydome.gpu import build_program
-from skydome.gpu.passes import set_uniforms
+from skydome.gpu.inputs import ShaderInputs
+from skydome.gpu.passes import ShaderProgram
 
 VERTEX_SHADER = "celestial/point_sources_vs.glsl"
 FRAGMENT_SHADER = "celestial/point_sources.glsl"
@@ -116,6 +118,17 @@ def _max_rad_per_px(camera, w: float, h: float) -> float:
     return 2.0 / h  # a cube face's centre (its extended plane: smaller beyond)
 
 
+@dataclass(frozen=True)
+class PointInputs(ShaderInputs):
+    """``celestial/point_sources*.glsl``: the tile's size (px), the disks hiding the sources
+    (centre xyz, angular radius; up to MAX_OCCLUDERS), their count, the sprites' size (px)."""
+
+    u_tile_size: tuple[float, float]
+    u_occluders: list[float]
+    u_num_occluders: int
+    u_point_size: float
+
+
 class PointSources:
     """Draws point sources into a frame graph's tile (see the module docstring).
 
@@ -150,9 +163,10 @@ class PointSources:
                 "WEIGHT_TABLE": int(tabled),
                 "SPRITE": int(sprite),
             }
-            self._programs[key] = build_program(
-                self.ctx, FRAGMENT_SHADER, defines, vertex=VERTEX_SHADER
-            )
+            self._programs[key] = ShaderProgram(
+                self.ctx, FRAGMENT_SHADER, defines, inputs=(CameraInputs, PointInputs),
+                vertex=VERTEX_SHADER,
+            )  # fmt: skip
         return self._programs[key]
 
     def _upload(self, slot: int, data: np.ndarray) -> None:
@@ -170,7 +184,7 @@ class PointSources:
     def _vao(self, model: int, slot: int):
         key = (model, slot)
         if key not in self._vaos:
-            program = self._program(model, slot)
+            program = self._program(model, slot).program
             # The attributes a variant does not use are skipped (padding in the format).
             fmt, names = [], []
             for part, name in zip(_FORMAT.split(), _ATTRIBUTES, strict=True):
@@ -436,24 +450,25 @@ class PointSources:
         occ = np.zeros((MAX_OCCLUDERS, 4))
         occ[: len(disks)] = disks
         _, _, tw, th = frame.tile
-        uniforms = {
-            **frame.uniforms,
-            "u_tile_size": (float(tw), float(th)),
-            "u_occluders": occ.ravel().tolist(),
-            "u_num_occluders": len(disks),
-        }
+        inputs = PointInputs(
+            u_tile_size=(float(tw), float(th)),
+            u_occluders=occ.ravel().tolist(),
+            u_num_occluders=len(disks),
+            u_point_size=1.0,
+        )
         frame.fbo.use()
         self.instances_drawn = 0
         for slot, count, runs in plan:
+            program = self._program(frame.camera.model, slot)
             vao = self._vao(frame.camera.model, slot)
-            set_uniforms(vao.program, uniforms)
+            program.apply(frame.view, inputs)
             if runs:
                 old_size = self.ctx.point_size
                 try:
                     for size, first, n in runs:
                         # glPointSize, and gl_PointSize in case GL_PROGRAM_POINT_SIZE is on.
                         self.ctx.point_size = size
-                        vao.program["u_point_size"].value = size
+                        program.apply(frame.view, replace(inputs, u_point_size=size))
                         vao.render(moderngl.POINTS, vertices=n, first=first)
                 finally:
                     self.ctx.point_size = old_size

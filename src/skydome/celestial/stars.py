@@ -36,10 +36,10 @@ from skydome.celestial.point_sources import PointSources
 from skydome.celestial.scintillation import Scintillation, scintillation_sigma
 from skydome.core.basis import SpectralBasis
 from skydome.core.layer import DrawContext, Layer
+from skydome.core.lights import SkyState
 from skydome.errors import ParameterError
 from skydome.physics.constants import J2000_JD
 from skydome.physics.refraction import horizon_dip_sin
-from skydome.scene.state import SkyState
 from skydome.spectra.blackbody import planck_relative
 
 #: Recompute the apparent places of date when the time has moved by more than this (TT).

@@ -8,12 +8,32 @@ same way, in the atmosphere layer).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from skydome.celestial.limb_darkening import disk_normalisation, limb_coefficients
+from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
+from skydome.core.lights import SkyState
+from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.constants import AU_KM
-from skydome.scene.state import SkyState
+
+
+@dataclass(frozen=True)
+class SunInputs(ShaderInputs):
+    """``celestial/sun.glsl``: the disk's airless centre (unit ENU) and angular radius, its
+    irradiance relative to the tabulated spectrum at 1 au, the spectral conversion (one mat4
+    per wavelength group), the limb darkening's coefficients and normalisations, the
+    weather's factor on the refraction."""
+
+    u_sun_direction_true: tuple[float, float, float]
+    u_sin_angular_radius: float
+    u_sun_scale: float
+    u_spectral_to_rgbs: list[float]
+    u_limb: list[float]
+    u_limb_norm: list[float]
+    u_refraction_scale: float
 
 
 class SunLayer(Layer):
@@ -26,7 +46,7 @@ class SunLayer(Layer):
     def __init__(self, *, limb_darkening: bool = True, enabled: bool = True):
         super().__init__(enabled=enabled)
         self.limb_darkening = bool(limb_darkening)
-        self._uniforms: dict = {}
+        self._inputs: SunInputs | None = None
         self._key = None
 
     def update(self, state: SkyState) -> None:
@@ -46,36 +66,36 @@ class SunLayer(Layer):
             norm = np.full(len(wl), 1.0 / (2.0 * np.pi * (1.0 - np.cos(alpha))))
         groups = basis.groups
         limb = [coeffs[4 * g : 4 * g + 4, k] for g in range(groups) for k in range(6)]
-        self._uniforms = {
-            "u_sun_direction_true": tuple(float(v) for v in sun.direction_true),
-            "u_sin_angular_radius": float(np.sin(alpha)),
+        self._inputs = SunInputs(
+            u_sun_direction_true=tuple(float(v) for v in sun.direction_true),
+            u_sin_angular_radius=float(np.sin(alpha)),
             # The tables' spectrum is the Sun's at 1 au: scale by the true distance.
-            "u_sun_scale": (AU_KM / sun.distance_km) ** 2 * self.graph.solar_scale,
-            "u_spectral_to_rgbs": basis.group_matrices(),
-            "u_limb": np.concatenate(limb).tolist(),
-            "u_limb_norm": norm.tolist(),
-            "u_refraction_scale": state.refraction_scale,
-        }
+            u_sun_scale=(AU_KM / sun.distance_km) ** 2 * self.graph.solar_scale,
+            u_spectral_to_rgbs=basis.group_matrices(),
+            u_limb=np.concatenate(limb).tolist(),
+            u_limb_norm=norm.tolist(),
+            u_refraction_scale=state.refraction_scale,
+        )
         self._key = key
         self._sun = sun
 
     def draw(self, frame: DrawContext) -> None:
         fpass = self.full_screen_pass(
-            frame.ctx, self.shader, frame.camera, {"NUM_GROUPS": frame.basis.groups}
-        )
+            frame.ctx, self.shader, (CameraInputs, SunInputs), frame.camera,
+            {"NUM_GROUPS": frame.basis.groups},
+        )  # fmt: skip
         # The apparent disk lies within its true radius of the apparent centre (refraction
         # only flattens it); 10 % spare.
         self.draw_small(
             frame,
             fpass,
-            {**self._uniforms, **frame.uniforms},
-            frame.textures,
+            (frame.view, self._inputs),
             self._sun.direction,
             1.1 * self._sun.angular_radius_rad,
         )
 
     def info(self) -> dict:
-        if not self._uniforms:
+        if self._inputs is None:
             return {}
         return {
             "sun_angular_diameter_deg": float(np.degrees(2 * self._sun.angular_radius_rad)),

@@ -12,13 +12,22 @@ irradiance at each cloud, the sky's, and the aerial perspective.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
+from skydome.clouds.inputs import (
+    CloudInputs,
+    CloudTextures,
+    CompositeInputs,
+    QueryInputs,
+    TemporalInputs,
+    UpsampleInputs,
+)
 from skydome.clouds.params import CIRRUS_EXTINCTION_PER_M, Clouds
-from skydome.core.cameras import PerspectiveCamera
-from skydome.core.layer import DrawContext, Layer, LayerHost
-from skydome.core.services import AirLights, AirService, VolumeInputs
+from skydome.core.cameras import CameraInputs
+from skydome.core.layer import BehindInputs, DrawContext, Layer, LayerHost
+from skydome.core.services import AerialInputs, AirLights, AirService, LightInputs, VolumeInputs
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.textures import linear_clamped, release_unbound
@@ -169,58 +178,52 @@ class CloudLayer(Layer):
             return tuple(float(v) for v in moon), tuple(float(s) for s in lights.moon_scale)
         return sun, (float(lights.sun_scale),) * 4
 
-    def uniforms(self, frame: DrawContext) -> dict:
-        """Every uniform of the two passes for this frame."""
+    def light_inputs(self, frame: DrawContext) -> LightInputs:
+        """The air's lights as the march reads them, for ``frame``'s camera."""
+        air = self._air()
+        return air.lights().inputs(air.camera_position_km(frame.altitude_m), air.solar_scale)
+
+    def cloud_inputs(self, **changes) -> CloudInputs:
+        """The clouds' own uniforms at the last update (``changes``: fields set otherwise,
+        e.g. a frame's jitter or a test's uniform extinction)."""
         air = self._air()
         lights = air.lights()
-        lookup = air.lookup()
         solar = air.solar_scale
         c = self.clouds
-        bottom_km = air.bottom_radius_m / 1e3
         key_dir, key_scale = self.key_light(lights)
         q = QUALITY[self.quality]
         g = float(self.phase.asymmetry)
         f = float(self.phase.second_moment)
-        moon = lights.moon_direction
-        light2 = lights.moon_scale
         # How far the wind has carried the noise, reduced (in float64) modulo a length over
         # which every noise it moves repeats: float32 keeps its metres.
         period = self._offset_period_km()
         offset_km = tuple(float(v) * self.time_s / 1e3 % period for v in c.wind_m_s) + (0.0,)
-        return {
-            **lookup.uniforms,
-            **frame.uniforms,
-            "u_camera_position": air.camera_position_km(frame.altitude_m),
-            "u_sun_direction": tuple(float(v) for v in lights.sun_direction),
-            "u_sun_scale": float(lights.sun_scale) * solar,
-            "u_light2_direction": tuple(moon) if moon is not None else (0.0, 0.0, 1.0),
-            "u_light2_scale": tuple(float(s) * solar for s in light2),
-            "u_light_direction": key_dir,
-            "u_light_scale": tuple(s * solar for s in key_scale),
-            "u_cloud_shell": self._shell_radii_km(bottom_km),
-            "u_noise_tiles_km": (c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
-            "u_cloud_offset_km": offset_km,
-            "u_type_extinction": tuple(
-                e * self.extinction_scale for e in c.type_extinctions_per_km()
-            ),
-            "u_cirrus_extinction": CIRRUS_EXTINCTION_PER_M * 1e3 * self.extinction_scale,
-            "u_detail_erosion": DETAIL_EROSION,
-            "u_cloud_lobe_g": [float(v) for v in self.phase.g],
-            "u_cloud_lobe_weight": [float(v) for v in self.phase.weights],
-            "u_cloud_moments": (g, f, (g - f) / (1.0 - f)),
-            "u_march": q["march"],
-            "u_light_march_km": q["light_km"],
-            "u_cloud_albedo_below": air.ground_albedo(),
-            "u_frame_jitter": 0.0,
-            "u_ms_norm_g": [float(g) for g in _ms_table().norm_g],
-        }
+        inputs = CloudInputs(
+            u_light_direction=key_dir,
+            u_light_scale=tuple(s * solar for s in key_scale),
+            u_cloud_shell=self._shell_radii_km(air.bottom_radius_m / 1e3),
+            u_noise_tiles_km=(c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
+            u_cloud_offset_km=offset_km,
+            u_type_extinction=tuple(e * self.extinction_scale for e in c.type_extinctions_per_km()),
+            u_cirrus_extinction=CIRRUS_EXTINCTION_PER_M * 1e3 * self.extinction_scale,
+            u_detail_erosion=DETAIL_EROSION,
+            u_cloud_lobe_g=[float(v) for v in self.phase.g],
+            u_cloud_lobe_weight=[float(v) for v in self.phase.weights],
+            u_cloud_moments=(g, f, (g - f) / (1.0 - f)),
+            u_march=q["march"],
+            u_light_march_km=q["light_km"],
+            u_cloud_albedo_below=air.ground_albedo(),
+            u_frame_jitter=0.0,
+            u_ms_norm_g=[float(g) for g in _ms_table().norm_g],
+        )
+        return replace(inputs, **changes) if changes else inputs
 
-    def _aerial(self, uniforms: dict) -> tuple[dict, dict] | None:
-        """(uniforms, textures) of the atmosphere's aerial-perspective tables for the air's
-        lights seen from this camera, or None where there are none (a camera above the
-        atmosphere: the march looks the 4D tables up instead)."""
+    def _aerial(self, lights: LightInputs) -> AerialInputs | None:
+        """The atmosphere's aerial-perspective tables for the air's lights seen from this
+        camera, or None where there are none (a camera above the atmosphere: the march looks
+        the 4D tables up instead)."""
         air = self._air()
-        return air.aerial_perspective(float(uniforms["u_camera_position"][2]), air.lights())
+        return air.aerial_perspective(float(lights.u_camera_position[2]), air.lights())
 
     def _offset_period_km(self) -> float:
         """The least common multiple (km, to the metre) of the repeat lengths of what the wind
@@ -264,20 +267,19 @@ class CloudLayer(Layer):
             self._ms_texture = linear_clamped(tex, ctx)
         return self._ms_texture
 
-    def textures(self, noise: bool = True) -> dict:
-        t = dict(self._air().lookup().textures)
-        t["u_cloud_ms_table"] = self._ms_table_texture()
-        if noise:
-            self._noise_and_weather()
-            t.update(
-                {
-                    "u_weather": self.weather.texture_at(self.time_s),
-                    "u_shape_noise": self.noise.shape,
-                    "u_detail_noise": self.noise.detail,
-                    "u_curl_noise": self.noise.curl,
-                }
-            )
-        return t
+    def texture_inputs(self, noise: bool = True) -> CloudTextures:
+        """The clouds' textures: the multiple-scattering table and (with ``noise``) the
+        weather map at the last update's time and the noises."""
+        if not noise:
+            return CloudTextures(self._ms_table_texture())
+        self._noise_and_weather()
+        return CloudTextures(
+            u_cloud_ms_table=self._ms_table_texture(),
+            u_weather=self.weather.texture_at(self.time_s),
+            u_shape_noise=self.noise.shape,
+            u_detail_noise=self.noise.detail,
+            u_curl_noise=self.noise.curl,
+        )
 
     # ------------------------------------------------------------------ drawing
 
@@ -296,21 +298,24 @@ class CloudLayer(Layer):
             self._targets[key] = self._make_target(w, h)
         return self._targets[key]
 
-    def march(self, frame: DrawContext, uniforms: dict, textures: dict, extra=()):
+    def march(self, frame: DrawContext, cloud: CloudInputs, textures: CloudTextures, extra=()):
         """Draw the march pass of ``frame``'s tile into this layer's two targets; returns
         them (radiance, (transmittance, distance km, ground shadow, 1))."""
         _, _, tw, th = frame.tile
         (rad, data), fbo = self._march_target(tw, th)
         fbo.viewport = (0, 0, tw, th)
-        aerial = None if "CLOUDS_ALONE" in extra else self._aerial(uniforms)
+        lookup = self._air().lookup()
+        lights = self.light_inputs(frame)
+        inputs = [frame.view, lookup.inputs, lights, cloud, textures]
+        aerial = None if "CLOUDS_ALONE" in extra else self._aerial(lights)
         if aerial is not None:
             extra = (*extra, "AERIAL_TABLES")
-            uniforms = {**uniforms, **aerial[0]}
-            textures = {**textures, **aerial[1]}
+            inputs.append(aerial)
         fpass = self.full_screen_pass(
-            frame.ctx, "clouds/clouds_march.glsl", frame.camera, self.defines(frame, extra)
-        )
-        fpass.draw(fbo, uniforms, textures)
+            frame.ctx, "clouds/clouds_march.glsl", tuple(type(i) for i in inputs),
+            frame.camera, self.defines(frame, extra),
+        )  # fmt: skip
+        fpass.draw(fbo, *inputs)
         return rad, data
 
     def probe(self, camera, width: int, height: int, altitude_m: float, *,
@@ -325,24 +330,23 @@ class CloudLayer(Layer):
         ctx = self.graph.ctx
         frame = DrawContext(
             ctx, camera, (width, height), (0, 0, width, height), None,
-            {**camera.uniforms(width, height), "u_tile_offset": (0.0, 0.0)}, {},
-            altitude_m, self.graph.basis,
+            camera.inputs(width, height), altitude_m, self.graph.basis,
         )  # fmt: skip
-        uniforms = self.uniforms(frame)
+        changes: dict = {}
         extra = []
         if test_irradiance is not None:
             extra.append("CLOUDS_ALONE")
-            uniforms["u_test_irradiance"] = (float(test_irradiance),) * 4
-            uniforms["u_cloud_albedo_below"] = 0.0  # black ground below, as the references
+            changes["u_test_irradiance"] = (float(test_irradiance),) * 4
+            changes["u_cloud_albedo_below"] = 0.0  # black ground below, as the references
         if uniform_extinction_per_m is not None:
             extra.append("UNIFORM_CLOUD")
-            uniforms["u_uniform_extinction"] = (
+            changes["u_uniform_extinction"] = (
                 float(uniform_extinction_per_m) * 1e3 * self.extinction_scale
             )
         if extra:
             extra.append("NO_JITTER")
-        textures = self.textures(noise=uniform_extinction_per_m is None)
-        rad, data = self.march(frame, uniforms, textures, tuple(extra))
+        textures = self.texture_inputs(noise=uniform_extinction_per_m is None)
+        rad, data = self.march(frame, self.cloud_inputs(**changes), textures, tuple(extra))
         out = []
         for tex in (rad, data):
             a = np.frombuffer(tex.read(), dtype="f4").reshape(height, width, 4)
@@ -376,55 +380,47 @@ class CloudLayer(Layer):
         out = ctx.texture((width, height), 1, dtype="f4")
         fbo = ctx.framebuffer(color_attachments=[out])
         try:
+            lookup = self._air().lookup()
+            inputs = (lookup.inputs, self.cloud_inputs(), self.texture_inputs(), QueryInputs(points))
             key = ("query",)
             if key not in self._passes:
-                d = dict(self._air().lookup().defines)
-                self._passes[key] = FullscreenPass(ctx, "clouds/cloud_shadow_query.glsl", d)
-            frame = DrawContext(ctx, None, (width, height), (0, 0, width, height), None, {}, {},
-                                0.0, self.graph.basis)  # fmt: skip
-            uniforms = self._query_uniforms(frame)
+                self._passes[key] = FullscreenPass(
+                    ctx, "clouds/cloud_shadow_query.glsl", dict(lookup.defines),
+                    inputs=tuple(type(i) for i in inputs),
+                )  # fmt: skip
             fbo.viewport = (0, 0, width, height)
-            self._passes[key].draw(fbo, uniforms, {**self.textures(), "u_points": points})
+            self._passes[key].draw(fbo, *inputs)
             t = np.frombuffer(out.read(), dtype=np.float32)[:n]
         finally:
             for obj in (fbo, out, points):
                 release_unbound(obj)
         return t.astype(np.float64).reshape(p.shape[:-1])
 
-    def _query_uniforms(self, frame: DrawContext) -> dict:
-        """The march's uniforms without a camera (the shadow query)."""
-        camera = PerspectiveCamera()
-        w, h = frame.frame_size
-        frame.camera = camera
-        frame.uniforms = camera.uniforms(w, h)
-        return self.uniforms(frame)
-
     def draw(self, frame: DrawContext) -> None:
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is
             self._copy_behind(frame)
             return
-        uniforms = self.uniforms(frame)
-        textures = {**self.textures(), **frame.textures}
+        cloud = self.cloud_inputs()
+        textures = self.texture_inputs()
         _, _, tw, th = frame.tile
         scale = QUALITY[self.quality]["scale"]
         whole = frame.tile == (0, 0, *frame.frame_size)
         if self.quality == "interactive" and whole:
-            rad, data = self._interactive(frame, uniforms, textures)
+            rad, data = self._interactive(frame, cloud, textures)
         elif scale > 1:
-            small = self._reduced(frame, scale)
-            rad, data = self.march(small, {**uniforms, **small.uniforms}, textures)
+            rad, data = self.march(self._reduced(frame, scale), cloud, textures)
         else:
             scale = 1
-            rad, data = self.march(frame, uniforms, textures)
+            rad, data = self.march(frame, cloud, textures)
         # the march's texels cover scale x scale pixels (the last row and column may overhang)
         lw, lh = rad.size
         composite = self.full_screen_pass(
-            frame.ctx, "clouds/clouds_composite.glsl", frame.camera, self.defines(frame)
-        )
+            frame.ctx, "clouds/clouds_composite.glsl", (BehindInputs, CompositeInputs),
+            frame.camera, self.defines(frame),
+        )  # fmt: skip
+        cloud_map = (1.0 / (scale * lw), 1.0 / (scale * lh), 0.0, 0.0)
         composite.draw(
-            frame.fbo,
-            {**uniforms, "u_cloud_map": (1.0 / (scale * lw), 1.0 / (scale * lh), 0.0, 0.0)},
-            {**textures, "u_behind": frame.behind, "u_cloud_radiance": rad, "u_cloud_data": data},
+            frame.fbo, self.behind_inputs(frame), CompositeInputs(rad, data, cloud_map)
         )
 
     @staticmethod
@@ -435,14 +431,12 @@ class CloudLayer(Layer):
         x0, y0, tw, th = frame.tile
         w, h = frame.frame_size
         lw, lh = max(1, math.ceil(tw / scale)), max(1, math.ceil(th / scale))
-        uniforms = {
-            **frame.uniforms,
-            **frame.camera.uniforms(w / scale, h / scale),
-            "u_tile_offset": (x0 / scale, y0 / scale),
-        }
+        view = frame.camera.inputs(
+            w / scale, h / scale, (x0 / scale, y0 / scale), frame.view.u_direction_map
+        )
         return DrawContext(
-            frame.ctx, frame.camera, (w, h), (0, 0, lw, lh), None, uniforms, frame.textures,
-            frame.altitude_m, frame.basis,
+            frame.ctx, frame.camera, (w, h), (0, 0, lw, lh), None, view, frame.altitude_m,
+            frame.basis,
         )  # fmt: skip
 
     def inputs(self, frame: DrawContext) -> VolumeInputs | None:
@@ -451,9 +445,8 @@ class CloudLayer(Layer):
         atmosphere's HAS_SHADOW_MAP input; none without a sunlit cloud layer."""
         if not self.shafts or self.clouds.empty:
             return None
-        uniforms = self.uniforms(frame)
-        sun = uniforms["u_sun_direction"]
-        if math.degrees(math.asin(max(-1.0, min(1.0, sun[2])))) < -2.0:
+        lights = self.light_inputs(frame)
+        if elevation_deg(lights.u_sun_direction) < -2.0:
             return None
         x0, y0, tw, th = frame.tile
         w, h = frame.frame_size
@@ -461,19 +454,22 @@ class CloudLayer(Layer):
         ctx = frame.ctx
         small, full = self._shaft_targets(lw, lh, tw, th)
         small[1].viewport = (0, 0, lw, lh)
+        view = frame.camera.inputs(
+            w / SHAFT_SCALE, h / SHAFT_SCALE, (x0 / SHAFT_SCALE, y0 / SHAFT_SCALE),
+            frame.view.u_direction_map,
+        )  # fmt: skip
+        inputs = (
+            view, self._air().lookup().inputs, lights, self.cloud_inputs(u_shaft_km=SHAFT_KM),
+            self.texture_inputs(),
+        )  # fmt: skip
         fpass = self.full_screen_pass(
-            ctx, "clouds/cloud_shafts.glsl", frame.camera, self.defines(frame)
-        )
-        low = {
-            **uniforms,
-            **frame.camera.uniforms(w / SHAFT_SCALE, h / SHAFT_SCALE),
-            "u_tile_offset": (x0 / SHAFT_SCALE, y0 / SHAFT_SCALE),
-            "u_shaft_km": SHAFT_KM,
-        }
-        fpass.draw(small[1], low, self.textures())
-        up = self.full_screen_pass(ctx, "clouds/upsample.glsl", frame.camera)
+            ctx, "clouds/cloud_shafts.glsl", tuple(type(i) for i in inputs), frame.camera,
+            self.defines(frame),
+        )  # fmt: skip
+        fpass.draw(small[1], *inputs)
+        up = self.full_screen_pass(ctx, "clouds/upsample.glsl", (UpsampleInputs,), frame.camera)
         full[1].viewport = (0, 0, tw, th)
-        up.draw(full[1], {"u_scale": (lw / tw, lh / th)}, {"u_source": small[0]})
+        up.draw(full[1], UpsampleInputs((lw / tw, lh / th), small[0]))
         return VolumeInputs(shadow_map=full[0])
 
     def _shaft_targets(self, lw: int, lh: int, tw: int, th: int):
@@ -490,7 +486,7 @@ class CloudLayer(Layer):
         (small_tex, small_fbo), (full_tex, full_fbo) = self._targets[key]
         return (small_tex[0], small_fbo), (full_tex[0], full_fbo)
 
-    def _interactive(self, frame: DrawContext, uniforms: dict, textures: dict):
+    def _interactive(self, frame: DrawContext, cloud: CloudInputs, textures: CloudTextures):
         """The interactive mode: the march at 1/scale of the resolution with a new sub-pixel
         and step offset each frame, blended into a reprojected history (clouds_temporal.glsl).
         Returns the accumulated (radiance, data) textures at the reduced size."""
@@ -501,17 +497,13 @@ class CloudLayer(Layer):
         self._frame_index += 1
         # a 4-frame rotation of sub-pixel offsets (a quarter pixel either way) and step offsets
         sub = ((0.25, 0.25), (-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25))[n % 4]
-        low = {
-            **uniforms,
-            **frame.camera.uniforms(lw, lh),
-            "u_tile_offset": sub,
-            "u_frame_jitter": (n % 4) * 0.25 + 0.125,
-        }
+        view = frame.camera.inputs(lw, lh, sub, frame.view.u_direction_map)
         small = DrawContext(
-            frame.ctx, frame.camera, (lw, lh), (0, 0, lw, lh), None, low, frame.textures,
-            frame.altitude_m, frame.basis,
+            frame.ctx, frame.camera, (lw, lh), (0, 0, lw, lh), None, view, frame.altitude_m,
+            frame.basis,
         )  # fmt: skip
-        cur_rad, cur_data = self.march(small, low, textures)
+        jittered = replace(cloud, u_frame_jitter=(n % 4) * 0.25 + 0.125)
+        cur_rad, cur_data = self.march(small, jittered, textures)
         history = self._history_targets(lw, lh)
         prev, nxt = history[n % 2], history[(n + 1) % 2]
         key = (frame.camera.model, lw, lh, round(frame.altitude_m, 1))
@@ -522,23 +514,22 @@ class CloudLayer(Layer):
         else:
             blend = 0.25 if same_view and self._history_time == self.time_s else 0.5
         prev_cam = self._history_camera if self._history_camera is not None else camera
-        temporal = self.full_screen_pass(frame.ctx, "clouds/clouds_temporal.glsl", camera)
-        extra = {}
-        if camera.model == 0:
-            pu = prev_cam.uniforms(lw, lh)
-            extra = {
-                "u_prev_basis": pu["u_camera_basis"],
-                "u_prev_tan_half_fov": pu["u_tan_half_fov"],
-            }
+        temporal = self.full_screen_pass(
+            frame.ctx, "clouds/clouds_temporal.glsl", (CameraInputs, TemporalInputs), camera
+        )
+        before = prev_cam.inputs(lw, lh)
         (nrad, ndata), fbo = nxt
         fbo.viewport = (0, 0, lw, lh)
         temporal.draw(
             fbo,
-            {**camera.uniforms(lw, lh), "u_tile_offset": (0.0, 0.0), "u_blend": blend, **extra},
-            {
-                "u_current_radiance": cur_rad, "u_current_data": cur_data,
-                "u_history_radiance": prev[0][0], "u_history_data": prev[0][1],
-            },
+            camera.inputs(lw, lh),
+            TemporalInputs(
+                u_blend=blend,
+                u_prev_basis=before.u_camera_basis,
+                u_prev_tan_half_fov=before.u_tan_half_fov,
+                u_current_radiance=cur_rad, u_current_data=cur_data,
+                u_history_radiance=prev[0][0], u_history_data=prev[0][1],
+            ),
         )  # fmt: skip
         self._settled = 0 if blend >= 0.5 else self._settled + 1
         self._history_key, self._history_camera, self._history_time = key, camera, self.time_s
@@ -558,10 +549,8 @@ class CloudLayer(Layer):
         return self._targets[key]
 
     def _copy_behind(self, frame: DrawContext) -> None:
-        key = ("copy",)
-        if key not in self._passes:
-            self._passes[key] = FullscreenPass(frame.ctx, "scene/copy_behind.glsl")
-        self._passes[key].draw(frame.fbo, {}, {"u_behind": frame.behind})
+        copy = self.full_screen_pass(frame.ctx, "scene/copy_behind.glsl", (BehindInputs,))
+        copy.draw(frame.fbo, self.behind_inputs(frame))
 
     def info(self) -> dict:
         c = self.clouds

@@ -32,6 +32,7 @@ import numpy as np
 from skydome.core.cache import cache_key, code_digest, load_or_build
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.shaders import expand
 from skydome.gpu.textures import release_unbound
 
@@ -77,18 +78,37 @@ def check_size(name: str, size: int, lo: int, hi: int) -> int:
     return size
 
 
+@dataclass(frozen=True)
+class NoiseInputs(ShaderInputs):
+    """The noise passes (``clouds/noise_*.glsl``): the texture's size (texels), the seed, and
+    each noise's own periods (in texels), octaves and gain (None where another noise's)."""
+
+    u_size: int
+    u_seed: int
+    u_perlin_period: int | None = None
+    u_perlin_octaves: int | None = None
+    u_perlin_gain: float | None = None
+    u_worley_period_1: int | None = None
+    u_worley_period_2: int | None = None
+    u_worley_period_3: int | None = None
+    u_period: int | None = None
+    u_octaves: int | None = None
+
+
 def _periods(periods: tuple[int, int, int]) -> dict[str, int]:
+    """The three Worley periods as the fields ``u_worley_period_1`` to ``_3``."""
     return {f"u_worley_period_{n}": int(p) for n, p in enumerate(periods, start=1)}
 
 
-def _draw_volume(ctx, shader: str, size: int, uniforms: dict) -> np.ndarray:
+def _draw_volume(ctx, shader: str, inputs: NoiseInputs) -> np.ndarray:
     """Draw a layered pass into an RGBA32F texture array of size^3; the texels (k, j, i, 4)."""
-    fpass = FullscreenPass(ctx, shader, layered=True)
+    size = inputs.u_size
+    fpass = FullscreenPass(ctx, shader, inputs=(NoiseInputs,), layered=True)
     array = ctx.texture_array((size, size, size), 4, dtype="f4")
     fbo = ctx.framebuffer(color_attachments=[array])
     try:
         fbo.viewport = (0, 0, size, size)
-        fpass.draw(fbo, {"u_size": size, **uniforms}, layers=(0, size))
+        fpass.draw(fbo, inputs, layers=(0, size))
         data = np.frombuffer(array.read(), dtype=np.float32)
     finally:
         for obj in (fbo, array, fpass):
@@ -98,47 +118,39 @@ def _draw_volume(ctx, shader: str, size: int, uniforms: dict) -> np.ndarray:
 
 def render_shape(ctx, seed: int = 1, size: int = DEFAULT_SHAPE_SIZE) -> np.ndarray:
     """Draw the shape noise: float32 texels (size, size, size, 4) indexed [k, j, i, RGBA]."""
-    return _draw_volume(
-        ctx,
-        "clouds/noise_shape.glsl",
-        check_size("shape_size", size, 4, 512),
-        {
-            "u_seed": check_seed(seed),
-            "u_perlin_period": SHAPE_PERLIN_PERIOD,
-            "u_perlin_octaves": SHAPE_PERLIN_OCTAVES,
-            "u_perlin_gain": SHAPE_PERLIN_GAIN,
-            **_periods(SHAPE_WORLEY_PERIODS),
-        },
+    inputs = NoiseInputs(
+        u_size=check_size("shape_size", size, 4, 512),
+        u_seed=check_seed(seed),
+        u_perlin_period=SHAPE_PERLIN_PERIOD,
+        u_perlin_octaves=SHAPE_PERLIN_OCTAVES,
+        u_perlin_gain=SHAPE_PERLIN_GAIN,
+        **_periods(SHAPE_WORLEY_PERIODS),
     )
+    return _draw_volume(ctx, "clouds/noise_shape.glsl", inputs)
 
 
 def render_detail(ctx, seed: int = 1, size: int = DEFAULT_DETAIL_SIZE) -> np.ndarray:
     """Draw the detail noise: float32 texels (size, size, size, 4) indexed [k, j, i, RGBA]."""
-    return _draw_volume(
-        ctx,
-        "clouds/noise_detail.glsl",
-        check_size("detail_size", size, 4, 512),
-        {"u_seed": check_seed(seed), **_periods(DETAIL_WORLEY_PERIODS)},
+    inputs = NoiseInputs(
+        u_size=check_size("detail_size", size, 4, 512),
+        u_seed=check_seed(seed),
+        **_periods(DETAIL_WORLEY_PERIODS),
     )
+    return _draw_volume(ctx, "clouds/noise_detail.glsl", inputs)
 
 
 def render_curl_raw(ctx, seed: int = 1, size: int = DEFAULT_CURL_SIZE) -> np.ndarray:
     """Draw the unnormalised curl: float32 (size, size, 2) indexed [j, i, (x, y)], in units of
     the potential per tile."""
     size = check_size("curl_size", size, 4, 4096)
-    fpass = FullscreenPass(ctx, "clouds/noise_curl.glsl")
+    fpass = FullscreenPass(ctx, "clouds/noise_curl.glsl", inputs=(NoiseInputs,))
     tex = ctx.texture((size, size), 2, dtype="f4")
     fbo = ctx.framebuffer(color_attachments=[tex])
     try:
         fbo.viewport = (0, 0, size, size)
         fpass.draw(
             fbo,
-            {
-                "u_size": size,
-                "u_seed": check_seed(seed),
-                "u_period": CURL_PERIOD,
-                "u_octaves": CURL_OCTAVES,
-            },
+            NoiseInputs(size, check_seed(seed), u_period=CURL_PERIOD, u_octaves=CURL_OCTAVES),
         )
         data = np.frombuffer(tex.read(), dtype=np.float32)
     finally:

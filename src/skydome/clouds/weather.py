@@ -32,6 +32,7 @@ import numpy as np
 from skydome.clouds.noise import check_seed, render_curl
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 
 #: Default tile of a generated map (km): 32 km at 512 texels is 62.5 m per texel.
 DEFAULT_TILE_KM = 32.0
@@ -278,6 +279,23 @@ def _pair(name: str, value) -> tuple[float, float]:
     return east, north
 
 
+
+@dataclass(frozen=True)
+class WeatherInputs(ShaderInputs):
+    """``clouds/weather_animate.glsl``: the map's size (texels), the wind's offset (tiles),
+    the flow's reach (tiles) and its two phases, the evolution's coordinate and switch, the
+    seed, the source map and the flow field (textures)."""
+
+    u_size: tuple[float, float]
+    u_wind_offset: tuple[float, float]
+    u_flow_reach: float
+    u_phase: tuple[float, float]
+    u_evolution_z: float
+    u_evolution_on: float
+    u_seed: int
+    u_weather: object
+    u_flow: object
+
 class AnimatedWeather:
     """A weather map on the GPU at any time: moved, advected and evolving.
 
@@ -335,7 +353,7 @@ class AnimatedWeather:
         # times faster than float32 in the clouds' march, which reads it at every step
         self._out = self._texture(None, 4, size=(w, h), dtype="f1")
         self._fbo = ctx.framebuffer(color_attachments=[self._out])
-        self._pass = FullscreenPass(ctx, "clouds/weather_animate.glsl")
+        self._pass = FullscreenPass(ctx, "clouds/weather_animate.glsl", inputs=(WeatherInputs,))
         self._time: float | None = None
         self.draws = 0  # passes drawn (a cache-hit counter for tests)
 
@@ -350,22 +368,24 @@ class AnimatedWeather:
         tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
         return tex
 
-    def uniforms(self, time_s: float) -> dict[str, object]:
-        """The animation shader's uniforms at ``time_s``, every periodic term reduced in
+    def inputs(self, time_s: float) -> WeatherInputs:
+        """The animation shader's inputs at ``time_s``, every periodic term reduced in
         float64 first (so that long time-lapses keep float32 precision)."""
         tile_m = self.weather_map.tile_km * 1000.0
         offset = tuple(float((v * time_s / tile_m) % 1.0) for v in self.wind_m_s)
         cycle = time_s / self.flow_period_s
         evolution_z = 0.0 if self.evolution_s is None else time_s / self.evolution_s
-        return {
-            "u_size": tuple(float(v) for v in self.weather_map.size),
-            "u_wind_offset": offset,
-            "u_flow_reach": self.flow_m_s * self.flow_period_s / tile_m,
-            "u_phase": (float((cycle + 0.5) % 1.0), float(cycle % 1.0)),
-            "u_evolution_z": float(evolution_z % _EVOLUTION_Z_PERIOD),
-            "u_evolution_on": 0.0 if self.evolution_s is None else 1.0,
-            "u_seed": self.seed,
-        }
+        return WeatherInputs(
+            u_size=tuple(float(v) for v in self.weather_map.size),
+            u_wind_offset=offset,
+            u_flow_reach=self.flow_m_s * self.flow_period_s / tile_m,
+            u_phase=(float((cycle + 0.5) % 1.0), float(cycle % 1.0)),
+            u_evolution_z=float(evolution_z % _EVOLUTION_Z_PERIOD),
+            u_evolution_on=0.0 if self.evolution_s is None else 1.0,
+            u_seed=self.seed,
+            u_weather=self._map,
+            u_flow=self._flow,
+        )
 
     def texture_at(self, time_s: float) -> moderngl.Texture:
         """The map at ``time_s`` seconds from the reference time: an RGBA8 (normalised)
@@ -380,9 +400,7 @@ class AnimatedWeather:
         if self._time != t:
             w, h = self.weather_map.size
             self._fbo.viewport = (0, 0, w, h)
-            self._pass.draw(
-                self._fbo, self.uniforms(t), {"u_weather": self._map, "u_flow": self._flow}
-            )
+            self._pass.draw(self._fbo, self.inputs(t))
             self._time = t
             self.draws += 1
         return self._out

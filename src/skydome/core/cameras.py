@@ -20,6 +20,7 @@ from typing import ClassVar
 import numpy as np
 
 from skydome.errors import ParameterError, check_choice, check_range
+from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.geometry import direction_from_angles
 
 __all__ = [
@@ -74,6 +75,19 @@ def check_direction(name: str, direction) -> np.ndarray:
     return s / n
 
 
+@dataclass(frozen=True)
+class CameraInputs(ShaderInputs):
+    """A camera's uniforms (``shaders/common/camera.glsl``) for one tile of a frame: the
+    frame's size (px), the tile's offset in it (px), the perspective camera's basis and
+    field, a DirectionsCamera's direction map (a texture of the tile)."""
+
+    u_resolution: tuple[float, float]
+    u_tile_offset: tuple[float, float] = (0.0, 0.0)
+    u_camera_basis: tuple[float, ...] | None = None
+    u_tan_half_fov: float | None = None
+    u_direction_map: object = None
+
+
 def _unit(directions) -> np.ndarray:
     d = np.asarray(directions, dtype=np.float64)
     return d / np.linalg.norm(d, axis=-1, keepdims=True)
@@ -92,8 +106,16 @@ class Camera:
         """Size of the image this camera renders for a requested ``width`` x ``height``."""
         return check_size(width, height)
 
-    def uniforms(self, width: float, height: float) -> dict[str, object]:
-        return {"u_resolution": (float(width), float(height))}
+    def inputs(
+        self, width: float, height: float, tile_offset=(0.0, 0.0), direction_map=None
+    ) -> CameraInputs:
+        """The camera's shader inputs for a frame of ``width`` x ``height`` pixels, a tile
+        at ``tile_offset`` (px) and, for a DirectionsCamera, the tile's direction map."""
+        return CameraInputs(
+            (float(width), float(height)),
+            (float(tile_offset[0]), float(tile_offset[1])),
+            u_direction_map=direction_map,
+        )
 
     # ------------------------------------------------------------------ float64 twins
 
@@ -163,13 +185,17 @@ class PerspectiveCamera(Camera):
         right, up = c * right - s * up, s * right + c * up
         return np.stack([right, up, forward], axis=1)
 
-    def uniforms(self, width: float, height: float) -> dict[str, object]:
-        return {
-            **super().uniforms(width, height),
+    def inputs(
+        self, width: float, height: float, tile_offset=(0.0, 0.0), direction_map=None
+    ) -> CameraInputs:
+        return CameraInputs(
+            (float(width), float(height)),
+            (float(tile_offset[0]), float(tile_offset[1])),
             # GLSL mat3 is column-major: pass the columns one after the other.
-            "u_camera_basis": tuple(self.basis().T.ravel()),
-            "u_tan_half_fov": math.tan(math.radians(self.fov_deg) / 2.0),
-        }
+            tuple(float(v) for v in self.basis().T.ravel()),
+            math.tan(math.radians(self.fov_deg) / 2.0),
+            direction_map,
+        )
 
     def project(self, directions, width: int, height: int):
         d = _unit(directions)

@@ -21,9 +21,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
 from skydome.core.basis import SpectralBasis
-from skydome.core.cameras import Camera, disk_scissor
+from skydome.core.cameras import Camera, CameraInputs, disk_scissor
 from skydome.core.services import VolumeInputs
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 
 if TYPE_CHECKING:
     from skydome.core.lights import SkyState
@@ -46,15 +47,25 @@ class LayerHost(Protocol):
         """The service of type ``kind`` another layer of the graph provides, or None."""
 
 
+@dataclass(frozen=True)
+class BehindInputs(ShaderInputs):
+    """The light behind a volume layer (``shaders/common/behind.glsl``): the texture of the
+    tile (GL rows), and, compiled with BEHIND_SMOOTH, the smooth space layers' light at a
+    reduced resolution with its mapping."""
+
+    u_behind: object
+    u_behind_smooth: object = None
+    u_smooth_map: tuple[float, float, float, float] | None = None
+
+
 @dataclass
 class DrawContext:
     """What a layer's ``draw`` gets for one tile of one frame.
 
     ``fbo``: the target, viewport set to the tile; ``behind``: for a volume layer, the
     texture (same size, GL rows) of the light arriving from behind it, else None;
-    ``uniforms``: the camera's and the tile's (``u_resolution``, ``u_tile_offset``, ...);
-    ``textures``: per-pixel inputs of this tile (``u_direction_map`` for a
-    DirectionsCamera); ``altitude_m``: the camera's height above the ground.
+    ``view``: the camera's shader inputs for this tile (its size, offset, direction map);
+    ``altitude_m``: the camera's height above the ground.
     ``behind_smooth``: for the first volume layer when it ``merges_smooth``, the smooth
     space layers' light at a reduced resolution (read it with ``common/behind.glsl``'s
     ``light_behind`` compiled with BEHIND_SMOOTH, uniform ``u_smooth_map``), else None.
@@ -68,13 +79,12 @@ class DrawContext:
     frame_size: tuple[int, int]
     tile: tuple[int, int, int, int]
     fbo: object
-    uniforms: dict
-    textures: dict
+    view: CameraInputs
     altitude_m: float
     basis: SpectralBasis
     behind: object = None
     behind_smooth: object = None
-    smooth_map: tuple = (0.0, 0.0, 0.0, 0.0)
+    smooth_map: tuple | None = None
     volume_inputs: VolumeInputs | None = None
     target: object = None
     depth_map: object = None
@@ -119,17 +129,26 @@ class Layer:
         return layer
 
     def full_screen_pass(
-        self, ctx, shader: str, camera: Camera | None = None, defines: dict | None = None
+        self,
+        ctx,
+        shader: str,
+        inputs: tuple[type[ShaderInputs], ...],
+        camera: Camera | None = None,
+        defines: dict | None = None,
     ) -> FullscreenPass:
-        """The layer's pass ``shader`` compiled for ``camera``'s model (if any) with
-        ``defines``, once per combination (kept until :meth:`release`)."""
+        """The layer's pass ``shader`` with typed ``inputs``, compiled for ``camera``'s
+        model (if any) with ``defines``, once per combination (kept until :meth:`release`)."""
         defines = dict(defines or {})
         if camera is not None:
             defines["CAMERA_MODEL"] = camera.model
-        key = (shader, tuple(sorted(defines.items())))
+        key = (shader, tuple(sorted(defines.items())), inputs)
         if key not in self._passes:
-            self._passes[key] = FullscreenPass(ctx, shader, defines)
+            self._passes[key] = FullscreenPass(ctx, shader, defines, inputs=inputs)
         return self._passes[key]
+
+    def behind_inputs(self, frame: DrawContext) -> BehindInputs:
+        """The light behind this volume layer in ``frame``."""
+        return BehindInputs(frame.behind, frame.behind_smooth, frame.smooth_map)
 
     def prepare(self, host: LayerHost) -> None:
         """Create GPU resources (called once, by the graph, before the first draw)."""
@@ -143,9 +162,7 @@ class Layer:
         """Take a new SkyState (the time or the place changed)."""
 
     @staticmethod
-    def draw_small(
-        frame: DrawContext, fpass, uniforms: dict, textures: dict, direction, radius_rad
-    ):
+    def draw_small(frame: DrawContext, fpass, inputs: tuple, direction, radius_rad):
         """Draw ``fpass`` only over the pixels that can see a disk of angular radius
         ``radius_rad`` around ``direction`` (a scissor rectangle from the camera's inverse
         mapping): a full-screen pass costs every pixel on a CPU rasterizer even where it
@@ -154,7 +171,7 @@ class Layer:
         x0, y0, tw, th = frame.tile
         rects = disk_scissor(frame.camera, w, h, direction, radius_rad)
         if rects is None:
-            fpass.draw(frame.fbo, uniforms, textures)
+            fpass.draw(frame.fbo, *inputs)
             return
         try:
             for rx, ry, rw, rh in rects:
@@ -163,7 +180,7 @@ class Layer:
                 bx, by = min(rx + rw - x0, tw), min(ry + rh - y0, th)
                 if bx > ax and by > ay:
                     frame.fbo.scissor = (ax, ay, bx - ax, by - ay)
-                    fpass.draw(frame.fbo, uniforms, textures)
+                    fpass.draw(frame.fbo, *inputs)
         finally:
             frame.fbo.scissor = None
 

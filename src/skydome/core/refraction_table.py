@@ -9,9 +9,21 @@ elevation instead (``shaders/common/airless_table.glsl``; the table and its floa
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.refraction import REFRACTION_TABLE_SIZE, airless_offset_table
+
+
+@dataclass(frozen=True)
+class AirlessTableInputs(ShaderInputs):
+    """``common/airless_table.glsl``: the table (a texture) and where node i of n lies in
+    texture coordinates (scale, offset)."""
+
+    u_airless_offset: object
+    u_offset_map: tuple[float, float]
 
 
 class RefractionTable:
@@ -33,10 +45,11 @@ class RefractionTable:
             self._texture, self._scale = tex, refraction_scale
         return self._texture
 
-    @staticmethod
-    def uniforms() -> dict:
+    def inputs(self, ctx, refraction_scale: float) -> AirlessTableInputs:
+        """The table of the weather's ``refraction_scale`` as a shader input."""
         n = REFRACTION_TABLE_SIZE
-        return {"u_offset_map": (0.5 * (n - 1) / n, 0.5)}  # node i of n at (i + 0.5) / n
+        # node i of n at (i + 0.5) / n
+        return AirlessTableInputs(self.texture(ctx, refraction_scale), (0.5 * (n - 1) / n, 0.5))
 
     def release(self) -> None:
         if self._texture is not None:

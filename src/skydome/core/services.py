@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skydome.gpu.inputs import ShaderInputs
+
 
 @dataclass(frozen=True)
 class AirLights:
@@ -34,16 +36,57 @@ class AirLights:
     def has_moon(self) -> bool:
         return self.moon_direction is not None and any(s > 0 for s in self.moon_scale)
 
+    def inputs(self, camera_position_km, solar_scale: float) -> LightInputs:
+        """The lights as shader inputs for a camera at ``camera_position_km`` (planet
+        centred), scaled to the atmosphere's Sun (``solar_scale``): the tables are for the
+        tabulated solar spectrum."""
+        moon = self.has_moon
+        return LightInputs(
+            u_camera_position=tuple(float(v) for v in camera_position_km),
+            u_sun_direction=tuple(float(v) for v in self.sun_direction),
+            u_sun_scale=float(self.sun_scale) * solar_scale,
+            u_light2_direction=tuple(self.moon_direction) if moon else (0.0, 0.0, 1.0),
+            u_light2_scale=tuple(float(s) * solar_scale for s in self.moon_scale)
+            if moon
+            else (0.0,) * 4,
+        )
+
+
+@dataclass(frozen=True)
+class LightInputs(ShaderInputs):
+    """The lights of the air's lookups for one camera: its planet-centred position (km),
+    the Sun's airless direction and scale, the second light's (the Moon's, per channel)."""
+
+    u_camera_position: tuple[float, float, float]
+    u_sun_direction: tuple[float, float, float]
+    u_sun_scale: float
+    u_light2_direction: tuple[float, float, float]
+    u_light2_scale: tuple[float, float, float, float]
+
+
+@dataclass(frozen=True)
+class AerialInputs(ShaderInputs):
+    """The aerial-perspective tables of the camera's height (``atmosphere/aerial_lookup.glsl``
+    with ``sky_view_mapping.glsl``): the sky-view tables' size, the camera's radius (km), the
+    tables' size, and the Sun's and the second light's tables (None where not drawn)."""
+
+    u_sky_view_size: tuple[float, float]
+    u_view_radius: float
+    u_aerial_size: tuple[float, float, float]
+    u_sun_aerial_scattering: object = None
+    u_sun_aerial_single_mie: object = None
+    u_light2_aerial_scattering: object = None
+    u_light2_aerial_single_mie: object = None
+
 
 @dataclass(frozen=True)
 class LookupTables:
     """The air's lookup tables as a shader reads them (``atmosphere/precomputed_lookup.glsl``):
-    the ``defines`` to compile with, the ``uniforms`` and the ``textures`` (sampler name ->
-    texture) to draw with."""
+    the ``defines`` to compile with and the typed ``inputs`` to draw with (their type is the
+    pass's input type)."""
 
     defines: dict
-    uniforms: dict
-    textures: dict
+    inputs: ShaderInputs
 
 
 class AirService(ABC):

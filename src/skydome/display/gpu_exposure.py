@@ -10,15 +10,37 @@ read-back. :meth:`GpuExposure.read` fetches that one texel for reports and eye a
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from skydome.display.exposure import DEFAULT_DELTA
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.spectra import SRGB_LUMINANCE
 
 #: Sample grid (powers of two, so the mipmap chain averages exactly): 32768 samples.
 GRID = (256, 128)
+
+
+@dataclass(frozen=True)
+class LogLuminanceInputs(ShaderInputs):
+    """``post/log_luminance.glsl``: the frame (RGBA32F), the luminance weights of its RGB, the
+    small offset that keeps the logarithm finite (cd/m^2)."""
+
+    u_hdr: object
+    u_luminance_weights: tuple[float, float, float]
+    u_delta: float
+
+
+@dataclass(frozen=True)
+class AutoExposureInputs(ShaderInputs):
+    """What ``post/tonemap.glsl`` compiled with AUTO_EXPOSURE reads: the measured
+    log-luminance texture, its 1 x 1 level, the logarithm's offset (cd/m^2)."""
+
+    u_log_luminance: object
+    u_log_luminance_level: float
+    u_delta: float
 
 
 class GpuExposure:
@@ -27,7 +49,10 @@ class GpuExposure:
     def __init__(self, ctx):
         self.ctx = ctx
         w, h = GRID
-        self.pass_ = FullscreenPass(ctx, "post/log_luminance.glsl", {"GRID_W": w, "GRID_H": h})
+        self.pass_ = FullscreenPass(
+            ctx, "post/log_luminance.glsl", {"GRID_W": w, "GRID_H": h},
+            inputs=(LogLuminanceInputs,),
+        )  # fmt: skip
         self.texture = ctx.texture(GRID, 4, dtype="f4")
         self.texture.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
         self.fbo = ctx.framebuffer(color_attachments=[self.texture])
@@ -36,19 +61,13 @@ class GpuExposure:
     def measure(self, hdr_texture) -> None:
         """Average the log luminance of ``hdr_texture`` (RGBA32F) into the 1 x 1 level."""
         self.fbo.viewport = (0, 0, *GRID)
-        self.pass_.draw(
-            self.fbo,
-            {
-                "u_luminance_weights": tuple(float(x) for x in SRGB_LUMINANCE),
-                "u_delta": DEFAULT_DELTA,
-            },
-            {"u_hdr": hdr_texture},
-        )
+        weights = tuple(float(x) for x in SRGB_LUMINANCE)
+        self.pass_.draw(self.fbo, LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA))
         self.texture.build_mipmaps(0, self.top_level)
 
-    def uniforms(self) -> dict[str, object]:
+    def inputs(self) -> AutoExposureInputs:
         """What ``post/tonemap.glsl`` compiled with AUTO_EXPOSURE reads."""
-        return {"u_log_luminance_level": float(self.top_level), "u_delta": DEFAULT_DELTA}
+        return AutoExposureInputs(self.texture, float(self.top_level), DEFAULT_DELTA)
 
     def read(self) -> float:
         """The log-average luminance (cd/m^2) of the last measured frame (one texel read)."""

@@ -8,8 +8,11 @@ pass (e.g. the sky renderer's float target) is already in GL order and is used a
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from skydome.display.gpu_exposure import AutoExposureInputs
 from skydome.display.tonemap import (
     FILMIC_DESATURATION_STOPS,
     FILMIC_INPUT_CAP,
@@ -20,6 +23,7 @@ from skydome.display.tonemap import (
 )
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass, shared_context
+from skydome.gpu.inputs import ShaderInputs
 from skydome.spectra import SRGB_LUMINANCE
 
 #: NumPy frames larger than this many pixels are tone-mapped in bands of rows (64 MB each).
@@ -45,6 +49,25 @@ def read_rgb8(fbo, width: int, height: int) -> np.ndarray:
     )
     return data.reshape(height, width, 3)[::-1].copy()  # GL rows are bottom-up
 
+
+
+@dataclass(frozen=True)
+class ToneMapInputs(ShaderInputs):
+    """``post/tonemap.glsl``: the frame (RGBA32F), the output's size (px), the operator and
+    its parameters (None where another operator's), the exposure (m^2/cd), the luminance
+    weights of RGB."""
+
+    u_hdr: object
+    u_viewport: tuple[float, float]
+    u_operator: int
+    u_exposure: float
+    u_luminance_weights: tuple[float, float, float]
+    u_exp_k: float | None = None
+    u_inv_white_sq: float | None = None
+    u_hvs_a: float | None = None
+    u_hvs_b: float | None = None
+    u_hvs_x_scale: float | None = None
+    u_filmic_pre_scale: float | None = None
 
 class GpuToneMapper:
     """Runs ``post/tonemap.glsl``: one compiled program for all operators, RGBA8 targets cached
@@ -77,20 +100,27 @@ class GpuToneMapper:
             defines = {**self._defines, "TONEMAP_OPERATOR": key[0]}
             if key[1]:
                 defines["AUTO_EXPOSURE"] = 1
-            self._passes[key] = FullscreenPass(self.ctx, "post/tonemap.glsl", defines)
+            inputs = (ToneMapInputs, AutoExposureInputs) if key[1] else (ToneMapInputs,)
+            self._passes[key] = FullscreenPass(
+                self.ctx, "post/tonemap.glsl", defines, inputs=inputs
+            )
         return self._passes[key]
 
-    def uniforms(self, name: str, exposure_scale: float, **params: float) -> dict[str, object]:
-        """The uniforms of ``post/tonemap.glsl`` for an operator, exposure and parameters
-        (validated as in :func:`skydome.display.tonemap.tonemap`)."""
+    def inputs(
+        self, texture, viewport, name: str, exposure_scale: float, **params: float
+    ) -> ToneMapInputs:
+        """The inputs of ``post/tonemap.glsl`` for a frame texture, an operator, exposure
+        and parameters (validated as in :func:`skydome.display.tonemap.tonemap`)."""
         op = get_operator(name)
         checked = op.check_params(params)
-        return {
-            "u_operator": op.gl_id,
-            "u_exposure": check_exposure_scale(exposure_scale),
-            "u_luminance_weights": tuple(float(x) for x in SRGB_LUMINANCE),
+        return ToneMapInputs(
+            u_hdr=texture,
+            u_viewport=tuple(float(v) for v in viewport),
+            u_operator=op.gl_id,
+            u_exposure=check_exposure_scale(exposure_scale),
+            u_luminance_weights=tuple(float(x) for x in SRGB_LUMINANCE),
             **op.gl_uniforms(checked),
-        }
+        )
 
     def draw(
         self,
@@ -112,13 +142,11 @@ class GpuToneMapper:
         """
         w, h = viewport
         fbo.viewport = (0, 0, w, h)
-        uniforms = {**self.uniforms(name, exposure_scale, **params), "u_viewport": (w, h)}
-        textures = {"u_hdr": texture}
+        inputs = [self.inputs(texture, (w, h), name, exposure_scale, **params)]
         fpass = self.program(name, auto_exposure is not None)
         if auto_exposure is not None:
-            uniforms.update(auto_exposure.uniforms())
-            textures["u_log_luminance"] = auto_exposure.texture
-        fpass.draw(fbo, uniforms, textures)
+            inputs.append(auto_exposure.inputs())
+        fpass.draw(fbo, *inputs)
 
     def _target(self, width: int, height: int):
         if (width, height) not in self._targets:

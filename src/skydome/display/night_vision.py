@@ -38,12 +38,15 @@ scotopic channel alone at m = 0, a reduced-resolution copy for a blur of several
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from skydome.display.exposure import DEFAULT_DELTA
+from skydome.display.gpu_exposure import LogLuminanceInputs
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.spectra import SRGB_LUMINANCE, XYZ_TO_LINEAR_SRGB
 
 # -- CIE 191:2010, MES2 ---------------------------------------------------------------------
@@ -278,6 +281,22 @@ def _is_number(value) -> bool:
     return isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)
 
 
+
+@dataclass(frozen=True)
+class NightVisionInputs(ShaderInputs):
+    """The night-vision passes (``post/night_*.glsl``, ``post/acuity_blur.glsl``): the
+    source texture, and as each pass needs them the photopic share of the mesopic
+    luminance, the noise's scale and seed, the colour of scotopic vision, the blur's
+    weights, the enlargement's texture scale."""
+
+    u_src: object
+    u_wp: float | None = None
+    u_noise_scale: float | None = None
+    u_blue_grey: tuple[float, float, float] | None = None
+    u_noise_base: int | None = None
+    u_weights: tuple[float, ...] | None = None
+    u_uv_scale: tuple[float, float] | None = None
+
 class NightVision:
     """The night-vision display pass for one context (GPU; GLSL under ``shaders/post/``).
 
@@ -317,8 +336,9 @@ class NightVision:
         self._targets: dict[tuple, tuple] = {}
         w, h = GRID
         self._measure = FullscreenPass(
-            ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h}
-        )
+            ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h},
+            inputs=(LogLuminanceInputs,),
+        )  # fmt: skip
         self._grid = ctx.texture(GRID, 4, dtype="f4")
         self._grid.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
         self._grid_fbo = ctx.framebuffer(color_attachments=[self._grid])
@@ -327,7 +347,9 @@ class NightVision:
     def _program(self, name: str, **defines) -> FullscreenPass:
         key = (name, tuple(sorted(defines.items())))
         if key not in self._programs:
-            self._programs[key] = FullscreenPass(self.ctx, name, {**shader_defines(), **defines})
+            self._programs[key] = FullscreenPass(
+                self.ctx, name, {**shader_defines(), **defines}, inputs=(NightVisionInputs,)
+            )
         return self._programs[key]
 
     def _target(self, role: str, size: tuple[int, int]):
@@ -345,14 +367,8 @@ class NightVision:
         the 256 x 128 grid of ``post/night_log_luminance.glsl`` (mipmapped on the GPU, the
         1 x 1 level read back): as :func:`skydome.reference.night_vision.frame_sp_ratio`."""
         self._grid_fbo.viewport = (0, 0, *GRID)
-        self._measure.draw(
-            self._grid_fbo,
-            {
-                "u_luminance_weights": tuple(float(x) for x in SRGB_LUMINANCE),
-                "u_delta": DEFAULT_DELTA,
-            },
-            {"u_hdr": hdr_texture},
-        )
+        weights = tuple(float(x) for x in SRGB_LUMINANCE)
+        self._measure.draw(self._grid_fbo, LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA))
         self._grid.build_mipmaps(0, self._grid_level)
         top = np.frombuffer(self._grid.read(level=self._grid_level), dtype=np.float32)
         log_p, log_s, weight = (float(v) for v in top[:3])
@@ -419,18 +435,19 @@ class NightVision:
         if m >= 1.0:
             return hdr_texture
 
-        uniforms: dict[str, object] = {
-            "u_wp": photopic_share(m),
-            "u_noise_scale": 1.0 - m,
-            "u_blue_grey": tuple(float(c) for c in BLUE_GREY),
-            "u_noise_base": noise_base(self.seed, t),
-        }
+        uniforms = NightVisionInputs(
+            u_src=None,
+            u_wp=photopic_share(m),
+            u_noise_scale=1.0 - m,
+            u_blue_grey=tuple(float(c) for c in BLUE_GREY),
+            u_noise_base=noise_base(self.seed, t),
+        )
         final = {"NV_NOISE": int(self.noise), "NV_SCOTOPIC_ONLY": int(m <= 0.0)}
         source = hdr_texture
         if s > 0.0:
             weights = tuple(float(x) for x in gaussian_weights(s))
             radius = len(weights) - 1
-            uniforms["u_weights"] = weights
+            uniforms = replace(uniforms, u_weights=weights)
             if level == 0 and m <= 0.0:
                 # Scotopic: blur the scotopic channel only, four pixels to a texel.
                 packed = (-(-w // 4), h)
@@ -496,7 +513,7 @@ class NightVision:
                     NV_AXIS=1,
                 )
                 f = float(2**level)
-                uniforms["u_uv_scale"] = (1.0 / (f * lw), 1.0 / (f * lh))
+                uniforms = replace(uniforms, u_uv_scale=(1.0 / (f * lw), 1.0 / (f * lh)))
                 source, final["NV_SOURCE"] = src, 2
         else:
             final["NV_SOURCE"] = 0
@@ -504,9 +521,9 @@ class NightVision:
         self._run("post/night_vision.glsl", out_fbo, (w, h), uniforms, source, **final)
         return out_tex
 
-    def _run(self, name, fbo, size, uniforms, source, **defines) -> None:
+    def _run(self, name, fbo, size, inputs: NightVisionInputs, source, **defines) -> None:
         fbo.viewport = (0, 0, *size)
-        self._program(name, **defines).draw(fbo, uniforms, {"u_src": source})
+        self._program(name, **defines).draw(fbo, replace(inputs, u_src=source))
 
     def release(self) -> None:
         """Free the programs, targets and the measurement grid."""

@@ -46,9 +46,10 @@ from importlib import resources
 import numpy as np
 
 from skydome.astro import frames
-from skydome.core.cameras import Camera, CubemapCamera
+from skydome.core.cameras import Camera, CameraInputs, CubemapCamera
 from skydome.errors import ParameterError, check_range
-from skydome.gpu.passes import set_uniforms
+from skydome.gpu.inputs import ShaderInputs
+from skydome.gpu.passes import ShaderProgram
 
 __all__ = [
     "OVERLAYS",
@@ -456,6 +457,66 @@ def _check_colour(kind: str, value) -> tuple[float, float, float]:
     return tuple(float(x) for x in c)
 
 
+
+@dataclass(frozen=True)
+class GridInputs(ShaderInputs):
+    """``post/overlay_grid.glsl``: the line width (px), the grid's steps in altitude and
+    azimuth (rad) and the altitude above which azimuth lines stop, the colours and
+    opacities of the grid, of the horizon and below it."""
+
+    u_line_width: float
+    u_alt_step: float
+    u_az_step: float
+    u_az_max_alt: float
+    u_colour: tuple[float, ...]
+    u_horizon_colour: tuple[float, ...]
+    u_opacity: float
+    u_below_opacity: float
+    u_horizon_opacity: float
+
+
+@dataclass(frozen=True)
+class LineInputs(ShaderInputs):
+    """``post/overlay_lines*.glsl``: the coverage tile's size (px), the quads' half extent
+    and the line width (px), the lowest view z drawn, which copy of a wrapped map."""
+
+    u_viewport: tuple[float, float]
+    u_half_extent: float
+    u_line_width: float
+    u_min_z: float
+    u_copy: int
+
+
+@dataclass(frozen=True)
+class CompositeInputs(ShaderInputs):
+    """``post/overlay_composite.glsl``: the lines' coverage (a texture), the tile's origin
+    in the frame (px), the lines' colour and opacity."""
+
+    u_coverage: object
+    u_origin: tuple[float, float]
+    u_colour: tuple[float, ...]
+    u_opacity: float
+
+
+@dataclass(frozen=True)
+class TextInputs(ShaderInputs):
+    """``post/overlay_text*.glsl``: the frame's size (px), which copy of a wrapped map, the
+    glyph atlas (a texture), the outline's colour and opacity."""
+
+    u_viewport: tuple[float, float]
+    u_copy: int
+    u_atlas: object
+    u_outline_colour: tuple[float, float, float]
+    u_outline_opacity: float
+
+
+_INPUTS = {
+    "post/overlay_grid.glsl": (CameraInputs, GridInputs),
+    "post/overlay_lines.glsl": (CameraInputs, LineInputs),
+    "post/overlay_composite.glsl": (CompositeInputs,),
+    "post/overlay_text.glsl": (CameraInputs, TextInputs),
+}
+
 class Overlays:
     """Constellation lines, labels and the alt/az grid, drawn over a tone-mapped image.
 
@@ -648,20 +709,19 @@ class Overlays:
 
     # ------------------------------------------------------------------ GPU
 
-    def _program(self, name: str, model: int, vertex: str | None = None):
-        from skydome.gpu import build_program
-
+    def _program(self, name: str, model: int, vertex: str | None = None) -> ShaderProgram:
         key = (name, model)
         if key not in self._programs:
-            prog = build_program(self.ctx, name, {"CAMERA_MODEL": model}, vertex=vertex)
-            self._programs[key] = prog
+            self._programs[key] = ShaderProgram(
+                self.ctx, name, {"CAMERA_MODEL": model}, inputs=_INPUTS[name], vertex=vertex
+            )
         return self._programs[key]
 
     def _fullscreen(self, name: str, model: int):
         prog = self._program(name, model)
         key = ("fs", name, model)
         if key not in self._vaos:
-            self._vaos[key] = self.ctx.vertex_array(prog, [])
+            self._vaos[key] = self.ctx.vertex_array(prog.program, [])
         return self._vaos[key], prog
 
     def _buffer(self, key: str, data: np.ndarray):
@@ -709,7 +769,7 @@ class Overlays:
         ctx = self.ctx
         w, h = (int(v) for v in size)
         saved_viewport = fbo.viewport
-        uniforms = {**camera.uniforms(w, h), "u_tile_offset": (0.0, 0.0)}
+        view = camera.inputs(w, h)
         try:
             ctx.enable(moderngl.BLEND)
             ctx.blend_equation = moderngl.FUNC_ADD
@@ -720,36 +780,35 @@ class Overlays:
                 moderngl.ONE,
             )
             if "grid" in self.kinds:
-                self._draw_grid(fbo, camera, w, h, uniforms)
+                self._draw_grid(fbo, camera, w, h, view)
             if "lines" in self.kinds and len(self._pieces):
                 self._draw_lines(fbo, camera, w, h)
             if self._labels:
-                self._draw_labels(fbo, camera, w, h, uniforms)
+                self._draw_labels(fbo, camera, w, h, view)
         finally:
             ctx.blend_equation = moderngl.FUNC_ADD
             ctx.blend_func = moderngl.ONE, moderngl.ZERO
             ctx.disable(moderngl.BLEND)
             fbo.viewport = saved_viewport
 
-    def _draw_grid(self, fbo, camera, w, h, uniforms) -> None:
+    def _draw_grid(self, fbo, camera, w, h, view: CameraInputs) -> None:
         import moderngl
 
         vao, prog = self._fullscreen("post/overlay_grid.glsl", camera.model)
         c = np.asarray(self.colours["grid"])
-        set_uniforms(
-            prog,
-            {
-                **uniforms,
-                "u_line_width": float(self.line_width_px),
-                "u_alt_step": math.radians(ALT_STEP_DEG),
-                "u_az_step": math.radians(AZ_STEP_DEG),
-                "u_az_max_alt": math.radians(AZ_MAX_ALT_DEG),
-                "u_colour": tuple(c),
-                "u_horizon_colour": tuple(np.minimum(c * 1.25 + 0.1, 1.0)),
-                "u_opacity": GRID_OPACITY,
-                "u_below_opacity": GRID_BELOW_OPACITY,
-                "u_horizon_opacity": HORIZON_OPACITY,
-            },
+        prog.apply(
+            view,
+            GridInputs(
+                u_line_width=float(self.line_width_px),
+                u_alt_step=math.radians(ALT_STEP_DEG),
+                u_az_step=math.radians(AZ_STEP_DEG),
+                u_az_max_alt=math.radians(AZ_MAX_ALT_DEG),
+                u_colour=tuple(float(v) for v in c),
+                u_horizon_colour=tuple(float(v) for v in np.minimum(c * 1.25 + 0.1, 1.0)),
+                u_opacity=GRID_OPACITY,
+                u_below_opacity=GRID_BELOW_OPACITY,
+                u_horizon_opacity=HORIZON_OPACITY,
+            ),
         )
         fbo.viewport = (0, 0, w, h)
         fbo.use()
@@ -769,7 +828,9 @@ class Overlays:
         if key not in self._vaos or self._vaos[key][1] is not buf:
             if key in self._vaos:
                 self._vaos[key][0].release()
-            vao = ctx.vertex_array(prog, [(buf, "3f 3f/i", "in_a", "in_b")], skip_errors=True)
+            vao = ctx.vertex_array(
+                prog.program, [(buf, "3f 3f/i", "in_a", "in_b")], skip_errors=True
+            )
             self._vaos[key] = (vao, buf)
         vao = self._vaos[key][0]
         comp_vao, comp = self._fullscreen("post/overlay_composite.glsl", camera.model)
@@ -785,16 +846,18 @@ class Overlays:
                 cov_fbo.use()
                 ctx.blend_equation = moderngl.MAX
                 ctx.blend_func = moderngl.ONE, moderngl.ONE
-                base = {
-                    **camera.uniforms(w, h),
-                    "u_tile_offset": (float(x0), float(y0)),
-                    "u_viewport": (float(tw), float(th)),
-                    "u_half_extent": 0.5 * float(self.line_width_px) + 1.0,
-                    "u_line_width": float(self.line_width_px),
-                    "u_min_z": 0.0,
-                }
+                tile_view = camera.inputs(w, h, (x0, y0))
                 for copy in range(copies):
-                    set_uniforms(prog, {**base, "u_copy": copy})
+                    prog.apply(
+                        tile_view,
+                        LineInputs(
+                            u_viewport=(float(tw), float(th)),
+                            u_half_extent=0.5 * float(self.line_width_px) + 1.0,
+                            u_line_width=float(self.line_width_px),
+                            u_min_z=0.0,
+                            u_copy=copy,
+                        ),
+                    )
                     vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=len(pieces))
                 ctx.blend_equation = moderngl.FUNC_ADD
                 ctx.blend_func = (
@@ -805,15 +868,13 @@ class Overlays:
                 )
                 fbo.viewport = (x0, y0, tw, th)
                 fbo.use()
-                tex.use(location=0)
-                set_uniforms(
-                    comp,
-                    {
-                        "u_coverage": 0,
-                        "u_origin": (float(x0), float(y0)),
-                        "u_colour": tuple(self.colours["lines"]),
-                        "u_opacity": LINE_OPACITY,
-                    },
+                comp.apply(
+                    CompositeInputs(
+                        u_coverage=tex,
+                        u_origin=(float(x0), float(y0)),
+                        u_colour=tuple(float(v) for v in self.colours["lines"]),
+                        u_opacity=LINE_OPACITY,
+                    )
                 )
                 comp_vao.render(moderngl.TRIANGLES, vertices=3)
 
@@ -870,7 +931,7 @@ class Overlays:
                     break
         return placed
 
-    def _draw_labels(self, fbo, camera, w, h, uniforms) -> None:
+    def _draw_labels(self, fbo, camera, w, h, view: CameraInputs) -> None:
         import moderngl
 
         atlas = self._atlas
@@ -892,7 +953,7 @@ class Overlays:
             if key in self._vaos:
                 self._vaos[key][0].release()
             vao = self.ctx.vertex_array(
-                prog,
+                prog.program,
                 [
                     (
                         buf,
@@ -911,21 +972,19 @@ class Overlays:
             )
             self._vaos[key] = (vao, buf)
         vao = self._vaos[key][0]
-        self._atlas_texture().use(location=0)
         fbo.viewport = (0, 0, w, h)
         fbo.use()
         copies = 2 if camera.model == 2 else 1
         for copy in range(copies):
-            set_uniforms(
-                prog,
-                {
-                    **uniforms,
-                    "u_viewport": (float(w), float(h)),
-                    "u_copy": copy,
-                    "u_atlas": 0,
-                    "u_outline_colour": (0.0, 0.0, 0.0),
-                    "u_outline_opacity": OUTLINE_OPACITY,
-                },
+            prog.apply(
+                view,
+                TextInputs(
+                    u_viewport=(float(w), float(h)),
+                    u_copy=copy,
+                    u_atlas=self._atlas_texture(),
+                    u_outline_colour=(0.0, 0.0, 0.0),
+                    u_outline_opacity=OUTLINE_OPACITY,
+                ),
             )
             vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=len(data))
 

@@ -8,8 +8,9 @@ program is compiled:
 
 - every active uniform of the program must be a field of one of them: a uniform the Python
   side would not set (a silent zero) is an error at build time;
-- every field of them must be declared in the shader's source (in any ``#ifdef`` branch):
-  a misspelt field is an error at build time;
+- every field of them must be a uniform some shader of the library declares (in any
+  ``#ifdef`` branch; or the program's own source): a misspelt field is an error at build
+  time. (An input type may serve several shaders and hold uniforms one of them lacks.)
 
 and when it draws it takes exactly those types' instances, so a value cannot be missing
 either (an active uniform whose field is None is an error too).
@@ -25,7 +26,8 @@ from skydome.errors import GLError
 
 #: Uniforms the pass machinery sets itself (the layered passes' first layer).
 INTERNAL_UNIFORMS = frozenset({"u_layer0"})
-_DECLARATION = re.compile(r"^\s*uniform\s+(?:(?:lowp|mediump|highp)\s+)?\w+\s+(\w+)", re.M)
+_DECLARATION = re.compile(r"^\s*uniform\s+(?:(?:lowp|mediump|highp)\s+)?\w+\s+([^;]+);", re.M)
+_NAME = re.compile(r"(\w+)\s*(?:\[[^\]]*\])?\s*(?:,|$)")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -80,8 +82,22 @@ def _nested_type(cls, name: str, annotation) -> type | None:
 
 
 def declared_uniforms(source: str) -> frozenset[str]:
-    """The uniforms a GLSL source declares (in any ``#ifdef`` branch)."""
-    return frozenset(_DECLARATION.findall(source))
+    """The uniforms a GLSL source declares (in any ``#ifdef`` branch; several to a line)."""
+    names: set[str] = set()
+    for names_text in _DECLARATION.findall(source):
+        names |= set(_NAME.findall(names_text.strip()))
+    return frozenset(names)
+
+
+@cache
+def library_uniforms() -> frozenset[str]:
+    """Every uniform a file of the shader library declares."""
+    from skydome.gpu.shaders import SHADER_DIR
+
+    names: set[str] = set()
+    for path in SHADER_DIR.rglob("*.glsl"):
+        names |= declared_uniforms(path.read_text())
+    return frozenset(names)
 
 
 def active_uniforms(program) -> frozenset[str]:
@@ -111,29 +127,27 @@ def check_program(shader: str, program, source: str, inputs: tuple[type, ...]) -
             f"shader {shader} uses uniform {missing[0]} that none of its inputs ({names}) "
             f"gives{f' (and {len(missing) - 1} more)' if len(missing) > 1 else ''}"
         )
-    declared = declared_uniforms(source)
+    declared = declared_uniforms(source) | library_uniforms()
     unknown = sorted(set(given) - declared)
     if unknown:
         raise GLError(
-            f"shader {shader}: {given[unknown[0]].__name__}.{unknown[0]} is no uniform of the "
-            f"shader (misspelt, or an input the shader does not take)"
+            f"shader {shader}: {given[unknown[0]].__name__}.{unknown[0]} is a uniform no "
+            "shader declares (misspelt?)"
         )
 
 
-def check_values(shader: str, program, inputs: tuple[type, ...], given: tuple) -> dict:
+def check_values(shader: str, active: frozenset[str], inputs: tuple[type, ...], given: tuple) -> dict:
     """The uniforms' values of a draw: exactly one instance of each declared input type,
-    and a value for every active uniform."""
+    and a value for every ``active`` uniform."""
     kinds = tuple(type(g) for g in given)
-    if sorted(k.__name__ for k in kinds) != sorted(k.__name__ for k in inputs) or any(
-        k not in inputs for k in kinds
-    ):
+    if len(kinds) != len(inputs) or set(kinds) != set(inputs):
         want = ", ".join(k.__name__ for k in inputs)
         got = ", ".join(k.__name__ for k in kinds)
         raise GLError(f"shader {shader} draws with inputs ({want}), got ({got})")
     values: dict[str, object] = {}
     for g in given:
         values.update(g.values())
-    for name in active_uniforms(program):
+    for name in active:
         if values.get(name) is None:
             raise GLError(f"shader {shader}: uniform {name} is active but has no value")
     return values

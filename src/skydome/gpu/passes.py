@@ -1,35 +1,34 @@
-"""Full-screen fragment passes: a compiled program, its empty vertex array, and a draw call."""
+"""Compiled programs held to their typed inputs, and full-screen passes.
+
+A :class:`ShaderProgram` is a program of the shader library compiled with its input types
+(``skydome.gpu.inputs``): checked against the program when it is compiled, and given
+exactly one instance of each when it draws. A :class:`FullscreenPass` draws one over a whole
+framebuffer (or over layers of a layered one) with the full-screen triangle.
+"""
 
 from __future__ import annotations
 
 import moderngl
 import numpy as np
 
-from skydome.gpu.shaders import build_program
+from skydome.gpu.inputs import ShaderInputs, active_uniforms, check_program, check_values
+from skydome.gpu.shaders import compile_program
+
+_TEXTURES = (moderngl.Texture, moderngl.Texture3D, moderngl.TextureArray, moderngl.TextureCube)
 
 
-def set_uniforms(program, uniforms: dict[str, object]) -> None:
-    """Set a program's uniforms by name; names the shader lacks (or the compiler removed)
-    and vertex attributes are skipped, so passes can share one uniform dictionary.
-    Vectors, matrices and arrays of floats go as raw float32 bytes in declared order (the
-    compiler may shorten an array to the elements the shader can reach)."""
-    for name, value in uniforms.items():
-        member = program.get(name, None)
-        if member is None or isinstance(member, moderngl.Attribute):
-            continue
-        if isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
-            n = member.array_length * member.dimension
-            member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
-        else:
-            member.value = value
+class ShaderProgram:
+    """A program of the shader library and the types of its inputs.
 
-
-class FullscreenPass:
-    """A fragment shader drawn over a whole framebuffer (or over layers of a layered one).
-
-    ``textures`` maps sampler uniform names to textures; they are bound to consecutive
-    units on each draw. Uniforms not used by the shader are ignored (the compiler may
-    remove them), so passes can share one uniform dictionary.
+    Args:
+        ctx: the moderngl context.
+        fragment: a file under ``skydome/shaders`` (or the label of ``source``).
+        defines: ``#define`` lines put before the source.
+        inputs: the ShaderInputs types the program takes (checked now: see
+            ``skydome.gpu.inputs``).
+        source: GLSL text instead of the file (tests' small programs).
+        layered: route instance i to layer ``u_layer0 + i`` of a layered target.
+        vertex: a vertex shader of the library, for programs that draw geometry.
     """
 
     def __init__(
@@ -38,32 +37,75 @@ class FullscreenPass:
         fragment: str,
         defines: dict[str, object] | None = None,
         *,
+        inputs: tuple[type[ShaderInputs], ...],
+        source: str | None = None,
+        layered: bool = False,
+        vertex: str | None = None,
+    ):
+        self.ctx = ctx
+        self.name = fragment
+        self.program, text = compile_program(
+            ctx, fragment, defines, source=source, layered=layered, vertex=vertex
+        )
+        self.inputs = tuple(inputs)
+        try:
+            check_program(fragment, self.program, text, self.inputs)
+        except Exception:
+            self.program.release()
+            raise
+        self.active = active_uniforms(self.program)
+
+    def apply(self, *given: ShaderInputs, first_unit: int = 0) -> None:
+        """Set the uniforms of ``given`` (one instance of each input type) and bind their
+        textures to consecutive units from ``first_unit``."""
+        values = check_values(self.name, self.active, self.inputs, given)
+        unit = first_unit
+        for name, value in values.items():
+            if name not in self.active or value is None:
+                continue
+            member = self.program[name]
+            if isinstance(value, _TEXTURES):
+                value.use(location=unit)
+                member.value = unit
+                unit += 1
+            elif isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
+                # Vectors, matrices and arrays go as raw float32 bytes in declared order (the
+                # compiler may shorten an array to the elements the shader can reach).
+                n = member.array_length * member.dimension
+                member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
+            else:
+                member.value = value
+
+    def release(self) -> None:
+        self.program.release()
+
+
+class FullscreenPass:
+    """A fragment shader drawn over a whole framebuffer (or over layers of a layered one);
+    its inputs are typed (:class:`ShaderProgram`)."""
+
+    def __init__(
+        self,
+        ctx,
+        fragment: str,
+        defines: dict[str, object] | None = None,
+        *,
+        inputs: tuple[type[ShaderInputs], ...],
         source: str | None = None,
         layered: bool = False,
     ):
         self.ctx = ctx
-        self.program = build_program(ctx, fragment, defines, source=source, layered=layered)
+        self.shader = ShaderProgram(
+            ctx, fragment, defines, inputs=inputs, source=source, layered=layered
+        )
+        self.program = self.shader.program
         self.vao = ctx.vertex_array(self.program, [])
         self.layered = layered
 
-    def set_uniforms(self, uniforms: dict[str, object]) -> None:
-        set_uniforms(self.program, uniforms)
-
-    def draw(
-        self,
-        fbo,
-        uniforms: dict[str, object] | None = None,
-        textures: dict | None = None,
-        layers: tuple[int, int] | None = None,
-    ) -> None:
-        """Draw into ``fbo``; for a layered pass ``layers=(first, count)``."""
-        self.set_uniforms(uniforms or {})
-        for unit, (name, tex) in enumerate((textures or {}).items()):
-            member = self.program.get(name, None)
-            if member is None:
-                continue
-            tex.use(location=unit)
-            member.value = unit
+    def draw(self, fbo, *inputs: ShaderInputs, layers: tuple[int, int] | None = None) -> None:
+        """Draw into ``fbo`` with ``inputs`` (one instance of each of the pass's input
+        types); for a layered pass ``layers=(first, count)``."""
+        self.shader.apply(*inputs)
         fbo.use()
         if self.layered:
             first, count = layers or (0, 1)

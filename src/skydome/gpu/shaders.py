@@ -175,23 +175,39 @@ def build_program(
     sources, lines) instead of the full-screen triangle. Compile errors raise GLError naming
     the file and line.
     """
+    return compile_program(ctx, fragment, defines, source=source, layered=layered, vertex=vertex)[0]
+
+
+def compile_program(
+    ctx,
+    fragment: str,
+    defines: dict[str, object] | None = None,
+    *,
+    source: str | None = None,
+    layered: bool = False,
+    vertex: str | None = None,
+) -> tuple[object, str]:
+    """:func:`build_program`, and the expanded GLSL of its shaders (vertex and fragment, one
+    text: what the typed inputs are held to)."""
     src = expand(fragment, defines, source)
+    vsrc = expand(vertex, defines) if vertex is not None else None
+    text = src.text if vsrc is None else vsrc.text + "\n" + src.text
     try:
-        if vertex is not None:
-            vsrc = expand(vertex, defines)
+        if vsrc is not None:
             try:
-                return ctx.program(vertex_shader=vsrc.text, fragment_shader=src.text)
+                return ctx.program(vertex_shader=vsrc.text, fragment_shader=src.text), text
             except Exception as exc:
                 if "vertex" in str(exc).lower():
                     src = vsrc  # locate the error in the vertex shader's files
                 raise
         if layered:
-            return ctx.program(
+            program = ctx.program(
                 vertex_shader=LAYERED_VS_INSTANCED,
                 geometry_shader=LAYERED_GS,
                 fragment_shader=src.text,
             )
-        return ctx.program(vertex_shader=FULLSCREEN_VS, fragment_shader=src.text)
+            return program, text
+        return ctx.program(vertex_shader=FULLSCREEN_VS, fragment_shader=src.text), text
     except Exception as exc:
         msg = src.locate(str(exc)).strip()
         lines = [

@@ -16,17 +16,21 @@ draw nothing (the light-pollution layer passes what lies behind it through uncha
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from skydome.core.basis import SpectralBasis
-from skydome.core.layer import DrawContext, Layer
-from skydome.core.refraction_table import RefractionTable
+from skydome.core.cameras import CameraInputs
+from skydome.core.layer import BehindInputs, DrawContext, Layer
+from skydome.core.lights import SkyState
+from skydome.core.refraction_table import AirlessTableInputs, RefractionTable
+from skydome.gpu.inputs import ShaderInputs
 from skydome.night import airglow as ag
 from skydome.night import light_pollution as lp
 from skydome.night import zodiacal as zl
+from skydome.physics.packing import mat3
 from skydome.physics.refraction import horizon_dip_sin
-from skydome.scene.state import SkyState
 
 
 def _solar_luminance(basis: SpectralBasis) -> float:
@@ -60,6 +64,45 @@ def _linear_texture(ctx, data: np.ndarray):
 
 def _vec4(v) -> tuple[float, float, float, float]:
     return tuple(float(x) for x in np.asarray(v, dtype=np.float64).ravel()[:4])
+
+
+@dataclass(frozen=True)
+class AirglowInputs(ShaderInputs):
+    """``night/airglow.glsl``: the zenith airglow (cd/m^2 per output channel), the squared
+    ratio of the observer's radius to the layer's, the sine of the horizon's dip."""
+
+    u_airglow_zenith: tuple[float, float, float, float]
+    u_radius_ratio_sq: float
+    u_dip_sin: float
+
+
+@dataclass(frozen=True)
+class ZodiacalInputs(ShaderInputs):
+    """``night/zodiacal_light.glsl``: where the table's nodes lie in texture coordinates, the
+    ENU -> helio-ecliptic matrix (column-major), the light's colour near and far from the
+    Sun (per S10), the table of Leinert et al. 1998 (a texture)."""
+
+    u_grid_map: tuple[float, float, float, float]
+    u_enu_to_helioecliptic: tuple[float, ...]
+    u_colour_near: tuple[float, float, float, float]
+    u_colour_far_minus_near: tuple[float, float, float, float]
+    u_zodiacal_grid: object
+
+
+@dataclass(frozen=True)
+class LightPollutionInputs(ShaderInputs):
+    """``night/light_pollution.glsl``: the artificial zenith glow and its colour, the slab's
+    optical depth, the horizon's dip, the cities (direction east/north, luminance at 45 deg)
+    and the shape constants of their glows."""
+
+    u_lp_zenith: tuple[float, float, float, float]
+    u_lp_colour: tuple[float, float, float, float]
+    u_tau: float
+    u_dip_sin: float
+    u_num_cities: int
+    u_city: list[float]
+    u_kappa: float
+    u_eta: float
 
 
 class AirglowLayer(Layer):
@@ -121,13 +164,15 @@ class AirglowLayer(Layer):
         r_layer = ag.EARTH_RADIUS_M + self.height_m
         if r_obs >= r_layer:
             return  # a camera above the layer: not modelled
-        uniforms = {
-            "u_airglow_zenith": _vec4(self.zenith_luminance() * self.colour(frame.basis)),
-            "u_radius_ratio_sq": (r_obs / r_layer) ** 2,
-            "u_dip_sin": horizon_dip_sin(frame.altitude_m),
-        }
-        fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
-        fpass.draw(frame.fbo, {**uniforms, **frame.uniforms}, frame.textures)
+        inputs = AirglowInputs(
+            u_airglow_zenith=_vec4(self.zenith_luminance() * self.colour(frame.basis)),
+            u_radius_ratio_sq=(r_obs / r_layer) ** 2,
+            u_dip_sin=horizon_dip_sin(frame.altitude_m),
+        )
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, (CameraInputs, AirglowInputs), frame.camera
+        )
+        fpass.draw(frame.fbo, frame.view, inputs)
 
     def info(self) -> dict:
         return {"airglow_zenith_mag": float(ag.luminance_to_mag(self.zenith_luminance()))}
@@ -189,24 +234,20 @@ class ZodiacalLightLayer(Layer):
             return
         near, far = self.colours(frame.basis)
         nu, nv = zl.GRID_SHAPE
-        uniforms = {
+        inputs = ZodiacalInputs(
             # Node i of n at texture coordinate (i + 0.5) / n.
-            "u_grid_map": ((nu - 1) / nu, (nv - 1) / nv, 0.5 / nu, 0.5 / nv),
-            **self._refraction_table.uniforms(),
-            "u_enu_to_helioecliptic": self._matrix.T.ravel().tolist(),  # column-major
-            "u_colour_near": _vec4(self.scale * near),
-            "u_colour_far_minus_near": _vec4(self.scale * (far - near)),
-        }
-        fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
-        fpass.draw(
-            frame.fbo,
-            {**uniforms, **frame.uniforms},
-            {
-                **frame.textures,
-                "u_zodiacal_grid": self._texture,
-                "u_airless_offset": self._refraction_table.texture(frame.ctx, self._refraction),
-            },
+            u_grid_map=((nu - 1) / nu, (nv - 1) / nv, 0.5 / nu, 0.5 / nv),
+            u_enu_to_helioecliptic=mat3(self._matrix),
+            u_colour_near=_vec4(self.scale * near),
+            u_colour_far_minus_near=_vec4(self.scale * (far - near)),
+            u_zodiacal_grid=self._texture,
         )
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, (CameraInputs, ZodiacalInputs, AirlessTableInputs),
+            frame.camera,
+        )  # fmt: skip
+        airless = self._refraction_table.inputs(frame.ctx, self._refraction)
+        fpass.draw(frame.fbo, frame.view, inputs, airless)
 
     def release(self) -> None:
         super().release()
@@ -255,20 +296,21 @@ class LightPollutionLayer(Layer):
             a = math.radians(city.azimuth_deg)
             cities[k] = (math.sin(a), math.cos(a), l45, 0.0)
         zenith = m.zenith_cd_m2 if self._active else 0.0
-        uniforms = {
-            "u_lp_zenith": _vec4(zenith * colour),
-            "u_lp_colour": _vec4(colour),
-            "u_tau": m.extinction_mag / (2.5 * math.log10(math.e)),
-            "u_dip_sin": horizon_dip_sin(frame.altitude_m),
-            "u_num_cities": n,
-            "u_city": cities.ravel().tolist(),
-            "u_kappa": lp.CITY_AZIMUTH_KAPPA,
-            "u_eta": lp.CITY_ELEVATION_ETA,
-        }
-        fpass = self.full_screen_pass(frame.ctx, self.shader, frame.camera)
-        fpass.draw(
-            frame.fbo, {**uniforms, **frame.uniforms}, {**frame.textures, "u_behind": frame.behind}
+        inputs = LightPollutionInputs(
+            u_lp_zenith=_vec4(zenith * colour),
+            u_lp_colour=_vec4(colour),
+            u_tau=m.extinction_mag / (2.5 * math.log10(math.e)),
+            u_dip_sin=horizon_dip_sin(frame.altitude_m),
+            u_num_cities=n,
+            u_city=cities.ravel().tolist(),
+            u_kappa=lp.CITY_AZIMUTH_KAPPA,
+            u_eta=lp.CITY_ELEVATION_ETA,
         )
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, (CameraInputs, BehindInputs, LightPollutionInputs),
+            frame.camera,
+        )  # fmt: skip
+        fpass.draw(frame.fbo, frame.view, self.behind_inputs(frame), inputs)
 
     def info(self) -> dict:
         return {"light_pollution_zenith_mag": self.model.zenith_mag()}

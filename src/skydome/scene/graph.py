@@ -44,8 +44,18 @@ from skydome.core.tiles import TILE_SIZE, frame_tiles, input_image, input_textur
 from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass, shared_context
+from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.textures import release_all
 from skydome.physics.constants import M_PER_KM
+
+
+@dataclass(frozen=True)
+class SmoothInputs(ShaderInputs):
+    """``scene/add_smooth.glsl``: the smooth space layers' light at a reduced resolution and
+    where a tile's pixels fall in it (``common/behind.glsl``)."""
+
+    u_behind_smooth: object
+    u_smooth_map: tuple[float, float, float, float]
 
 
 @dataclass
@@ -230,16 +240,14 @@ class FrameGraph:
         x0, y0, tw, th = tile
         self.generation += 1
         texs, fbos, _ = self._target(tw, th)
-        uniforms = {**camera.uniforms(*frame_size), "u_tile_offset": (float(x0), float(y0))}
-        textures = {} if inputs.direction_map is None else {"u_direction_map": inputs.direction_map}
+        view = camera.inputs(*frame_size, (x0, y0), inputs.direction_map)
         ctx = self.ctx
 
         def context(i: int, behind=None, volume: VolumeInputs | None = None) -> DrawContext:
             fbos[i].viewport = (0, 0, tw, th)
             return DrawContext(
-                ctx, camera, frame_size, tile, fbos[i], uniforms, dict(textures), altitude_m,
-                self.basis, behind, volume_inputs=volume, target=texs[i],
-                depth_map=inputs.depth_map,
+                ctx, camera, frame_size, tile, fbos[i], view, altitude_m, self.basis, behind,
+                volume_inputs=volume, target=texs[i], depth_map=inputs.depth_map,
             )  # fmt: skip
 
         current = 0
@@ -308,14 +316,10 @@ class FrameGraph:
         fbo.viewport = (0, 0, sw, sh)
         # The reduced frame: u_resolution exactly 1/f of the frame's, so a reduced pixel's
         # centre sees the direction of the frame's point f times its coordinates.
-        uniforms = {
-            **camera.uniforms(w, h),
-            "u_resolution": (w / f, h / f),
-            "u_tile_offset": (x0 / f - 1.0, y0 / f - 1.0),
-        }
+        view = camera.inputs(w / f, h / f, (x0 / f - 1.0, y0 / f - 1.0))
         reduced = DrawContext(
             self.ctx, camera, (math.ceil(w / f), math.ceil(h / f)),
-            (x0 // f - 1, y0 // f - 1, sw, sh), fbo, uniforms, {}, altitude_m, self.basis,
+            (x0 // f - 1, y0 // f - 1, sw, sh), fbo, view, altitude_m, self.basis,
         )  # fmt: skip
         with self._section("smooth"):
             for layer in layers:
@@ -326,9 +330,11 @@ class FrameGraph:
     def _add_smooth(self, fbo, size, texture, smooth_map) -> None:
         """Add the reduced smooth light to ``fbo`` (blending ONE, ONE is on)."""
         if self._smooth_pass is None:
-            self._smooth_pass = FullscreenPass(self.ctx, "scene/add_smooth.glsl")
+            self._smooth_pass = FullscreenPass(
+                self.ctx, "scene/add_smooth.glsl", inputs=(SmoothInputs,)
+            )
         fbo.viewport = (0, 0, *size)
-        self._smooth_pass.draw(fbo, {"u_smooth_map": smooth_map}, {"u_behind_smooth": texture})
+        self._smooth_pass.draw(fbo, SmoothInputs(texture, smooth_map))
 
     def frame_texture(self, state, camera: Camera, width: int, height: int, *, altitude_m: float):
         """Draw a whole frame (one tile: at most TILE_SIZE on a side) and return the float

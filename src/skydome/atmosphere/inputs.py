@@ -1,14 +1,31 @@
-"""Atmosphere parameters as shader uniforms (km and per-km values, vec4 wavelength groups)."""
+"""The atmosphere's shader inputs: its parameters as typed uniform blocks (km and per-km
+values, vec4 wavelength groups), and the blocks of its tables' lookups.
+
+- :class:`AirGeometry`: radii and density profiles (``common/atmosphere_common.glsl``);
+- :class:`AirSpectra`: scattering and extinction per wavelength, the phase functions'
+  parameters, the conversion to output channels;
+- :class:`TransmittanceInputs`: the transmittance table;
+- :class:`LookupInputs`: all of those and the precomputed tables, as
+  ``atmosphere/precomputed_lookup.glsl`` reads them (what the clouds get from the air);
+- :class:`SkyViewInputs`, :class:`ViewTransmittanceInputs`, :class:`FrameMapsInputs`: the
+  frame passes' tables of the camera's height and a user's per-pixel maps.
+
+The aerial-perspective tables' and the lights' blocks are the air's service contract
+(``skydome.core.services``: ``AerialInputs``, ``LightInputs``).
+"""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from skydome.atmosphere.params import AtmosphereParams, DensityProfile
-
-M_PER_KM = 1000.0
+from skydome.gpu.inputs import ShaderInputs
+from skydome.physics.constants import M_PER_KM
+from skydome.physics.packing import mat4_groups
+from skydome.spectra import conversion_matrix
 
 #: Samples per constituent of ``u_profile_table`` (PROFILE_TABLE_SIZE in common/atmosphere_common.glsl).
 PROFILE_TABLE_SIZE = 256
@@ -116,38 +133,139 @@ def mie_kink_radius_km(params: AtmosphereParams) -> float:
     return (params.bottom_radius_m + lower.width_m) / M_PER_KM
 
 
-def geometry_uniforms(params: AtmosphereParams) -> dict[str, object]:
+@dataclass(frozen=True)
+class AirGeometry(ShaderInputs):
     """Radii (km) and density profiles: what the transmittance table depends on."""
+
+    u_bottom_radius: float
+    u_top_radius: float
+    u_horizon_length: float
+    u_profile: list[float]
+    u_profile_inv_step: tuple[float, float, float]
+    u_profile_last: tuple[float, float, float]
+    u_profile_table: list[float]
+
+
+@dataclass(frozen=True)
+class AirSpectra(ShaderInputs):
+    """Per-wavelength coefficients per km in vec4 groups, the ground's albedo, the Mie phase
+    function's parameters (one Cornette-Shanks g, or weights of HG lobes per group), the
+    Sun's angular radius, and the conversion of spectral values to the output channels
+    (one mat4 per group)."""
+
+    u_rayleigh_scattering: list[float]
+    u_mie_scattering: list[float]
+    u_mie_extinction: list[float]
+    u_absorption_extinction: list[float]
+    u_ground_albedo: list[float]
+    u_mie_g: float
+    u_sun_angular_radius: float
+    u_spectral_to_rgbs: list[float]
+    u_mie_lobe_g: list[float] | None = None
+    u_mie_lobe_weight: list[float] | None = None
+
+
+@dataclass(frozen=True)
+class TransmittanceInputs(ShaderInputs):
+    """The transmittance table (column densities, km) and its size (texels)."""
+
+    u_transmittance_lut: object
+    u_transmittance_size: tuple[int, int]
+
+
+@dataclass(frozen=True)
+class LookupInputs(ShaderInputs):
+    """The precomputed tables as ``atmosphere/precomputed_lookup.glsl`` reads them: the air,
+    the transmittance, the tables' mappings and encodings, the per-channel weights of the
+    light behind the air, and the four tables."""
+
+    geometry: AirGeometry
+    spectra: AirSpectra
+    transmittance: TransmittanceInputs
+    u_transmittance_to_output: list[float]
+    u_table_to_output: list[float]
+    u_mu_s_min: float
+    u_mu_s_knee: float
+    u_scattering_size: tuple[float, float, float, float]
+    u_scattering_scale: float
+    u_multiple_scattering_size: tuple[float, float, float, float]
+    u_multiple_scattering_log_range: tuple[float, float]
+    u_irradiance_size: tuple[float, float]
+    u_behind_transmittance: list[float]
+    u_scattering_texture: object
+    u_single_mie_texture: object
+    u_multiple_scattering_texture: object
+    u_irradiance_spectral: object
+
+
+@dataclass(frozen=True)
+class SkyViewInputs(ShaderInputs):
+    """The frame pass's sky-view tables of the camera's height: the Sun's and the second
+    light's (None without one)."""
+
+    u_sun_scattering: object
+    u_sun_single_mie: object
+    u_light2_scattering: object = None
+    u_light2_single_mie: object = None
+
+
+@dataclass(frozen=True)
+class ViewTransmittanceInputs(ShaderInputs):
+    """The view-transmittance table of the camera's height (``view_transmittance.glsl``)
+    and the view cosine of its horizon."""
+
+    u_view_transmittance: object
+    u_view_horizon_mu: float
+
+
+@dataclass(frozen=True)
+class FrameMapsInputs(ShaderInputs):
+    """A user's per-pixel inputs of a tile (textures, km; None: not given): the distance to
+    a scene along each ray, the length of each ray in an occluder's shadow."""
+
+    u_depth_map: object = None
+    u_shadow_map: object = None
+
+
+def geometry_inputs(params: AtmosphereParams) -> AirGeometry:
+    """Radii (km) and density profiles of ``params``."""
     bottom, top = params.bottom_radius_m / M_PER_KM, params.top_radius_m / M_PER_KM
-    return {
-        "u_bottom_radius": bottom,
-        "u_top_radius": top,
-        "u_horizon_length": (top * top - bottom * bottom) ** 0.5,
-        "u_kink_radius": mie_kink_radius_km(params),
-        **profile_uniforms(
-            (params.rayleigh_density, params.mie_density, params.absorption_density),
-            params.atmosphere_height_m,
-        ),
-    }
+    profiles = profile_uniforms(
+        (params.rayleigh_density, params.mie_density, params.absorption_density),
+        params.atmosphere_height_m,
+    )
+    return AirGeometry(
+        u_bottom_radius=bottom,
+        u_top_radius=top,
+        u_horizon_length=(top * top - bottom * bottom) ** 0.5,
+        u_profile=profiles["u_profile"],
+        u_profile_inv_step=profiles["u_profile_inv_step"],
+        u_profile_last=profiles["u_profile_last"],
+        u_profile_table=profiles["u_profile_table"],
+    )
 
 
-def spectral_uniforms(params: AtmosphereParams, wavelengths_nm) -> dict[str, object]:
-    """Per-wavelength coefficients per km, grouped in vec4s (``len(wavelengths) % 4 == 0``)."""
+def spectra_inputs(params: AtmosphereParams, wavelengths_nm, output: str = "rgbs") -> AirSpectra:
+    """Per-wavelength coefficients per km, grouped in vec4s (``len(wavelengths) % 4 == 0``),
+    and the conversion to ``output`` channels."""
     c = params.coefficients(wavelengths_nm)
 
     def vec4s(values: np.ndarray, scale: float = 1.0) -> list[float]:
         return [float(v) for v in np.asarray(values, float) * scale]
 
-    return {
-        "u_rayleigh_scattering": vec4s(c["rayleigh_scattering"], M_PER_KM),
-        "u_mie_scattering": vec4s(c["mie_scattering"], M_PER_KM),
-        "u_mie_extinction": vec4s(c["mie_extinction"], M_PER_KM),
-        "u_absorption_extinction": vec4s(c["absorption_extinction"], M_PER_KM),
-        "u_ground_albedo": vec4s(c["ground_albedo"]),
-        "u_mie_g": float(params.mie_g),
-        "u_sun_angular_radius": float(params.sun_angular_radius_rad),
-        **mie_lobe_uniforms(params, wavelengths_nm),
-    }
+    lobes = mie_lobe_uniforms(params, wavelengths_nm)
+    return AirSpectra(
+        u_rayleigh_scattering=vec4s(c["rayleigh_scattering"], M_PER_KM),
+        u_mie_scattering=vec4s(c["mie_scattering"], M_PER_KM),
+        u_mie_extinction=vec4s(c["mie_extinction"], M_PER_KM),
+        u_absorption_extinction=vec4s(c["absorption_extinction"], M_PER_KM),
+        u_ground_albedo=vec4s(c["ground_albedo"]),
+        u_mie_g=float(params.mie_g),
+        u_sun_angular_radius=float(params.sun_angular_radius_rad),
+        u_spectral_to_rgbs=mat4_groups(conversion_matrix(wavelengths_nm, output)),
+        u_mie_lobe_g=lobes.get("u_mie_lobe_g"),
+        u_mie_lobe_weight=lobes.get("u_mie_lobe_weight"),
+    )
 
 
 def mie_phase_defines(params: AtmosphereParams) -> dict[str, object]:

@@ -1,0 +1,90 @@
+"""The cloud layer's shader inputs (``shaders/clouds/``), typed."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from skydome.gpu.inputs import ShaderInputs
+
+
+@dataclass(frozen=True)
+class CloudInputs(ShaderInputs):
+    """The march's own uniforms (``clouds/cloud_*.glsl``): the key light (direction, scale
+    per channel), the shells' radii (km), the noises' tiles (km) and the wind's offset,
+    the extinctions per cloud type and of the cirrus (1/km, delta-M scaled), the detail's
+    erosion, the droplets' phase-function lobes and moments, the march's steps, the
+    ground's albedo below, the frame's jitter, the multiple-scattering table's norms; for
+    tests a fixed irradiance and a uniform extinction; for the light shafts their length
+    (km)."""
+
+    u_light_direction: tuple[float, float, float]
+    u_light_scale: tuple[float, float, float, float]
+    u_cloud_shell: tuple[float, float, float, float]
+    u_noise_tiles_km: tuple[float, float, float]
+    u_cloud_offset_km: tuple[float, float, float]
+    u_type_extinction: tuple[float, float, float, float]
+    u_cirrus_extinction: float
+    u_detail_erosion: float
+    u_cloud_lobe_g: list[float]
+    u_cloud_lobe_weight: list[float]
+    u_cloud_moments: tuple[float, float, float]
+    u_march: tuple[float, float, float]
+    u_light_march_km: tuple[float, float]
+    u_cloud_albedo_below: float
+    u_frame_jitter: float
+    u_ms_norm_g: list[float]
+    u_test_irradiance: tuple[float, float, float, float] | None = None
+    u_uniform_extinction: float | None = None
+    u_shaft_km: float | None = None
+
+
+@dataclass(frozen=True)
+class CloudTextures(ShaderInputs):
+    """The clouds' textures: the multiple-scattering table, the weather map and the noises
+    (None where a pass marches a uniform cloud)."""
+
+    u_cloud_ms_table: object
+    u_weather: object = None
+    u_shape_noise: object = None
+    u_detail_noise: object = None
+    u_curl_noise: object = None
+
+
+@dataclass(frozen=True)
+class CompositeInputs(ShaderInputs):
+    """``clouds/clouds_composite.glsl``: the march's radiance and data at their resolution
+    and where a pixel falls in them."""
+
+    u_cloud_radiance: object
+    u_cloud_data: object
+    u_cloud_map: tuple[float, float, float, float]
+
+
+@dataclass(frozen=True)
+class TemporalInputs(ShaderInputs):
+    """``clouds/clouds_temporal.glsl``: the history's weight, the previous camera (basis and
+    field, for the reprojection; None for other models), this frame's march and the
+    history."""
+
+    u_blend: float
+    u_prev_basis: tuple[float, ...] | None
+    u_prev_tan_half_fov: float | None
+    u_current_radiance: object
+    u_current_data: object
+    u_history_radiance: object
+    u_history_data: object
+
+
+@dataclass(frozen=True)
+class UpsampleInputs(ShaderInputs):
+    """``clouds/upsample.glsl``: the source's size over the target's, the source."""
+
+    u_scale: tuple[float, float]
+    u_source: object
+
+
+@dataclass(frozen=True)
+class QueryInputs(ShaderInputs):
+    """``clouds/cloud_shadow_query.glsl``: the query points (km, a texture)."""
+
+    u_points: object
