@@ -234,28 +234,85 @@ def test_cache_warning_is_one_line(tmp_path):
     assert "computed" in res.stdout  # and it was rebuilt
 
 
-def test_other_warnings_keep_python_format(capsys):
+def test_only_skydome_warnings_are_shown_as_one_line(capsys):
     from skydome.cli.main import show_warning
+    from skydome.errors import SkydomeWarning
 
-    show_warning(UserWarning("something else"), UserWarning, "/x/mod.py", 7)
-    err = capsys.readouterr().err
-    assert "/x/mod.py:7: UserWarning: something else" in err
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # (the import below must not warn)
         from skydome.core.cache import CacheWarning
+    assert issubclass(CacheWarning, SkydomeWarning)
     show_warning(CacheWarning("rebuilding\ncached tables"), CacheWarning, "/x/mod.py", 7)
     assert capsys.readouterr().err == "skydome: warning: rebuilding cached tables\n"
+    for category in (UserWarning, RuntimeWarning, DeprecationWarning):
+        show_warning(category("from another library"), category, "/x/mod.py", 7)
+    assert capsys.readouterr().err == ""
+
+
+def test_warnings_while_a_command_runs(monkeypatch):
+    """Through the CLI: NumPy's RuntimeWarning, Pillow's and any other library's warning
+    print nothing; skydome's own warning prints one line; the command succeeds."""
+    from PIL import Image
+
+    import skydome.astro.places as places
+    from skydome.errors import SkydomeWarning
+
+    search = places.search
+
+    def noisy_search(query, limit):
+        with np.errstate(divide="warn", invalid="warn"):
+            np.log(np.zeros(3)) - np.log(np.zeros(3))  # divide by zero, invalid value
+        warnings.warn("Image size exceeds limit", Image.DecompressionBombWarning, stacklevel=1)
+        warnings.warn("some library\nsays this", UserWarning, stacklevel=1)
+        warnings.warn("a skydome warning\non two lines", SkydomeWarning, stacklevel=1)
+        return search(query, limit)
+
+    monkeypatch.setattr(places, "search", noisy_search)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")  # shown every time, not once per place
+        res = run("places", "paranal")
+    assert res.returncode == 0 and "Paranal" in res.stdout
+    assert res.stderr == "skydome: warning: a skydome warning on two lines\n"
+
+
+@pytest.mark.parametrize(
+    ("target", "needles"),
+    [
+        ("tables.txt", ["extension '.txt'", "valid: .lut"]),
+        ("missing/tables.lut", ["does not exist"]),
+        ("dir.lut", ["it is a directory"]),
+        ("fifo.lut", ["it is a FIFO (named pipe), not a regular file"]),
+        ("/sys/tables.lut", ["not writable"]),  # not even root can create files in sysfs
+    ],
+)
+def test_precompute_checks_its_output_before_it_computes(tmp_path, target, needles):
+    import time
+
+    (tmp_path / "dir.lut").mkdir()
+    os.mkfifo(tmp_path / "fifo.lut")
+    cache = tmp_path / "cache"
+    env = {**os.environ, "SKYDOME_CACHE": str(cache)}
+    out = target if target.startswith("/") else str(tmp_path / target)
+    t0 = time.perf_counter()
+    res = run("precompute", "--spectral", "fast", "--orders", "1", "-o", out, env=env)
+    seconds = time.perf_counter() - t0
+    lines = res.stderr.splitlines()
+    assert res.returncode == 2 and len(lines) == 1, res.stderr
+    assert lines[0].startswith("skydome: error: cannot write")
+    for needle in needles:
+        assert needle in lines[0], lines[0]
+    assert not cache.exists() or not list(cache.iterdir())  # nothing was computed
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dir.lut", "fifo.lut"]
+    assert seconds < 1.0, seconds  # (the tables take seconds)
 
 
 def test_a_real_process(tmp_path):
     # The in-process runner above calls the same entry point; this checks the process itself:
     # `python -m skydome` exits 0 for --version and 2 with one stderr line for bad input.
-    import subprocess
-    import sys
+    from tests.cli_helpers import run_process
 
     def proc(*args):
-        cmd = [sys.executable, "-m", "skydome", *args]
-        return subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path, timeout=300)
+        return run_process(*args, cwd=tmp_path, timeout=300)
 
     ok = proc("--version")
     assert ok.returncode == 0 and ok.stdout.strip() == "skydome 0.1.0"

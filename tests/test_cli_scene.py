@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -168,3 +170,56 @@ def test_timelapse_interrupted_leaves_complete_output(tmp_path, monkeypatch, tar
     else:
         names = sorted(p.name for p in (tmp_path / "frames").iterdir())
         assert names == [f"frame_00000{i}.png" for i in range(3)]
+
+
+def test_timelapse_frames_need_a_new_or_empty_folder_or_replace(tmp_path):
+    folder = tmp_path / "frames"
+    args = [*TIMELAPSE, "--end", "2018-03-01T17:00Z", "--step", "10min", "--size", "32x18",
+            "--exposure", "10", "-o", folder]  # fmt: skip
+    assert run_cli(*args).returncode == 0
+    before = {p.name: p.stat().st_mtime_ns for p in folder.iterdir()}
+    assert sorted(before) == ["frame_000000.png", "frame_000001.png"]
+    # Again into the same folder: refused, the frames of the first run untouched.
+    assert_refused(run_cli(*args), "holds 2 frames of an earlier run", "add --replace")
+    assert {p.name: p.stat().st_mtime_ns for p in folder.iterdir()} == before
+    # --replace: every old frame goes, whatever its format or number of digits.
+    (folder / "frame_0000002.exr").write_bytes(b"from an older run")
+    r = run_cli(*args, "--replace", "--format", "jpg")
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in folder.iterdir()) == ["frame_000000.jpg", "frame_000001.jpg"]
+    # A file that is not a frame: refused even with --replace, and nothing is touched.
+    (folder / "notes.txt").write_text("the user's")
+    before = sorted(p.name for p in folder.iterdir())
+    assert_refused(run_cli(*args, "--replace"), "'notes.txt'", "not frames")
+    assert sorted(p.name for p in folder.iterdir()) == before
+
+
+def test_timelapse_killed_leaves_a_temporary_file_the_next_run_removes(tmp_path):
+    """SIGKILL in the middle of a long MP4: no target, one temporary file named by its
+    writer's PID; the next time-lapse in that folder removes it."""
+    import subprocess
+    import sys
+    import time
+
+    from skydome.io.atomic import TEMP_NAME
+    from tests.cli_helpers import cli_env
+
+    long = [*TIMELAPSE, "--end", "2018-03-02T16:50Z", "--step", "1min", "--size", "32x18"]
+    cmd = [sys.executable, "-m", "skydome", *long, "-o", str(tmp_path / "long.mp4")]
+    proc = subprocess.Popen(cmd, env=cli_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 300
+        while not [n for n in os.listdir(tmp_path) if n.endswith(".tmp.mp4")]:  # not a probe
+            assert proc.poll() is None, proc.stderr.read()
+            assert time.monotonic() < deadline, "no frame written in 300 s"
+            time.sleep(0.05)
+        time.sleep(0.5)  # a few frames into it
+    finally:
+        proc.kill()
+        proc.communicate()
+    (left,) = os.listdir(tmp_path)
+    assert TEMP_NAME.match(left)[1] == str(proc.pid) and left.endswith(".tmp.mp4")
+    short = [*TIMELAPSE, "--end", "2018-03-01T16:55Z", "--step", "5min", "--size", "32x18"]
+    r = run_cli(*short, "-o", tmp_path / "short.mp4")
+    assert r.returncode == 0, r.stderr
+    assert os.listdir(tmp_path) == ["short.mp4"]

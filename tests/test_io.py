@@ -181,6 +181,82 @@ def test_atomic_write_cleans_up_on_interrupt(tmp_path):
     assert os.listdir(tmp_path) == []
 
 
+# A writer killed in the middle of a file (SIGKILL: no Python cleanup runs).
+_KILLED_MID_WRITE = """
+import os, signal, sys
+from skydome.io import atomic_write
+
+def write(tmp):
+    with open(tmp, "wb") as f:
+        f.write(b"half a file")
+    os.kill(os.getpid(), signal.SIGKILL)
+
+atomic_write(sys.argv[1], write)
+"""
+
+
+def test_a_killed_writer_leaves_a_temporary_file_the_next_run_removes(tmp_path):
+    import subprocess
+    import sys
+
+    from skydome.io.atomic import TEMP_NAME
+    from tests.cli_helpers import cli_env
+
+    target = tmp_path / "sky.png"
+    r = subprocess.run([sys.executable, "-c", _KILLED_MID_WRITE, target], env=cli_env(), timeout=60)
+    assert r.returncode == -9
+    (left,) = os.listdir(tmp_path)  # the target is not there: only the temporary file
+    assert TEMP_NAME.match(left) and left.startswith(".sky.") and left.endswith(".tmp.png")
+    # The next run that checks an output in that folder removes it (its writer is gone),
+    # and nothing else: a user's hidden file and a temporary file of a writer still running.
+    mine = tmp_path / ".notes.tmp.png"
+    mine.write_text("not skydome's")
+    running = tmp_path / f".other.skydome-{os.getpid()}-0123abcd.tmp.exr"
+    running.write_bytes(b"being written")
+    assert check_output_path(tmp_path / "other.exr") == tmp_path / "other.exr"
+    assert sorted(os.listdir(tmp_path)) == sorted([mine.name, running.name])
+    # A temporary file of a live PID left unchanged for over a day is stale too (the PID
+    # may be another program's by now, or the file another machine's).
+    from skydome.io.atomic import STALE_AFTER_S, is_stale_temp
+
+    assert not is_stale_temp(running)
+    old = os.stat(running).st_mtime - STALE_AFTER_S - 60
+    os.utime(running, (old, old))
+    assert is_stale_temp(running)
+    check_output_path(tmp_path / "sky.png")
+    assert os.listdir(tmp_path) == [mine.name]
+
+
+def test_write_outputs_uses_named_temporary_files(tmp_path, frame, monkeypatch):
+    """The temporary file names its writer's PID, so another run can tell it is stale."""
+    from skydome.io.atomic import TEMP_NAME
+
+    seen = []
+
+    def spy(path, data, metadata=None):
+        seen.append(Path(path).name)
+        np.save(Path(path).open("wb"), data)
+
+    monkeypatch.setitem(WRITERS, ".npy", Writer(".npy", spy, True, "spy"))
+    write_outputs(tmp_path / "f.npy", frame)
+    (name,) = seen
+    m = TEMP_NAME.match(name)
+    assert m and int(m["pid"]) == os.getpid() and name.endswith(".tmp.npy")
+    assert os.listdir(tmp_path) == ["f.npy"]
+
+
+@pytest.mark.parametrize("kind", ["fifo", "dir"])
+def test_special_files_are_not_output_targets(tmp_path, kind):
+    target = tmp_path / "sky.png"
+    os.mkfifo(target) if kind == "fifo" else target.mkdir()
+    with pytest.raises(OutputError, match="a FIFO|a directory") as exc:
+        check_output_path(target)
+    assert "\n" not in str(exc.value) and "not a regular file" in str(exc.value)
+    with pytest.raises(OutputError, match=r"valid: \.lut\)"):
+        check_output_path(tmp_path / "t.txt", extensions=(".lut",))
+    assert check_output_path(tmp_path / "t.LUT", extensions=(".lut",)) == tmp_path / "t.LUT"
+
+
 def test_all_paths_checked_before_writing(tmp_path, frame, ldr):
     with pytest.raises(OutputError, match="gif"):
         write_outputs([tmp_path / "a.exr", tmp_path / "b.gif"], frame, ldr)

@@ -334,3 +334,72 @@ def test_bad_frame_extension(tmp_path):
     assert os.listdir(tmp_path) == []
     with pytest.raises(ParameterError, match="video file name"):
         FrameSequenceWriter(tmp_path / "day.mp4")
+
+
+# -- a frame folder for a new sequence -----------------------------------------------------
+
+
+def test_check_frame_folder(tmp_path):
+    from skydome.io.video import check_frame_folder, remove_frames
+
+    folder = tmp_path / "frames"
+    assert check_frame_folder(folder) == []  # not there yet
+    folder.mkdir()
+    assert check_frame_folder(folder) == []  # empty
+    with FrameSequenceWriter(folder, ".png", frame_count=2) as frames:
+        frames.write(_frame(COLOURS[0]))
+        frames.write(_frame(COLOURS[1]))
+    (folder / "frame_1000000.exr").write_bytes(b"an older, longer run")
+    with pytest.raises(VideoOutputError, match="holds 3 frames of an earlier run") as exc:
+        check_frame_folder(folder, replace_hint="--replace")
+    assert "--replace" in str(exc.value) and "\n" not in str(exc.value)
+    old = check_frame_folder(folder, replace=True)
+    assert [p.name for p in old] == ["frame_000000.png", "frame_000001.png", "frame_1000000.exr"]
+    assert len(os.listdir(folder)) == 3  # checking deletes nothing
+    # Anything that is not a frame: refused, also with replace; nothing is touched.
+    for other in ("notes.txt", "frame_000002.png.bak", "Frame_000002.png", "sub"):
+        path = folder / other
+        path.mkdir() if other == "sub" else path.write_text("mine")
+        with pytest.raises(VideoOutputError, match=f"holds '{other}'.*not frames"):
+            check_frame_folder(folder, replace=True)
+        path.rmdir() if other == "sub" else path.unlink()
+    # A temporary file of a run still writing here is not a frame either ...
+    live = folder / f".frame_000002.skydome-{os.getpid()}-0123abcd.tmp.png"
+    live.write_bytes(b"being written")
+    with pytest.raises(VideoOutputError, match="not frames"):
+        check_frame_folder(folder, replace=True)
+    # ... while one of a run that died is removed and does not count.
+    dead = folder / ".frame_000002.skydome-999999999-0123abcd.tmp.png"
+    live.rename(dead)
+    assert check_frame_folder(folder, replace=True) == old
+    assert not dead.exists()
+    remove_frames(old)
+    assert os.listdir(folder) == []
+
+
+# The parent of a time-lapse killed outright after three frames (no Python cleanup runs).
+_KILLED_MP4 = """
+import os, signal, sys
+import numpy as np
+from skydome.io.video import Mp4Writer
+
+video = Mp4Writer(sys.argv[1], fps=30, size=(64, 48))
+for i in range(3):
+    video.write(np.full((48, 64, 3), 40 * i, np.uint8))
+os.kill(os.getpid(), signal.SIGKILL)
+"""
+
+
+def test_a_killed_mp4_writer_leaves_a_temporary_file_the_next_run_removes(tmp_path):
+    import sys
+
+    from skydome.io.atomic import TEMP_NAME
+    from tests.cli_helpers import cli_env
+
+    target = tmp_path / "day.mp4"
+    r = subprocess.run([sys.executable, "-c", _KILLED_MP4, target], env=cli_env(), timeout=120)
+    assert r.returncode == -signal.SIGKILL
+    (left,) = os.listdir(tmp_path)  # no target: only the temporary file
+    assert TEMP_NAME.match(left) and left.endswith(".tmp.mp4")
+    assert check_video_output(tmp_path / "next.mp4") == tmp_path / "next.mp4"
+    assert os.listdir(tmp_path) == []  # its writer is gone: removed

@@ -25,6 +25,13 @@ class CacheError(SkydomeError):
     """A cached file is unreadable, truncated or does not match its key."""
 
 
+class SkydomeWarning(UserWarning):
+    """Base class of the warnings skydome itself gives (e.g. a damaged cache file rebuilt).
+
+    The CLI prints them as one line ``skydome: warning: <message>`` on stderr; warnings of
+    other libraries (NumPy, Pillow, moderngl...) are not shown there."""
+
+
 def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -> float:
     """Return ``float(value)`` or raise ParameterError naming the valid range [lo, hi].
 

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import json
 import time
-from pathlib import Path
 
 import typer
 
 from skydome.cli.describe import atmosphere_from_flags, config_from_flags, precompute_progress
 from skydome.cli.options import with_flags
-from skydome.errors import OutputError, check_range
+from skydome.errors import check_range
 
 
 def register(app: typer.Typer) -> None:
@@ -74,21 +73,14 @@ def register(app: typer.Typer) -> None:
         from skydome.core.cache import cache_path
         from skydome.gpu import shared_context
         from skydome.io.lutfile import write_lut_file
+        from skydome.io.outputs import check_output_path
 
         params = atmosphere_from_flags(flags)
         config = config_from_flags(flags)
         orders = config.orders
-        out = None
-        if output is not None:
-            out = Path(output)
-            if out.suffix.lower() != ".lut":
-                raise OutputError(
-                    f"cannot write {output!r}: the tables file needs the extension .lut"
-                )
-            if not out.parent.is_dir():
-                raise OutputError(
-                    f"cannot write {output!r}: directory {str(out.parent)!r} does not exist"
-                )
+        # The output is checked before the tables are computed (minutes for fine ones): a
+        # .lut file in a writable folder, not a directory or a FIFO.
+        out = None if output is None else check_output_path(output, extensions=(".lut",))
         console = Console(soft_wrap=True)
         t0 = time.perf_counter()
         with precompute_progress(console) as report:

@@ -2,8 +2,8 @@
 
 Each command module exposes ``register(app)``. Errors of the SkydomeError family and usage
 errors (an unknown option, a value of the wrong type) become one line on stderr and exit
-status 2, with no traceback; a CacheWarning (a damaged cache file being rebuilt) becomes one
-``skydome: warning:`` line.
+status 2, with no traceback; a SkydomeWarning (e.g. a damaged cache file being rebuilt)
+becomes one ``skydome: warning:`` line, and other libraries' warnings are not shown.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import warnings
 import typer
 import typer.core
 
-from skydome.errors import SkydomeError
+from skydome.errors import SkydomeError, SkydomeWarning
 from skydome.version import __version__
 
 # Typer >= 0.2x carries its own copy of Click as typer._click; older releases use click.
@@ -75,18 +75,17 @@ def one_line(text: object) -> str:
 
 
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
-    """``warnings.showwarning`` for the CLI: a CacheWarning becomes one line
-    ``skydome: warning: <message>`` on stderr; other warnings keep Python's format."""
-    from skydome.core.cache import CacheWarning  # loaded by whoever warned
-
-    if issubclass(category, CacheWarning):
-        typer.echo(f"skydome: warning: {one_line(message)}", err=True)
-        return
-    out = sys.stderr if file is None else file
-    try:
-        out.write(warnings.formatwarning(message, category, filename, lineno, line))
-    except OSError:  # stderr gone, as the default showwarning does
-        pass
+    """``warnings.showwarning`` for the CLI: a SkydomeWarning (skydome's own, e.g. a damaged
+    cache file being rebuilt) becomes one line ``skydome: warning: <message>`` on stderr;
+    any other warning (NumPy's RuntimeWarnings, Pillow, moderngl...) is not shown: it is
+    about code the user does not run, and Python's format spans several lines. Warnings the
+    filters turn into errors (``python -W error``) still raise."""
+    if issubclass(category, SkydomeWarning):
+        out = sys.stderr if file is None else file
+        try:
+            out.write(f"skydome: warning: {one_line(message)}\n")
+        except (OSError, ValueError):  # stderr gone or closed, as the default showwarning does
+            pass
 
 
 def run(argv: list[str] | None = None) -> None:

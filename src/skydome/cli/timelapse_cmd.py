@@ -72,6 +72,13 @@ def register(app: typer.Typer) -> None:
         yes: bool = typer.Option(
             False, "--yes", help=f"Allow more than {MAX_FRAMES_WITHOUT_YES:,} frames."
         ),
+        replace: bool = typer.Option(
+            False,
+            "--replace",
+            help="Delete the frames of an earlier run in the -o folder first (a folder that "
+            "holds any other file is refused all the same). An MP4 is always replaced, once "
+            "the new one is complete.",
+        ),
         flags=None,
     ) -> None:
         """Render a time-lapse of the sky over a place: an H.264 MP4 or numbered frames."""
@@ -95,7 +102,13 @@ def register(app: typer.Typer) -> None:
             make_camera,
         )
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
-        from skydome.io.video import FrameSequenceWriter, Mp4Writer, check_video_output
+        from skydome.io.video import (
+            FrameSequenceWriter,
+            Mp4Writer,
+            check_frame_folder,
+            check_video_output,
+            remove_frames,
+        )
 
         # Everything is checked before any work: bad input writes nothing.
         observer = observer_from_flags(flags)
@@ -147,6 +160,11 @@ def register(app: typer.Typer) -> None:
         to_mp4 = target.suffix.lower() == ".mp4"
         if to_mp4 and (width % 2 or height % 2):
             raise ParameterError(f"--size {size}: an MP4 (4:2:0) needs an even width and height")
+        # A folder must be new or empty: frames of two runs must not mix. --replace deletes
+        # the old frames (only files named like frames) once the sky is ready, below.
+        old_frames = (
+            [] if to_mp4 else check_frame_folder(target, replace=replace, replace_hint="--replace")
+        )
 
         from skydome.display.adaptation import EyeAdaptation
         from skydome.display.gpu_tonemap import gpu_tonemap
@@ -174,6 +192,7 @@ def register(app: typer.Typer) -> None:
         altitude = sky.altitude_m(flags.altitude)
         timings: list[float] = []
         evs: list[float] = []
+        remove_frames(old_frames)
         if to_mp4:
             # x264 "veryfast": the encoder shares the CPU with a software rasterizer.
             writer = Mp4Writer(target, fps, (width, height), preset="veryfast")

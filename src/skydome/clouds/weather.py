@@ -36,6 +36,14 @@ from skydome.gpu.inputs import ShaderInputs
 
 #: Default tile of a generated map (km): 32 km at 512 texels is 62.5 m per texel.
 DEFAULT_TILE_KM = 32.0
+#: Largest weather-map image read, pixels a side: the largest map ``generate`` makes. Over
+#: the CLI's 40 km tile that is ~10 m a texel; the map is a 64 MiB RGBA8 texture on the GPU
+#: and about 0.6 GB on the host while it is read (float32 copies). A bigger file is refused
+#: from its header, before any pixel is decoded.
+MAX_IMAGE_SIDE = 4096
+#: Largest weather-map file read, bytes: MAX_IMAGE_SIDE^2 pixels of 16-bit RGBA (8 bytes,
+#: the widest pixel PNG/TIFF hold here) stored without compression, plus 16 MiB of headers.
+MAX_IMAGE_BYTES = MAX_IMAGE_SIDE**2 * 8 + 16 * 2**20
 #: Cloud type values of the four named types (G channel).
 CLOUD_TYPES = {"stratus": 0.0, "stratocumulus": 1 / 3, "cumulus": 2 / 3, "cumulonimbus": 1.0}
 
@@ -108,7 +116,9 @@ class WeatherMap:
         tile_km = _check_tile(tile_km)
         cloud_type = _fraction("cloud_type", cloud_type)
         try:
-            a = np.asarray(array, dtype=np.float64)
+            a = np.asarray(array)
+            if a.dtype != np.float32:  # float32 is kept (half the memory of a big map)
+                a = a.astype(np.float64)
         except (TypeError, ValueError):
             raise ParameterError("a weather map must be a numeric array") from None
         if a.ndim == 2:
@@ -136,32 +146,38 @@ class WeatherMap:
         """A map from a PNG, JPEG or TIFF file (the first row is the north edge): RGBA gives
         all channels, RGB the first three (no cirrus), greyscale the coverage (cumulus type);
         8-bit values are divided by 255, 16-bit by 65535, float images are taken as they are.
+
+        The file is opened with :func:`skydome.io.images.read_user_image`: a regular file of
+        at most :data:`MAX_IMAGE_SIDE` pixels a side (and :data:`MAX_IMAGE_BYTES`), checked
+        from its header before decoding. Anything else (a FIFO, a directory, a text file, a
+        truncated image, a decompression bomb) raises ParameterError naming the file.
         """
-        from PIL import Image, UnidentifiedImageError
+        from skydome.io.images import read_user_image
 
         tile_km = _check_tile(tile_km)
-        try:
-            with Image.open(path) as img:
-                img.load()
-                mode = img.mode
-                if mode in ("I;16", "I;16B", "I;16L", "I"):
-                    a = np.asarray(img, dtype=np.float64) / 65535.0
-                elif mode == "F":
-                    a = np.asarray(img, dtype=np.float64)
-                elif mode in ("L", "1"):
-                    a = np.asarray(img.convert("L"), dtype=np.float64) / 255.0
-                elif mode in ("RGB", "RGBA"):
-                    a = np.asarray(img, dtype=np.float64) / 255.0
-                elif mode == "LA":
-                    a = np.asarray(img, dtype=np.float64)[..., 0] / 255.0
-                else:  # palette, CMYK, ...
-                    a = np.asarray(img.convert("RGBA"), dtype=np.float64) / 255.0
-        except FileNotFoundError:
-            raise ParameterError(f"weather map image not found: {str(path)!r}") from None
-        except (UnidentifiedImageError, OSError, ValueError) as exc:
-            raise ParameterError(
-                f"cannot read weather map image {str(path)!r}: {str(exc).splitlines()[0]}"
-            ) from None
+        img = read_user_image(
+            path,
+            what="weather map image",
+            max_pixels=MAX_IMAGE_SIDE**2,
+            max_side=MAX_IMAGE_SIDE,
+            max_bytes=MAX_IMAGE_BYTES,
+        )
+        with img:
+            # float32 (not float64): a 4096^2 RGBA map is 256 MiB as it is
+            mode = img.mode
+            f4 = np.float32
+            if mode in ("I;16", "I;16B", "I;16L", "I"):
+                a = np.asarray(img, dtype=f4) / f4(65535.0)
+            elif mode == "F":
+                a = np.asarray(img, dtype=f4)
+            elif mode in ("L", "1"):
+                a = np.asarray(img.convert("L"), dtype=f4) / f4(255.0)
+            elif mode in ("RGB", "RGBA"):
+                a = np.asarray(img, dtype=f4) / f4(255.0)
+            elif mode == "LA":
+                a = np.asarray(img, dtype=f4)[..., 0] / f4(255.0)
+            else:  # palette, CMYK, ...
+                a = np.asarray(img.convert("RGBA"), dtype=f4) / f4(255.0)
         return cls.from_array(a[::-1], tile_km)
 
     @classmethod
@@ -207,7 +223,13 @@ class WeatherMap:
         cirrus = _fraction("cirrus", cirrus)
         if isinstance(clouds, bool) or not isinstance(clouds, (int, np.integer)) or clouds < 0:
             raise ParameterError(f"clouds must be an integer >= 0, got {clouds!r}")
-        lo, hi = (float(v) for v in cloud_size)
+        try:
+            lo, hi = (float(v) for v in cloud_size)
+        except (TypeError, ValueError):
+            raise ParameterError(
+                f"cloud_size must be two numbers (min, max), fractions of the tile in "
+                f"(0, 0.5], got {cloud_size!r}"
+            ) from None
         if not 0 < lo <= hi <= 0.5:
             raise ParameterError(f"cloud_size must satisfy 0 < min <= max <= 0.5, got {cloud_size}")
 

@@ -18,14 +18,14 @@ from pathlib import Path
 
 import numpy as np
 
-from skydome.errors import CacheError
+from skydome.errors import CacheError, SkydomeWarning
 from skydome.io.lutfile import read_lut_file, write_lut_file
 
 #: Bump when the meaning of cached tables changes (shaders, layout).
 CACHE_FORMAT_VERSION = 1
 
 
-class CacheWarning(UserWarning):
+class CacheWarning(SkydomeWarning):
     """A cached file could not be used and is being rebuilt."""
 
 

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from skydome.errors import CacheError
+from skydome.errors import CacheError, ParameterError
 from skydome.io.atomic import atomic_write
 
 MAGIC = b"SKYDOMELUT\x00\x01"
@@ -37,7 +37,10 @@ def write_lut_file(
     for name, a in arrays.items():
         a = np.ascontiguousarray(a)
         if a.dtype.name not in _ALLOWED_DTYPES:
-            raise ValueError(f"array {name!r} has unsupported dtype {a.dtype}")
+            raise ParameterError(
+                f"array {name!r} has dtype {a.dtype}; a LUT file holds "
+                f"{', '.join(sorted(_ALLOWED_DTYPES))}"
+            )
         blob = a.astype(a.dtype.newbyteorder("<"), copy=False).tobytes()
         entries.append(
             {

@@ -14,8 +14,8 @@ extension    content                                                          in
 
 from __future__ import annotations
 
-import contextlib
 import os
+import stat
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,9 +23,10 @@ from pathlib import Path
 import numpy as np
 
 from skydome.errors import OutputError, ParameterError
-from skydome.io.atomic import atomic_write, create_temp_beside
+from skydome.io.atomic import atomic_write, probe_writable, remove_stale_temps
 from skydome.io.exr import check_hdr_frame, write_exr
 from skydome.io.hdr import write_hdr
+from skydome.io.images import describe_mode
 from skydome.io.jpeg import write_jpeg
 from skydome.io.png import check_ldr_image, write_png
 
@@ -62,42 +63,55 @@ WRITERS: dict[str, Writer] = {
 SUPPORTED_EXTENSIONS = tuple(sorted(WRITERS))
 
 
-def check_output_path(path: str | os.PathLike) -> Path:
+def check_output_path(path: str | os.PathLike, extensions: Iterable[str] | None = None) -> Path:
     """Validate an output path before rendering; return it as a Path.
 
-    Checks: the extension is one of :data:`SUPPORTED_EXTENSIONS` (any case); the path is
-    not a directory; its parent directory exists and a file can be created in it (a real
-    probe, so read-only file systems and permissions are both caught, also for root).
-    Raises OutputError with one line naming the path and the problem.
+    Checks: the extension is one of ``extensions`` (lower case, with the dot; by default
+    :data:`SUPPORTED_EXTENSIONS`), in any case; the path is not a directory, FIFO, device
+    or socket (an existing regular file is replaced); its parent directory exists and a file
+    can be created in it (a real probe, so read-only file systems and permissions are both
+    caught, also for root). Raises OutputError with one line naming the path and the
+    problem. Stale temporary files of interrupted runs in that directory are removed
+    (:func:`skydome.io.atomic.remove_stale_temps`); nothing else is touched.
     """
     try:
         p = Path(os.fspath(path)).expanduser()
     except TypeError:
         raise OutputError(f"output path must be a string or path, got {path!r}") from None
     shown = str(path)
+    valid = tuple(extensions) if extensions is not None else SUPPORTED_EXTENSIONS
     ext = p.suffix.lower()
-    if ext not in WRITERS:
+    if ext not in valid:
         got = f"extension {ext!r}" if ext else "no extension"
-        raise OutputError(
-            f"cannot write {shown!r}: {got} (valid: {', '.join(SUPPORTED_EXTENSIONS)})"
-        )
+        raise OutputError(f"cannot write {shown!r}: {got} (valid: {', '.join(valid)})")
     parent = p.parent
     if not parent.exists():
         raise OutputError(f"cannot write {shown!r}: directory {str(parent)!r} does not exist")
     if not parent.is_dir():
         raise OutputError(f"cannot write {shown!r}: {str(parent)!r} is not a directory")
-    if p.is_dir():
-        raise OutputError(f"cannot write {shown!r}: it is a directory")
+    kind = file_kind(p)
+    if kind not in (None, "file"):
+        raise OutputError(f"cannot write {shown!r}: it is {kind}, not a regular file")
     try:
-        probe = create_temp_beside(p)
+        probe_writable(parent)
     except OSError as exc:
         raise OutputError(
             f"cannot write {shown!r}: directory {str(parent)!r} is not writable "
             f"({exc.strerror or exc})"
         ) from None
-    with contextlib.suppress(OSError):
-        os.unlink(probe)
+    remove_stale_temps(parent)
     return p
+
+
+def file_kind(path: str | os.PathLike) -> str | None:
+    """What ``path`` is, in words: None if nothing is there (or it cannot be looked at: the
+    write will say why), "file" for a regular file or a link to one, else "a directory",
+    "a FIFO (named pipe)", "a device" or "a socket"."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return None
+    return "file" if stat.S_ISREG(mode) else describe_mode(mode)
 
 
 def write_outputs(

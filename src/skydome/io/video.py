@@ -15,17 +15,21 @@ decoding that as BT.709 (what most players assume for HD) shifts saturated colou
 40 code values (measured: pure green); with them a round trip is within 2 code values.
 
 Crash safety: frames go to a hidden temporary file beside the target
-(``.name.<random>.tmp.mp4``), which is finalised and renamed onto the target by ``close()``:
-the target path never holds a half-written file. Leaving a ``with`` block by an exception,
-KeyboardInterrupt included, still finalises the frames written so far into a playable file
-and then re-raises. ffmpeg runs in its own process group, so a Ctrl-C in the terminal does not
-reach it, and a Ctrl-C that arrives while a frame is being piped is held back until that
-frame is complete (a second one is not). Only a hard kill of Python (SIGKILL, power loss)
-leaves the temporary file behind, and never a broken target. No frames: no file.
+(``.name.skydome-<pid>-<random>.tmp.mp4``, see :mod:`skydome.io.atomic`), which is finalised
+and renamed onto the target by ``close()``: the target path never holds a half-written file.
+Leaving a ``with`` block by an exception, KeyboardInterrupt included, still finalises the
+frames written so far into a playable file and then re-raises. ffmpeg runs in its own
+process group, so a Ctrl-C in the terminal does not reach it, and a Ctrl-C that arrives
+while a frame is being piped is held back until that frame is complete (a second one is
+not). Only a hard kill of Python (SIGKILL, power loss)
+leaves the temporary file behind, and never a broken target; the next run that checks an
+output in that folder removes it. No frames: no file.
 
 **Frames** (:class:`FrameSequenceWriter`): ``frame_000000.png`` (or ``.exr``, ``.hdr``,
 ``.npy``, ``.jpg``) in a folder, each written with the writers of ``skydome.io`` through
 :func:`skydome.io.atomic.atomic_write`, so an interrupted run leaves only complete frames.
+:func:`check_frame_folder` says whether a folder may take a new sequence (new or empty, or
+holding only old frames to replace).
 
 Paths are checked by :func:`check_video_output` before any rendering.
 """
@@ -34,6 +38,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import signal
 import subprocess
 import threading
@@ -44,9 +49,14 @@ from pathlib import Path
 import numpy as np
 
 from skydome.errors import OutputError, ParameterError, SkydomeError, check_range
-from skydome.io.atomic import atomic_write, create_temp_beside
+from skydome.io.atomic import (
+    atomic_write,
+    create_temp_beside,
+    probe_writable,
+    remove_stale_temps,
+)
 from skydome.io.exr import check_hdr_frame, package_version, settings_json
-from skydome.io.outputs import SUPPORTED_EXTENSIONS, WRITERS, check_output_path
+from skydome.io.outputs import SUPPORTED_EXTENSIONS, WRITERS, check_output_path, file_kind
 from skydome.io.png import check_ldr_image
 
 #: The only video container written.
@@ -98,19 +108,19 @@ def _is_folder_request(raw: str, p: Path) -> bool:
 def _check_writable_dir(d: Path, shown: str) -> None:
     """``d`` exists, is a directory, and a file can be created in it (a real probe, as in
     ``check_output_path``: read-only file systems and permissions are both caught, also for
-    root); else VideoOutputError naming ``shown``."""
+    root); else VideoOutputError naming ``shown``. Stale temporary files of interrupted runs
+    in ``d`` are removed."""
     if not d.exists():
         raise VideoOutputError(f"cannot write {shown!r}: directory {str(d)!r} does not exist")
     if not d.is_dir():
         raise VideoOutputError(f"cannot write {shown!r}: {str(d)!r} is not a directory")
     try:
-        probe = create_temp_beside(d / "probe")
+        probe_writable(d)
     except OSError as exc:
         raise VideoOutputError(
             f"cannot write {shown!r}: directory {str(d)!r} is not writable ({exc.strerror or exc})"
         ) from None
-    with contextlib.suppress(OSError):
-        os.unlink(probe)
+    remove_stale_temps(d)
 
 
 def check_video_output(path: str | os.PathLike) -> Path:
@@ -153,7 +163,83 @@ def check_video_output(path: str | os.PathLike) -> Path:
             f"(valid: {VIDEO_EXTENSION}, or a folder such as frames/ for numbered images)"
         )
     _check_writable_dir(p.parent, shown)
+    kind = file_kind(p)
+    if kind not in (None, "file"):
+        raise VideoOutputError(f"cannot write {shown!r}: it is {kind}, not a regular file")
     return p
+
+
+def frame_name_pattern(prefix: str = "frame_") -> re.Pattern[str]:
+    """The names :class:`FrameSequenceWriter` gives its frames: ``prefix``, a number, and
+    one of :data:`FRAME_EXTENSIONS` (lower case, as written)."""
+    exts = "|".join(re.escape(e) for e in FRAME_EXTENSIONS)
+    return re.compile(rf"^{re.escape(prefix)}\d+({exts})$")
+
+
+def check_frame_folder(
+    folder: str | os.PathLike,
+    *,
+    replace: bool = False,
+    prefix: str = "frame_",
+    replace_hint: str = "replace=True",
+) -> list[Path]:
+    """Check that a new frame sequence may go into ``folder``; return the frames it replaces.
+
+    * a folder that does not exist yet, or is empty: nothing to replace, ``[]``;
+    * a folder holding only frames (names as :func:`frame_name_pattern`, any extension and
+      number of digits): with ``replace``, those frames, which the caller removes (with
+      :func:`remove_frames`) before writing; without, VideoOutputError (the new frames
+      would mix with the old ones);
+    * anything else in it (another file, a folder, a link, a temporary file of a run still
+      going): VideoOutputError, even with ``replace``: no file that skydome did not write is
+      ever deleted.
+
+    Stale temporary files of interrupted runs are removed first (they do not count).
+    ``replace_hint`` is how the caller's user asks to replace (the CLI: ``--replace``).
+    Nothing else is touched; errors are one line naming the folder.
+    """
+    p = Path(os.fspath(folder)).expanduser()
+    shown = str(folder)
+    if not p.is_dir():
+        return []
+    remove_stale_temps(p)
+    pattern = frame_name_pattern(prefix)
+    frames, others = [], []
+    try:
+        with os.scandir(p) as entries:
+            for e in entries:
+                regular = e.is_file(follow_symlinks=False)
+                (frames if regular and pattern.match(e.name) else others).append(e.name)
+    except OSError as exc:
+        raise VideoOutputError(f"cannot read the folder {shown!r}: {exc.strerror or exc}") from None
+    if others:
+        example = sorted(others)[0]
+        more = f" and {len(others) - 1} more" if len(others) > 1 else ""
+        raise VideoOutputError(
+            f"cannot write frames into {shown!r}: it holds {example!r}{more}, which are not "
+            "frames of a time-lapse; choose an empty or new folder"
+        )
+    if frames and not replace:
+        raise VideoOutputError(
+            f"cannot write frames into {shown!r}: it holds {len(frames)} frames of an earlier "
+            f"run ({sorted(frames)[0]}...); add {replace_hint} to replace them, or choose "
+            "another folder"
+        )
+    return [p / name for name in sorted(frames)]
+
+
+def remove_frames(frames: list[Path]) -> None:
+    """Delete the frames :func:`check_frame_folder` returned (those already gone are
+    skipped). Raises OutputError naming the first that cannot be deleted."""
+    for f in frames:
+        try:
+            os.unlink(f)
+        except FileNotFoundError:
+            continue
+        except OSError as exc:
+            raise OutputError(
+                f"cannot remove the old frame {str(f)!r}: {exc.strerror or exc}"
+            ) from None
 
 
 def _check_size(size: tuple[int, int]) -> tuple[int, int]:
@@ -437,7 +523,8 @@ class FrameSequenceWriter:
     Each frame is written to a hidden temporary file in the folder and renamed into place
     (:func:`skydome.io.atomic.atomic_write`), so an interrupted run leaves only complete
     frames. The folder is created if it does not exist (its parent must). Frames already in
-    the folder with the same names are replaced.
+    the folder with the same names are replaced (the CLI first asks
+    :func:`check_frame_folder` whether the folder may take a new sequence).
 
     Args:
         folder: the output folder (checked by :func:`check_video_output`).
@@ -475,8 +562,10 @@ class FrameSequenceWriter:
                 f"frame extension {extension!r} is not supported "
                 f"(valid: {', '.join(FRAME_EXTENSIONS)})"
             )
-        if os.sep in prefix or "/" in prefix:
-            raise ParameterError(f"prefix {prefix!r} must be a file name, not a path")
+        if not isinstance(prefix, str) or os.sep in prefix or "/" in prefix:
+            raise ParameterError(
+                f"prefix {prefix!r} must be a file name (a string without a folder)"
+            )
         start = int(check_range("start", start, 0, 1e12))
         if frame_count is not None:
             frame_count = int(check_range("frame_count", frame_count, 1, 1e12))
