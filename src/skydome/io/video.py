@@ -15,7 +15,7 @@ decoding that as BT.709 (what most players assume for HD) shifts saturated colou
 40 code values (measured: pure green); with them a round trip is within 2 code values.
 
 Crash safety: frames go to a hidden temporary file beside the target
-(``.name.<random>.tmp.mp4``), which is finalised and renamed onto the target by ``close()``:
+(``.name.<pid>.<random>.tmp.mp4``), which is finalised and renamed onto the target by ``close()``:
 the target path never holds a half-written file. Leaving a ``with`` block by an exception,
 KeyboardInterrupt included, still finalises the frames written so far into a playable file
 and then re-raises. ffmpeg runs in its own process group, so a Ctrl-C in the terminal does not
