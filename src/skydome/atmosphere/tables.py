@@ -2,33 +2,52 @@
 
 from __future__ import annotations
 
-import warnings
 import weakref
 from collections.abc import Callable
 
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
-from skydome.core.cache import CacheWarning, cache_key, code_digest, store, try_load
-from skydome.errors import CacheError
+from skydome.core.cache import CacheSpec, load_or_build
+
+#: What the tables depend on besides the parameters and the config. They are made by
+#: shaders/atmosphere/ with includes from shaders/common/ only (night-sky, celestial and
+#: display shaders do not invalidate them). The Python and data behind them: this module, the
+#: precomputation and its table encoding (precompute.py), the config and its wavelength grids
+#: (precompute_config.py, spectra/grids.py), the transmittance pass (transmittance.py), the
+#: uniforms and defines given to the shaders (inputs.py), the parameters' derived values and
+#: phase lobes (params.py, phase.py), the spectral-to-RGB conversion (spectra/colour.py,
+#: spectra/tables.py, spectra/__init__.py) and the CIE and solar tables it reads. Bump
+#: ``version`` when an edit of one of them changes the tables (tests/test_cache.py checks).
+TABLES_CACHE = CacheSpec(
+    name="atmosphere-tables",
+    version=1,
+    shader_folders=("atmosphere", "common"),
+    builder_files=(
+        "atmosphere/tables.py",
+        "atmosphere/precompute.py",
+        "atmosphere/precompute_config.py",
+        "atmosphere/transmittance.py",
+        "atmosphere/inputs.py",
+        "physics/constants.py",
+        "physics/packing.py",
+        "atmosphere/params.py",
+        "atmosphere/phase.py",
+        "spectra/__init__.py",
+        "spectra/colour.py",
+        "spectra/grids.py",
+        "spectra/tables.py",
+        "data/cie1931_2deg_cmf_5nm.csv",
+        "data/cie_luminous_efficiency_5nm.csv",
+        "data/solar_ozone_10nm.csv",
+    ),
+)
 
 
 def tables_key(params: AtmosphereParams, config: PrecomputeConfig) -> str:
-    """Cache key of the tables: every parameter, every config field, the package version, the
-    shader sources, and the Python code and data files that shape the tables (this module and
-    all it imports: the precomputation, the ln L interpolation, the spectral conversion and
-    its CIE tables, the table file encoding)."""
-    from skydome.gpu.shaders import sources_digest
-
-    return cache_key(
-        "precomputed",
-        params.to_dict(),
-        config.key(),
-        # The tables are made by shaders/atmosphere/ with includes from shaders/common/ only:
-        # night-sky, celestial and display shaders do not invalidate them.
-        sources_digest(("atmosphere", "common")),
-        code_digest("skydome.atmosphere.tables"),
-    )
+    """Cache key of the tables: every parameter and config field (``TABLES_CACHE`` adds the
+    shader sources and the version of the code behind them)."""
+    return TABLES_CACHE.key({"atmosphere": params.to_dict(), "config": config.key()})
 
 
 def load_tables(
@@ -40,22 +59,23 @@ def load_tables(
     progress: Callable[[str, float], None] | None = None,
 ) -> tuple[PrecomputedAtmosphere, bool]:
     """The precomputed tables of ``params``: from the disk cache when valid, else computed
-    (and stored). Returns (tables, loaded_from_cache). A damaged or mismatched cache file is
-    rebuilt with a CacheWarning."""
+    (and stored). Returns (tables, loaded_from_cache). A cache file that cannot be used
+    (damaged, or holding arrays that do not fit) is rebuilt with one CacheWarning."""
     config = config or PrecomputeConfig()
-    key = tables_key(params, config)
-    name = f"sky-{params.name}"
-    if cache:
-        arrays = try_load(key, name=name)
-        if arrays is not None:
-            try:
-                return PrecomputedAtmosphere.from_arrays(ctx, params, config, arrays), True
-            except CacheError as exc:
-                warnings.warn(f"rebuilding cached tables: {exc}", CacheWarning, stacklevel=2)
-    tables = precompute(ctx, params, config, progress=progress)
-    if cache:
-        store(key, tables.to_arrays(), name=name, meta={"atmosphere": params.name})
-    return tables, False
+
+    def build() -> PrecomputedAtmosphere:
+        return precompute(ctx, params, config, progress=progress)
+
+    if not cache:
+        return build(), False
+    return load_or_build(
+        tables_key(params, config),
+        build,
+        name=f"sky-{params.name}",
+        meta={"atmosphere": params.name},
+        decode=lambda arrays: PrecomputedAtmosphere.from_arrays(ctx, params, config, arrays),
+        encode=PrecomputedAtmosphere.to_arrays,
+    )
 
 
 #: Tables in GPU memory by (context, key): renderers of the same atmosphere and configuration

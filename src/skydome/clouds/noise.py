@@ -17,23 +17,22 @@ indexed [k, j, i, channel] (z, y, x), as OpenGL stores them. The 3D textures fil
 trilinearly between mipmap levels (power-of-two sizes keep every level tileable).
 
 :func:`cloud_noise` keeps one set per (context, arguments) in memory and the texel arrays in
-the disk cache (:mod:`skydome.atmosphere.cache`), keyed on the seed, the sizes, the noise
-constants and the shader sources: a second process uploads instead of drawing.
+the disk cache (:mod:`skydome.core.cache`, :data:`NOISE_CACHE`), keyed on the seed, the
+sizes, the noise constants and the shader sources: a second process uploads instead of
+drawing.
 """
 
 from __future__ import annotations
 
-import hashlib
 from dataclasses import dataclass, field
 
 import moderngl
 import numpy as np
 
-from skydome.core.cache import cache_key, code_digest, load_or_build
-from skydome.errors import ParameterError
+from skydome.core.cache import CacheSpec, load_or_build
+from skydome.errors import CacheError, ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
-from skydome.gpu.shaders import expand
 from skydome.gpu.textures import release_unbound
 
 #: Shape texture: the Perlin fBm's first period (cells per tile), its octaves, and the gain
@@ -55,7 +54,17 @@ DEFAULT_SHAPE_SIZE = 128
 DEFAULT_DETAIL_SIZE = 32
 DEFAULT_CURL_SIZE = 128
 
-_SHADERS = ("clouds/noise_shape.glsl", "clouds/noise_detail.glsl", "clouds/noise_curl.glsl")
+#: What the cached noise depends on besides its arguments: the GLSL of shaders/clouds/ (the
+#: noise shaders and their include, noise_common.glsl, live there) and this module, which
+#: holds every constant and the texel arrays' layout (the rest it imports is GL plumbing).
+#: Bump ``version`` when an edit of it changes the texels (tests/test_cache.py checks).
+NOISE_CACHE = CacheSpec(
+    name="cloud-noise",
+    version=1,
+    shader_folders=("clouds",),
+    builder_files=("clouds/noise.py",),
+)
+
 _MAX_SEED = 2**31 - 1
 
 
@@ -168,21 +177,17 @@ def render_curl(ctx, seed: int = 1, size: int = DEFAULT_CURL_SIZE) -> np.ndarray
 
 
 def noise_key(seed: int, shape_size: int, detail_size: int, curl_size: int) -> str:
-    """Cache key of a noise set: the arguments, the noise constants, the expanded shader
-    sources (with their includes) and the Python code that draws them."""
-    sources = hashlib.sha256("\0".join(expand(s).text for s in _SHADERS).encode()).hexdigest()
-    constants = {
-        "shape_perlin": (SHAPE_PERLIN_PERIOD, SHAPE_PERLIN_OCTAVES, SHAPE_PERLIN_GAIN),
-        "shape_worley": SHAPE_WORLEY_PERIODS,
-        "detail_worley": DETAIL_WORLEY_PERIODS,
-        "curl": (CURL_PERIOD, CURL_OCTAVES),
-    }
-    return cache_key(
-        "cloud-noise",
-        {"seed": seed, "shape": shape_size, "detail": detail_size, "curl": curl_size},
-        constants,
-        sources,
-        code_digest("skydome.clouds.noise"),
+    """Cache key of a noise set: the arguments and the noise constants (``NOISE_CACHE`` adds
+    the shader sources and the version of the code that draws them)."""
+    return NOISE_CACHE.key(
+        {
+            "seed": seed,
+            "sizes": [shape_size, detail_size, curl_size],
+            "shape_perlin": [SHAPE_PERLIN_PERIOD, SHAPE_PERLIN_OCTAVES, SHAPE_PERLIN_GAIN],
+            "shape_worley": SHAPE_WORLEY_PERIODS,
+            "detail_worley": DETAIL_WORLEY_PERIODS,
+            "curl": [CURL_PERIOD, CURL_OCTAVES],
+        }
     )
 
 
@@ -276,15 +281,26 @@ def cloud_noise(
         }
 
     if cache:
-        key = noise_key(seed, shape_size, detail_size, curl_size)
-        arrays, loaded = load_or_build(key, build, name="cloud-noise", meta={"seed": seed})
         expected = {
             "shape": (shape_size,) * 3 + (4,),
             "detail": (detail_size,) * 3 + (4,),
             "curl": (curl_size, curl_size, 2),
         }
-        if any(arrays.get(n) is None or arrays[n].shape != s for n, s in expected.items()):
-            arrays, loaded = build(), False  # a file of the right key but wrong layout
+
+        def decode(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+            for n, s in expected.items():
+                a = arrays.get(n)
+                if a is None or a.shape != s or a.dtype != np.float32 or not np.isfinite(a).all():
+                    raise CacheError(f"cloud noise {n!r} is not finite float32 of shape {s}")
+            return arrays
+
+        arrays, loaded = load_or_build(
+            noise_key(seed, shape_size, detail_size, curl_size),
+            build,
+            name="cloud-noise",
+            meta={"seed": seed},
+            decode=decode,
+        )
     else:
         arrays, loaded = build(), False
     noise = CloudNoise(

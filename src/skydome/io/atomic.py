@@ -94,9 +94,13 @@ def is_stale_temp(path: str | os.PathLike, *, now: float | None = None) -> bool:
     return age > STALE_AFTER_S or not _pid_alive(int(m["pid"]))
 
 
-def remove_stale_temps(directory: str | os.PathLike) -> list[Path]:
-    """Remove the stale temporary files (:func:`is_stale_temp`) that interrupted runs left in
-    ``directory``; return their paths. A missing or unreadable directory removes nothing."""
+def remove_stale_temps(
+    directory: str | os.PathLike, suffix: str | None = None, max_age_s: float | None = None
+) -> list[Path]:
+    """Remove the stale temporary files (:func:`is_stale_temp`; with ``max_age_s``, also
+    those unchanged for that long) that interrupted runs left in ``directory``, of the
+    target suffix ``suffix`` (e.g. ``".lut"``; None: any); return their paths. A missing or
+    unreadable directory removes nothing."""
     removed = []
     try:
         entries = [e.path for e in os.scandir(directory) if TEMP_NAME.match(e.name)]
@@ -104,7 +108,13 @@ def remove_stale_temps(directory: str | os.PathLike) -> list[Path]:
         return removed
     now = time.time()
     for entry in entries:
-        if is_stale_temp(entry, now=now):
+        if suffix is not None and not entry.endswith(".tmp" + suffix):
+            continue
+        stale = is_stale_temp(entry, now=now)
+        if not stale and max_age_s is not None:
+            with contextlib.suppress(OSError):
+                stale = now - os.stat(entry, follow_symlinks=False).st_mtime > max_age_s
+        if stale:
             with contextlib.suppress(OSError):
                 os.unlink(entry)
                 removed.append(Path(entry))
