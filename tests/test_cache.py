@@ -385,7 +385,7 @@ def test_builders_declare_the_code_and_data_they_depend_on():
         "atmosphere/precompute.py",
         "atmosphere/precompute_config.py",
         "atmosphere/transmittance.py",
-        "atmosphere/uniforms.py",
+        "atmosphere/inputs.py",
         "atmosphere/params.py",
         "spectra/colour.py",
         "data/cie1931_2deg_cmf_5nm.csv",
