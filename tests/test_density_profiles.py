@@ -3,20 +3,22 @@ the shipped U.S. Standard Atmosphere 1976."""
 
 import json
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
 
 from skydome.atmosphere import PRESETS, DensityLayer, DensityProfile, preset
+from skydome.atmosphere.inputs import AirGeometry, geometry_inputs, profile_table_grid
 from skydome.atmosphere.params import MAX_TABLE_SAMPLES
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.standard_atmosphere import air_density_profile, us_standard_1976
 from skydome.atmosphere.tables import tables_key
 from skydome.atmosphere.transmittance import TransmittanceTable
-from skydome.atmosphere.uniforms import geometry_uniforms, profile_table_grid
 from skydome.core.cameras import DirectionsCamera, direction_from_angles
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 from skydome.reference import single as ref
 from tests.air_frames import AirFrames
 from tests.conftest import TINY_TABLES
@@ -233,14 +235,23 @@ void main() {
 """
 
 
+@dataclass(frozen=True)
+class AltitudeScale(ShaderInputs):
+    """The density test pass's altitude step (km per texel)."""
+
+    u_altitude_scale: float
+
+
 def glsl_densities(ctx, params, top_km: float, n: int = 4096) -> tuple[np.ndarray, np.ndarray]:
     """Densities (n, 3) that common/atmosphere_common.glsl computes at n altitudes from -0.25 km to
     ``top_km``, and those altitudes (km, as the shader held them in float32)."""
     tex = ctx.texture((n, 1), 4, dtype="f4")
     fbo = ctx.framebuffer(color_attachments=[tex])
     fbo.viewport = (0, 0, n, 1)
-    p = FullscreenPass(ctx, "density_test.glsl", source=_DENSITY_PASS)
-    p.draw(fbo, {**geometry_uniforms(params), "u_altitude_scale": (top_km + 0.25) / (n - 1)})
+    p = FullscreenPass(
+        ctx, "density_test.glsl", inputs=(AirGeometry, AltitudeScale), source=_DENSITY_PASS
+    )
+    p.draw(fbo, geometry_inputs(params), AltitudeScale((top_km + 0.25) / (n - 1)))
     out = np.frombuffer(tex.read(), dtype=np.float32).reshape(n, 4).astype(np.float64)
     p.release()
     fbo.release()

@@ -32,7 +32,7 @@ def test_include_and_defines_expand():
 def test_compile_error_names_file_and_line(ctx):
     source = '#include "common/constants.glsl"\nout vec4 c;\n\nvoid main() { c = vec4(PI, undefined_name, 0, 1); }\n'
     with pytest.raises(GLError, match=r"probe\.glsl:4"):
-        FullscreenPass(ctx, "probe.glsl", source=source)
+        FullscreenPass(ctx, "probe.glsl", inputs=(), source=source)
 
 
 def test_error_in_included_file_names_that_file(ctx):
@@ -43,6 +43,7 @@ def test_error_in_included_file_names_that_file(ctx):
             ctx,
             "probe.glsl",
             {"u_transmittance_size": "1.0"},
+            inputs=(),
             source='#include "atmosphere/transmittance_lut.glsl"\nout vec4 c;\nvoid main() { c = vec4(0); }\n',
         )
 
@@ -56,6 +57,7 @@ def test_fullscreen_pass_writes_every_pixel(ctx):
     p = FullscreenPass(
         ctx,
         "probe.glsl",
+        inputs=(),
         source="out vec4 c;\nvoid main() { c = vec4(gl_FragCoord.xy, 1.0, 1.0); }\n",
     )
     tex = ctx.texture((37, 23), 4, dtype="f4")

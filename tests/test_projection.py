@@ -4,17 +4,20 @@ camera.glsl's pixel -> direction mapping and closed-form solid angles."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
 
 from skydome.core.cameras import (
+    CameraInputs,
     CubemapCamera,
     EquirectCamera,
     FisheyeCamera,
     PerspectiveCamera,
 )
 from skydome.gpu import FullscreenPass
+from skydome.gpu.inputs import ShaderInputs
 
 CAMERAS = [
     (PerspectiveCamera(fov_deg=70.0, yaw_deg=120.0, pitch_deg=25.0, roll_deg=10.0), 320, 200),
@@ -41,13 +44,22 @@ void main() {
 """
 
 
+@dataclass(frozen=True)
+class WhatInputs(ShaderInputs):
+    """What the test pass writes: 0 the directions, 1 the projection's round trip."""
+
+    u_what: int
+
+
 def _gpu(ctx, camera, w, h, what):
-    fpass = FullscreenPass(ctx, "test_project.glsl", {"CAMERA_MODEL": camera.model}, source=SOURCE)
+    fpass = FullscreenPass(
+        ctx, "test_project.glsl", {"CAMERA_MODEL": camera.model},
+        inputs=(CameraInputs, WhatInputs), source=SOURCE,
+    )  # fmt: skip
     tex = ctx.texture((w, h), 4, dtype="f4")
     fbo = ctx.framebuffer(color_attachments=[tex])
     try:
-        uniforms = {**camera.uniforms(w, h), "u_tile_offset": (0.0, 0.0), "u_what": what}
-        fpass.draw(fbo, uniforms)
+        fpass.draw(fbo, camera.inputs(w, h), WhatInputs(what))
         return np.frombuffer(tex.read(), np.float32).reshape(h, w, 4)  # GL rows
     finally:
         fbo.release()

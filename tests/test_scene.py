@@ -5,6 +5,7 @@ ratio, and a day at 1-minute steps without jumps."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
@@ -25,6 +26,7 @@ from skydome.core.layer import Layer
 from skydome.display.exposure import log_average_luminance
 from skydome.display.gpu_tonemap import gpu_tonemap
 from skydome.errors import ParameterError
+from skydome.gpu.inputs import ShaderInputs
 from skydome.scene.state import state_series
 from tests.air_frames import precomputed_frames as precomputed_renderer
 
@@ -284,6 +286,13 @@ def test_disks_are_seen_through_the_air_of_their_own_pixels():
     assert expected[:, 1].max() > 1.05 * expected[:, 1].min()  # the limbs do differ
 
 
+@dataclass(frozen=True)
+class GlowInputs(ShaderInputs):
+    """The test glow's radiance (cd/m^2 per channel)."""
+
+    u_glow: tuple[float, float, float, float]
+
+
 class GlowLayer(Layer):
     """A plug-in space layer written outside the package: a uniform radiance from beyond the
     atmosphere (like a night-sky glow), in its own GLSL, touching no other layer."""
@@ -302,13 +311,16 @@ class GlowLayer(Layer):
         self._glow_pass = None
 
     def draw(self, frame):
+        from skydome.core.cameras import CameraInputs
         from skydome.gpu import FullscreenPass
 
         if self._glow_pass is None:
             defines = {"CAMERA_MODEL": frame.camera.model}
-            self._glow_pass = FullscreenPass(frame.ctx, "glow.glsl", defines, source=self.SOURCE)
-        uniforms = {**frame.uniforms, "u_glow": self.radiance}
-        self._glow_pass.draw(frame.fbo, uniforms, frame.textures)
+            self._glow_pass = FullscreenPass(
+                frame.ctx, "glow.glsl", defines, inputs=(CameraInputs, GlowInputs),
+                source=self.SOURCE,
+            )  # fmt: skip
+        self._glow_pass.draw(frame.fbo, frame.view, GlowInputs(self.radiance))
 
     def release(self):
         super().release()

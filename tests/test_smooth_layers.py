@@ -43,17 +43,19 @@ class SmoothGlow(Layer):
     smooth_deg = 2.0
 
     def draw(self, frame):
-        fpass = self.full_screen_pass(frame.ctx, "test_smooth.glsl", frame.camera)
-        fpass.draw(frame.fbo, frame.uniforms, frame.textures)
+        fpass = self.glow_pass(frame.ctx, frame.camera)
+        fpass.draw(frame.fbo, frame.view)
 
-    def full_screen_pass(self, ctx, shader, camera, defines=None):
+    def glow_pass(self, ctx, camera):
+        from skydome.core.cameras import CameraInputs
         from skydome.gpu import FullscreenPass
 
-        key = (shader, camera.model)
+        key = ("test_smooth.glsl", camera.model)
         if key not in self._passes:
             self._passes[key] = FullscreenPass(
-                ctx, shader, {"CAMERA_MODEL": camera.model}, source=SOURCE
-            )
+                ctx, "test_smooth.glsl", {"CAMERA_MODEL": camera.model}, inputs=(CameraInputs,),
+                source=SOURCE,
+            )  # fmt: skip
         return self._passes[key]
 
 
