@@ -24,6 +24,7 @@ from skydome.astro import frames
 from skydome.astro._series import smooth, vsop
 from skydome.astro.frames import C_AU_PER_DAY
 from skydome.astro.sun import earth_heliocentric_ecliptic
+from skydome.errors import ParameterError
 from skydome.physics.constants import J2000_JD, JULIAN_CENTURY_DAYS
 
 __all__ = [
@@ -38,7 +39,6 @@ PLANETS = ("mercury", "venus", "mars", "jupiter", "saturn", "uranus", "neptune")
 
 
 def _check(planet: str) -> str:
-    from skydome.errors import ParameterError
 
     p = str(planet).lower()
     if p not in PLANETS:

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from skydome.astro.frames import equation_of_equinoxes
 from skydome.errors import ParameterError
 from skydome.physics.constants import J2000_JD
 
@@ -465,7 +466,6 @@ def gmst(jd_ut1, jd_tt=None, model: str = "iau2006") -> np.ndarray:
 def gast(jd_ut1, jd_tt=None, model: str = "iau2006") -> np.ndarray:
     """Greenwich apparent sidereal time (rad) = GMST + equation of the equinoxes
     (Meeus ch. 12 p. 88; nutation IAU 1980, see :mod:`skydome.astro.frames`)."""
-    from skydome.astro.frames import equation_of_equinoxes
 
     jd_ut1 = np.asarray(jd_ut1, dtype=float)
     if jd_tt is None:

@@ -24,6 +24,7 @@ import numpy as np
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.precomputed import PrecomputedSky, camera_position_km
+from skydome.atmosphere.presets import preset
 from skydome.atmosphere.single import SingleScatteringSky
 from skydome.atmosphere.sky_view import check_sky_view_size
 from skydome.core.basis import SpectralBasis
@@ -42,7 +43,6 @@ MODELS = ("precomputed", "single")
 
 def atmosphere_params(atmosphere: str | AtmosphereParams) -> AtmosphereParams:
     """A preset by name, or the given AtmosphereParams."""
-    from skydome.atmosphere.presets import preset
 
     if isinstance(atmosphere, AtmosphereParams):
         return atmosphere

@@ -27,6 +27,9 @@ import numpy as np
 
 from skydome.atmosphere.phase import MiePhaseLobes
 from skydome.errors import ParameterError, check_range
+from skydome.spectra import photopic_efficiency
+from skydome.spectra import solar_irradiance as tabulated
+from skydome.spectra.tables import ozone_cross_section
 
 #: One Dobson unit: 2.687e20 molecules per m^2 of column (0.01 mm of pure ozone at 0 °C and
 #: 1013.25 hPa; WMO definition).
@@ -395,8 +398,6 @@ class AtmosphereParams:
         shape of the tabulated spectrum; renderers multiply by this factor (e.g. 1/1.524^2 for
         Mars), so that a scaled ``solar_irradiance`` gives the right absolute luminance.
         """
-        from skydome.spectra import photopic_efficiency
-        from skydome.spectra import solar_irradiance as tabulated
 
         wl = np.arange(360.0, 831.0, 1.0)
         v = photopic_efficiency(wl)
@@ -449,7 +450,6 @@ class AtmosphereParams:
         cross-section (Serdyuchenko et al. 2014, 360-830 nm), times the absorber column, over
         2.687e20 m^-2: exact for spectra set by ``with_ozone``, 0 for no absorber.
         """
-        from skydome.spectra.tables import ozone_cross_section
 
         sigma = ozone_cross_section(OZONE_GRID_NM)
         k = self.absorption_extinction.at(OZONE_GRID_NM)
@@ -472,7 +472,6 @@ class AtmosphereParams:
         360-830 nm. The profile's shape is kept (``earth``: the AFGL 1986 profile, whose
         column is 18.9 km at peak density; ``earth_bruneton``: the seeds' tent, 15 km).
         """
-        from skydome.spectra.tables import ozone_cross_section
 
         du = check_range("ozone_du", dobson, *OZONE_DU_RANGE, "DU")
         column = self.absorption_column_m

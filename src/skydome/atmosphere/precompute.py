@@ -568,9 +568,7 @@ class _Precomputation:
         self._released.append(obj)
         return obj
 
-    def _inputs(
-        self, wl, rules: QuadratureInputs, to_table=None, **stage
-    ) -> PrecomputeInputs:
+    def _inputs(self, wl, rules: QuadratureInputs, to_table=None, **stage) -> PrecomputeInputs:
         """A stage's inputs at the wavelengths ``wl`` (to the tables' channels by
         ``to_table``, default ``table_matrix``), with its ``rules`` and ``stage`` fields."""
         cfg = self.cfg

@@ -218,7 +218,9 @@ class PrecomputedSky:
             aerial = views.aerial(radius_km, lights, self.inputs)
         elif shadow:  # the Sun's light along the shadowed part is taken off the sky
             sun_aerial = views.aerial_textures("sun", radius_km, lights.sun_direction, self.inputs)
-            aerial = AerialInputs(aerial.u_sky_view_size, radius_km, aerial.u_aerial_size, *sun_aerial)
+            aerial = AerialInputs(
+                aerial.u_sky_view_size, radius_km, aerial.u_aerial_size, *sun_aerial
+            )
         return FramePlan(
             "atmosphere/sky_view.glsl", tuple(extra), light_inputs, SkyViewInputs(*sun, *moon),
             aerial,

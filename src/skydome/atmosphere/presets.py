@@ -13,12 +13,17 @@ import math
 
 import numpy as np
 
+from skydome.atmosphere import mars_atmosphere as m
+from skydome.atmosphere.aerosols import with_aerosol_type
+from skydome.atmosphere.ozone import ozone_density_profile
 from skydome.atmosphere.params import (
     DOBSON_UNIT_PER_M2,
     AtmosphereParams,
     DensityProfile,
     Spectrum,
 )
+from skydome.atmosphere.rayleigh import rayleigh_scattering_per_m
+from skydome.atmosphere.standard_atmosphere import air_density_profile, us_standard_1976
 from skydome.errors import ParameterError
 from skydome.spectra.tables import solar_irradiance
 
@@ -75,10 +80,6 @@ def _standard_earth(name: str, description: str, aerosol: str, aod_550: float | 
     cross-section times the standard's sea-level number density: 1.149e-5 m^-1 at 550 nm, an
     optical depth of 0.0971), the AFGL 1986 U.S. Standard ozone profile scaled to 300 DU, an
     OPAC aerosol type (Hess et al. 1998) and a ground albedo of 0.3."""
-    from skydome.atmosphere.aerosols import with_aerosol_type
-    from skydome.atmosphere.ozone import ozone_density_profile
-    from skydome.atmosphere.rayleigh import rayleigh_scattering_per_m
-    from skydome.atmosphere.standard_atmosphere import air_density_profile, us_standard_1976
 
     sea_level_m3 = float(us_standard_1976().number_density_m3[0])
     base = AtmosphereParams(
@@ -204,7 +205,6 @@ def mars() -> AtmosphereParams:
     peak twice as high in the blue as in the red (the blue glow around the setting Sun);
     ground albedo 0.10-0.35 (450-650 nm); the Sun at 1.524 AU.
     """
-    from skydome.atmosphere import mars_atmosphere as m
 
     dust_density = m.mars_dust_density()
     top_m = m.TOP_M

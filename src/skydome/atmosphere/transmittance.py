@@ -56,7 +56,6 @@ class TransmittanceTable:
         fill.release()
         release_unbound(fbo)  # bound by the draw: unbind it (see release_unbound)
 
-
     def read(self) -> np.ndarray:
         """The table as (height, width, 3) float32 column densities in km (row 0 = r bottom)."""
         data = np.frombuffer(self.texture.read(), dtype=np.float32)

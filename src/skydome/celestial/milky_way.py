@@ -44,7 +44,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from skydome.astro import photometry
+from skydome.astro import frames, photometry
+from skydome.astro.time import gast, to_time
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
@@ -54,6 +55,7 @@ from skydome.gpu.inputs import ShaderInputs
 from skydome.io.packaged import read_packaged_npz
 from skydome.physics.packing import mat3
 from skydome.spectra.blackbody import planck_relative
+from skydome.spectra.tables import solar_irradiance
 
 __all__ = [
     "S10_MAG_ARCSEC2",
@@ -136,7 +138,6 @@ def _unit(lon_rad, lat_rad) -> np.ndarray:
 def enu_to_galactic_matrix(observer, time) -> np.ndarray:
     """3x3 rotation taking airless ENU directions of ``observer`` (skydome.astro.Observer) at
     one ``time`` (a skydome.astro Time or anything to_time takes) to galactic unit vectors."""
-    from skydome.astro.time import to_time
 
     t = to_time(time)
     if t.shape != ():
@@ -146,8 +147,6 @@ def enu_to_galactic_matrix(observer, time) -> np.ndarray:
 
 
 def _enu_from_galactic(jd_tt: float, jd_ut1: float, observer, np_matrix=None) -> np.ndarray:
-    from skydome.astro import frames
-    from skydome.astro.time import gast
 
     if np_matrix is None:
         np_matrix = np.asarray(frames.nutation_matrix(jd_tt) @ frames.precession_matrix(jd_tt))
@@ -264,8 +263,6 @@ class MilkyWayLayer(Layer):
         # Precession-nutation moves the map by < 0.2" a day: computed once per day (TT).
         day = math.floor(jd_tt)
         if self._np_cache is None or self._np_cache[0] != day:
-            from skydome.astro import frames
-
             self._np_cache = (
                 day,
                 np.asarray(frames.nutation_matrix(day) @ frames.precession_matrix(day)),
@@ -274,8 +271,6 @@ class MilkyWayLayer(Layer):
         gal_from_enu = enu_from_gal.T
         basis = self.graph.basis
         if self._colour is None or self._colour[0] is not basis:
-            from skydome.spectra.tables import solar_irradiance
-
             wl = basis.wavelengths_nm
             self._colour = (basis, basis.colour(spectral_shape(wl) / solar_irradiance(wl)))
         self._inputs = MilkyWayInputs(

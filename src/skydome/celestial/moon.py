@@ -261,7 +261,9 @@ class MoonLayer(Layer):
     def draw(self, frame: DrawContext) -> None:
         if self._inputs is None:
             return
-        fpass = self.full_screen_pass(frame.ctx, self.shader, (CameraInputs, MoonInputs), frame.camera)
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, (CameraInputs, MoonInputs), frame.camera
+        )
         self.draw_small(
             frame,
             fpass,

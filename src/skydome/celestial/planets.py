@@ -50,6 +50,7 @@ import numpy as np
 
 from skydome.astro.planets import PLANETS
 from skydome.celestial.planet_colours import planet_albedo
+from skydome.celestial.point_sources import PointSources
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import Light, SkyState
@@ -260,8 +261,6 @@ class PlanetsLayer(Layer):
                 points.append(view.direction)
                 channels.append(colour * view.illuminance_lux)
         if points:
-            from skydome.celestial.point_sources import PointSources
-
             if self._points is None:
                 self._points = PointSources(frame.ctx)
             occluder = None

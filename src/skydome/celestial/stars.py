@@ -32,6 +32,7 @@ import numpy as np
 
 from skydome.astro import frames
 from skydome.astro import stars as catalogue
+from skydome.astro.time import gast
 from skydome.celestial.point_sources import PointSources
 from skydome.celestial.scintillation import Scintillation, scintillation_sigma
 from skydome.core.basis import SpectralBasis
@@ -40,7 +41,9 @@ from skydome.core.lights import SkyState
 from skydome.errors import ParameterError
 from skydome.physics.constants import J2000_JD
 from skydome.physics.refraction import horizon_dip_sin
+from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
 from skydome.spectra.blackbody import planck_relative
+from skydome.spectra.tables import solar_irradiance
 
 #: Recompute the apparent places of date when the time has moved by more than this (TT).
 APPARENT_PLACE_REFRESH_DAYS = 1.0 / 24.0
@@ -52,8 +55,6 @@ def black_body_colours(basis: SpectralBasis, temperature_k) -> np.ndarray:
     """(N, 4) output channels per unit luminance of black bodies at ``temperature_k``:
     ``basis.colour(planck / solar_irradiance)`` for every temperature at once (the same
     arithmetic as SpectralBasis.colour, vectorized)."""
-    from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
-    from skydome.spectra.tables import solar_irradiance
 
     wl = basis.wavelengths_nm
     f = planck_relative(wl, temperature_k) / solar_irradiance(wl)[:, None]  # (W, N)
@@ -129,7 +130,6 @@ class StarsLayer(Layer):
     def apparent_enu(self, state: SkyState) -> tuple[np.ndarray, np.ndarray]:
         """Apparent (refracted) unit ENU directions and apparent altitudes (rad) of the
         layer's stars for a state with an observer and a time (see the module docstring)."""
-        from skydome.astro.time import gast
 
         obs, t = state.observer, state.time
         jd_tt = float(t.jd_tt)

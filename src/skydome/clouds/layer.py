@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from fractions import Fraction
+from math import lcm
 
 import numpy as np
 
@@ -24,7 +26,11 @@ from skydome.clouds.inputs import (
     TemporalInputs,
     UpsampleInputs,
 )
+from skydome.clouds.ms_table import load_ms_table
+from skydome.clouds.noise import cloud_noise
 from skydome.clouds.params import CIRRUS_EXTINCTION_PER_M, Clouds
+from skydome.clouds.phase import CLOUD_PHASE
+from skydome.clouds.weather import AnimatedWeather, WeatherMap
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import BehindInputs, DrawContext, Layer, LayerHost
 from skydome.core.services import AerialInputs, AirLights, AirService, LightInputs, VolumeInputs
@@ -93,8 +99,6 @@ class CloudLayer(Layer):
         self.quality = quality
         self.shafts = bool(shafts)
         if phase is None:
-            from skydome.clouds.phase import CLOUD_PHASE
-
             phase = CLOUD_PHASE
         #: The phase function the march uses and the factor on the extinction: the
         #: droplets' diffraction peak (lobes with g >= phase.PEAK_G) taken out by delta-M, its light
@@ -133,8 +137,6 @@ class CloudLayer(Layer):
         """The noise textures and the animated weather map (on first use)."""
         if self.noise is not None:
             return
-        from skydome.clouds.noise import cloud_noise
-        from skydome.clouds.weather import AnimatedWeather
 
         self.noise = cloud_noise(self.graph.ctx, self.clouds.seed)
         self.weather = AnimatedWeather(
@@ -229,8 +231,6 @@ class CloudLayer(Layer):
         """The least common multiple (km, to the metre) of the repeat lengths of what the wind
         moves: the shape and detail noises and the cirrus's curl field (half the weather
         tile)."""
-        from fractions import Fraction
-        from math import lcm
 
         lengths = [Fraction(round(v * 1000), 1000) for v in
                    (SHAPE_TILE_KM, DETAIL_TILE_KM, 0.5 * self.clouds.tile_km)]  # fmt: skip
@@ -381,7 +381,12 @@ class CloudLayer(Layer):
         fbo = ctx.framebuffer(color_attachments=[out])
         try:
             lookup = self._air().lookup()
-            inputs = (lookup.inputs, self.cloud_inputs(), self.texture_inputs(), QueryInputs(points))
+            inputs = (
+                lookup.inputs,
+                self.cloud_inputs(),
+                self.texture_inputs(),
+                QueryInputs(points),
+            )
             key = ("query",)
             if key not in self._passes:
                 self._passes[key] = FullscreenPass(
@@ -419,9 +424,7 @@ class CloudLayer(Layer):
             frame.camera, self.defines(frame),
         )  # fmt: skip
         cloud_map = (1.0 / (scale * lw), 1.0 / (scale * lh), 0.0, 0.0)
-        composite.draw(
-            frame.fbo, self.behind_inputs(frame), CompositeInputs(rad, data, cloud_map)
-        )
+        composite.draw(frame.fbo, self.behind_inputs(frame), CompositeInputs(rad, data, cloud_map))
 
     @staticmethod
     def _reduced(frame: DrawContext, scale: int) -> DrawContext:
@@ -584,7 +587,6 @@ def weather_map_for(clouds: Clouds):
     """The weather map of ``clouds``: its own (a ``WeatherMap``, an image path or an array,
     whose coverage channel ``clouds.coverage`` scales), or one generated from its seed with
     its coverage, type, precipitation and cirrus (skydome.clouds.weather.WeatherMap)."""
-    from skydome.clouds.weather import WeatherMap
 
     w = clouds.weather
     if w is None:
@@ -604,6 +606,5 @@ def weather_map_for(clouds: Clouds):
 
 
 def _ms_table():
-    from skydome.clouds.ms_table import load_ms_table
 
     return load_ms_table()

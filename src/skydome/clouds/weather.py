@@ -29,10 +29,12 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from skydome.clouds import host_noise
 from skydome.clouds.noise import check_seed, render_curl
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
+from skydome.io.images import read_user_image
 
 #: Default tile of a generated map (km): 32 km at 512 texels is 62.5 m per texel.
 DEFAULT_TILE_KM = 32.0
@@ -152,7 +154,6 @@ class WeatherMap:
         from its header before decoding. Anything else (a FIFO, a directory, a text file, a
         truncated image, a decompression bomb) raises ParameterError naming the file.
         """
-        from skydome.io.images import read_user_image
 
         tile_km = _check_tile(tile_km)
         img = read_user_image(
@@ -208,8 +209,6 @@ class WeatherMap:
         parameters (512^2 in 2 s on 2 CPU cores), and the threshold is a global search over the
         whole array. Its noise is the float64 twin of the shaders' (same hash and lattice).
         """
-        from skydome.reference import cloud_noise as twin
-
         seed = check_seed(seed)
         tile_km = _check_tile(tile_km)
         if isinstance(size, bool) or not isinstance(size, (int, np.integer)):
@@ -236,8 +235,8 @@ class WeatherMap:
         c = (np.arange(size) + 0.5) / size
         x, y = np.meshgrid(c, c)  # [j, i]: y north (rows), x east (columns)
         u3 = np.stack([x, y, np.zeros_like(x)], axis=-1)
-        texture = 0.5 + twin.perlin_fbm(u3, 8, 4, seed, 200)  # inside the clouds, ~[0.1, 0.9]
-        background = np.clip(0.5 + 1.5 * twin.perlin_fbm(u3, 4, 4, seed, 210), 0.0, 1.0)
+        texture = 0.5 + host_noise.perlin_fbm(u3, 8, 4, seed, 200)  # inside the clouds, ~[0.1, 0.9]
+        background = np.clip(0.5 + 1.5 * host_noise.perlin_fbm(u3, 4, 4, seed, 210), 0.0, 1.0)
 
         rng = np.random.default_rng([seed, 0x57EA])
         field = 0.45 * background
@@ -262,8 +261,10 @@ class WeatherMap:
         if cirrus > 0:
             # Streaks: the noise stretched 4:1 along x (periods 2 and 8 cells per tile).
             p = np.stack([x * 2, y * 8, np.zeros_like(x)], axis=-1)
-            sheet = twin.perlin_noise(p, (2, 8, 1), twin.noise_salt(seed, 220))
-            sheet += 0.5 * twin.perlin_noise(2 * p, (4, 16, 1), twin.noise_salt(seed, 221))
+            sheet = host_noise.perlin_noise(p, (2, 8, 1), host_noise.noise_salt(seed, 220))
+            sheet += 0.5 * host_noise.perlin_noise(
+                2 * p, (4, 16, 1), host_noise.noise_salt(seed, 221)
+            )
             data[..., 3] = _threshold_to_mean(sheet, cirrus, _CIRRUS_EDGE)
         return cls(data, tile_km)
 
@@ -301,7 +302,6 @@ def _pair(name: str, value) -> tuple[float, float]:
     return east, north
 
 
-
 @dataclass(frozen=True)
 class WeatherInputs(ShaderInputs):
     """``clouds/weather_animate.glsl``: the map's size (texels), the wind's offset (tiles),
@@ -317,6 +317,7 @@ class WeatherInputs(ShaderInputs):
     u_seed: int
     u_weather: object
     u_flow: object
+
 
 class AnimatedWeather:
     """A weather map on the GPU at any time: moved, advected and evolving.

@@ -50,7 +50,6 @@ def read_rgb8(fbo, width: int, height: int) -> np.ndarray:
     return data.reshape(height, width, 3)[::-1].copy()  # GL rows are bottom-up
 
 
-
 @dataclass(frozen=True)
 class ToneMapInputs(ShaderInputs):
     """``post/tonemap.glsl``: the frame (RGBA32F), the output's size (px), the operator and
@@ -68,6 +67,7 @@ class ToneMapInputs(ShaderInputs):
     u_hvs_b: float | None = None
     u_hvs_x_scale: float | None = None
     u_filmic_pre_scale: float | None = None
+
 
 class GpuToneMapper:
     """Runs ``post/tonemap.glsl``: one compiled program for all operators, RGBA8 targets cached

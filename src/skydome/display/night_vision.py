@@ -281,7 +281,6 @@ def _is_number(value) -> bool:
     return isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)
 
 
-
 @dataclass(frozen=True)
 class NightVisionInputs(ShaderInputs):
     """The night-vision passes (``post/night_*.glsl``, ``post/acuity_blur.glsl``): the
@@ -296,6 +295,7 @@ class NightVisionInputs(ShaderInputs):
     u_noise_base: int | None = None
     u_weights: tuple[float, ...] | None = None
     u_uv_scale: tuple[float, float] | None = None
+
 
 class NightVision:
     """The night-vision display pass for one context (GPU; GLSL under ``shaders/post/``).

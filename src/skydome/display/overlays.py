@@ -39,15 +39,19 @@ import dataclasses
 import functools
 import json
 import math
+import unicodedata
 from collections.abc import Iterable
 from dataclasses import dataclass
 from importlib import resources
 
+import moderngl
 import numpy as np
 
-from skydome.astro import frames
+from skydome.astro import frames, planets, stars
+from skydome.astro.time import gast
 from skydome.core.cameras import Camera, CameraInputs, CubemapCamera
 from skydome.errors import ParameterError, check_range
+from skydome.gpu import shared_context
 from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.passes import ShaderProgram
 
@@ -202,7 +206,6 @@ class _Figures:
 
 @functools.lru_cache(maxsize=1)
 def _figures() -> _Figures:
-    from skydome.astro import stars
 
     cat = stars.catalog()
     rows: dict[int, int] = {}
@@ -234,7 +237,6 @@ def _figures() -> _Figures:
 @functools.lru_cache(maxsize=1)
 def _bright_named_stars() -> tuple[np.ndarray, tuple[str, ...]]:
     """Catalogue rows and IAU names of the named stars brighter than STAR_LABEL_MAG."""
-    from skydome.astro import stars
 
     cat = stars.catalog()
     names = stars._names().proper  # HIP -> IAU proper name (stars_names.csv)
@@ -360,7 +362,6 @@ def _displayable(text: str, font) -> str:
     """``text`` with each character the font lacks (drawn as its "missing glyph" box)
     replaced by its base letter (Unicode NFKD without the accents): Pillow's built-in
     Aileron has a limited character set, e.g. no "o" with diaeresis for Bootes."""
-    import unicodedata
 
     missing = np.asarray(font.getmask("\uffff"))
     out = []
@@ -457,7 +458,6 @@ def _check_colour(kind: str, value) -> tuple[float, float, float]:
     return tuple(float(x) for x in c)
 
 
-
 @dataclass(frozen=True)
 class GridInputs(ShaderInputs):
     """``post/overlay_grid.glsl``: the line width (px), the grid's steps in altitude and
@@ -517,6 +517,7 @@ _INPUTS = {
     "post/overlay_text.glsl": (CameraInputs, TextInputs),
 }
 
+
 class Overlays:
     """Constellation lines, labels and the alt/az grid, drawn over a tone-mapped image.
 
@@ -538,7 +539,6 @@ class Overlays:
         line_width_px: float = 1.5,
         font_px: int = 14,
     ):
-        from skydome.gpu import shared_context
 
         if isinstance(kinds, str):
             kinds = parse_overlays(kinds)
@@ -594,7 +594,6 @@ class Overlays:
     def _date_places(self, jd_tt: float):
         """Unit vectors, true equator and equinox of date, of the line ends (catalogue stars
         apparent, fixed points precessed), the labelled stars and the constellation labels."""
-        from skydome.astro import stars
 
         cache = self._star_cache
         if cache is not None and abs(cache[0] - jd_tt) <= STAR_REFRESH_DAYS:
@@ -618,7 +617,6 @@ class Overlays:
         return places
 
     def _planet_places(self, state, jd_tt: float) -> dict:
-        from skydome.astro import planets
 
         cache = self._planet_cache
         if cache is not None and abs(cache[0] - jd_tt) <= PLANET_REFRESH_DAYS:
@@ -637,7 +635,6 @@ class Overlays:
     def update(self, state) -> None:
         """Positions for the state's time and place (cheap between refreshes: the places of
         date are cached, each update turns them to ENU with one 3x3 matrix and refracts)."""
-        from skydome.astro.time import gast
 
         self._dirty = True
         self._pieces = np.zeros((0, 6), np.float32)
@@ -764,7 +761,6 @@ class Overlays:
         a forward mapping (DirectionsCamera)."""
         if not self.kinds or not camera.has_projection:
             return
-        import moderngl
 
         ctx = self.ctx
         w, h = (int(v) for v in size)
@@ -792,7 +788,6 @@ class Overlays:
             fbo.viewport = saved_viewport
 
     def _draw_grid(self, fbo, camera, w, h, view: CameraInputs) -> None:
-        import moderngl
 
         vao, prog = self._fullscreen("post/overlay_grid.glsl", camera.model)
         c = np.asarray(self.colours["grid"])
@@ -815,7 +810,6 @@ class Overlays:
         vao.render(moderngl.TRIANGLES, vertices=3)
 
     def _draw_lines(self, fbo, camera, w, h) -> None:
-        import moderngl
 
         ctx = self.ctx
         pieces = self._pieces
@@ -932,7 +926,6 @@ class Overlays:
         return placed
 
     def _draw_labels(self, fbo, camera, w, h, view: CameraInputs) -> None:
-        import moderngl
 
         atlas = self._atlas
         rows = []

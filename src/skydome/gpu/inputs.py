@@ -20,9 +20,14 @@ from __future__ import annotations
 
 import dataclasses
 import re
+import sys
+import typing
 from functools import cache
 
+import moderngl
+
 from skydome.errors import GLError
+from skydome.gpu.shaders import SHADER_DIR
 
 #: Uniforms the pass machinery sets itself (the layered passes' first layer).
 INTERNAL_UNIFORMS = frozenset({"u_layer0"})
@@ -67,8 +72,6 @@ def _names(cls) -> frozenset[str]:
 
 def _nested_type(cls, name: str, annotation) -> type | None:
     """The ShaderInputs type of a field, if it is one (annotations may be strings)."""
-    import sys
-    import typing
 
     if isinstance(annotation, str):
         module = sys.modules[cls.__module__]
@@ -92,7 +95,6 @@ def declared_uniforms(source: str) -> frozenset[str]:
 @cache
 def library_uniforms() -> frozenset[str]:
     """Every uniform a file of the shader library declares."""
-    from skydome.gpu.shaders import SHADER_DIR
 
     names: set[str] = set()
     for path in SHADER_DIR.rglob("*.glsl"):
@@ -102,7 +104,6 @@ def library_uniforms() -> frozenset[str]:
 
 def active_uniforms(program) -> frozenset[str]:
     """The uniforms the compiler kept in a moderngl program (samplers included)."""
-    import moderngl
 
     return frozenset(
         name
@@ -136,7 +137,9 @@ def check_program(shader: str, program, source: str, inputs: tuple[type, ...]) -
         )
 
 
-def check_values(shader: str, active: frozenset[str], inputs: tuple[type, ...], given: tuple) -> dict:
+def check_values(
+    shader: str, active: frozenset[str], inputs: tuple[type, ...], given: tuple
+) -> dict:
     """The uniforms' values of a draw: exactly one instance of each declared input type,
     and a value for every ``active`` uniform."""
     kinds = tuple(type(g) for g in given)

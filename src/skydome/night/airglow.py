@@ -25,6 +25,7 @@ from skydome.astro.photometry import (  # noqa: F401 (the night sky's units, re-
 from skydome.errors import ParameterError, check_range
 from skydome.physics.constants import EARTH_MEAN_RADIUS_M as EARTH_RADIUS_M
 from skydome.physics.refraction import horizon_dip_sin
+from skydome.spectra.tables import WAVELENGTH_MAX_NM, WAVELENGTH_MIN_NM, solar_irradiance
 
 # ---------------------------------------------------------------------- geometry
 
@@ -181,7 +182,6 @@ def bin_relative_to_sun(grid_nm, radiance, wavelengths_nm) -> np.ndarray:
     the solar spectrum are both averaged with the hat weights of linear interpolation between
     the samples (flat beyond the ends, as spectral_to_rgbs_matrix interpolates), and divided.
     A spectrum of the solar shape gives exactly 1 at every sample."""
-    from skydome.spectra.tables import WAVELENGTH_MAX_NM, WAVELENGTH_MIN_NM, solar_irradiance
 
     wl = np.asarray(wavelengths_nm, dtype=np.float64)
     g = np.asarray(grid_nm, dtype=np.float64)

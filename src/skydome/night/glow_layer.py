@@ -25,18 +25,20 @@ from skydome.core.cameras import CameraInputs
 from skydome.core.layer import BehindInputs, DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.core.refraction_table import AirlessTableInputs, RefractionTable
+from skydome.errors import check_range
 from skydome.gpu.inputs import ShaderInputs
 from skydome.night import airglow as ag
 from skydome.night import light_pollution as lp
 from skydome.night import zodiacal as zl
 from skydome.physics.packing import mat3
 from skydome.physics.refraction import horizon_dip_sin
+from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
+from skydome.spectra.tables import photopic_efficiency, solar_irradiance
 
 
 def _solar_luminance(basis: SpectralBasis) -> float:
     """Photopic luminance (cd/m^2) of transfer values of 1 at every wavelength (the tabulated
     solar spectrum), in the basis's own RGBS conversion."""
-    from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
 
     wl = basis.wavelengths_nm
     return float(SRGB_LUMINANCE @ (conversion_matrix(wl, "rgbs") @ np.ones(len(wl)))[:3])
@@ -45,7 +47,6 @@ def _solar_luminance(basis: SpectralBasis) -> float:
 def _reddened_luminance_ratio(elongation_deg: float) -> float:
     """Luminance of the reddened zodiacal spectrum over the solar one at equal 500 nm
     radiance (1 nm integration with the CIE V(lambda))."""
-    from skydome.spectra.tables import photopic_efficiency, solar_irradiance
 
     g = np.arange(360.0, 831.0, 1.0)
     sun = solar_irradiance(g) * photopic_efficiency(g)
@@ -128,14 +129,11 @@ class AirglowLayer(Layer):
     ):
         super().__init__(enabled=enabled)
         if zenith_mag_arcsec2 is not None:
-            from skydome.errors import check_range
-
             m = check_range("zenith_mag_arcsec2", zenith_mag_arcsec2, 15.0, 30.0, "mag/arcsec^2")
             zenith_s10 = 10.0 ** (-0.4 * (m - ag.S10_MAG_ARCSEC2))
         self.zenith_s10, self.solar_flux_sfu = ag.check_airglow_parameters(
             zenith_s10, solar_flux_sfu
         )
-        from skydome.errors import check_range
 
         self.height_m = check_range("airglow height_m", height_m, 50_000.0, 300_000.0, "m")
         self._colour = None
@@ -189,7 +187,6 @@ class ZodiacalLightLayer(Layer):
     shader = "night/zodiacal_light.glsl"
 
     def __init__(self, *, scale: float = 1.0, enabled: bool = True):
-        from skydome.errors import check_range
 
         super().__init__(enabled=enabled)
         self.scale = check_range("zodiacal scale", scale, 0.0, 100.0)

@@ -15,6 +15,8 @@ import numpy as np
 
 from skydome.errors import ParameterError, check_choice, check_range
 from skydome.night.airglow import bin_relative_to_sun, luminance_to_mag, mag_to_luminance
+from skydome.physics.refraction import horizon_dip_sin
+from skydome.spectra.tables import cmf_xyz, photopic_efficiency, scotopic_efficiency
 
 #: Natural zenith sky at a dark site at sunspot minimum, V mag/arcsec^2 (Benn & Ellison 1998,
 #: La Palma Technical Note 115: V = 21.9); a Bortle class's total less this is artificial.
@@ -170,7 +172,6 @@ def lamp_relative_spectrum(lamp: str, wavelengths_nm) -> np.ndarray:
 def correlated_colour_temperature(grid_nm, spectrum) -> float:
     """CCT (K) of a spectral power distribution by McCamy's (1992, Color Res. Appl. 17, 142)
     formula from its CIE 1931 chromaticity."""
-    from skydome.spectra.tables import cmf_xyz
 
     xyz = cmf_xyz(np.asarray(grid_nm, dtype=np.float64)).T @ np.asarray(spectrum, np.float64)
     x, y = xyz[0] / xyz.sum(), xyz[1] / xyz.sum()
@@ -180,7 +181,6 @@ def correlated_colour_temperature(grid_nm, spectrum) -> float:
 
 def scotopic_photopic_ratio(grid_nm, spectrum) -> float:
     """S/P ratio: 1700 lm/W * int V'(l) S / (683 lm/W * int V(l) S)."""
-    from skydome.spectra.tables import photopic_efficiency, scotopic_efficiency
 
     g = np.asarray(grid_nm, dtype=np.float64)
     s = np.asarray(spectrum, dtype=np.float64)
@@ -259,7 +259,6 @@ class LightPollution:
     def luminance(self, directions_enu, observer_height_m: float = 0.0) -> np.ndarray:
         """Artificial luminance (cd/m^2) seen in unit ENU ``directions_enu`` (..., 3); 0 where
         the ray meets the ground."""
-        from skydome.physics.refraction import horizon_dip_sin
 
         d = np.asarray(directions_enu, dtype=np.float64)
         z = np.arccos(np.clip(d[..., 2], -1.0, 1.0))

@@ -16,7 +16,11 @@ from importlib import resources
 
 import numpy as np
 
+from skydome.astro import frames
+from skydome.astro.sun import sun_apparent_geocentric
+from skydome.astro.time import gast
 from skydome.night.airglow import bin_relative_to_sun, s10_to_luminance
+from skydome.spectra.tables import solar_irradiance
 
 #: 1 S10 (solar-type spectrum) at 500 nm in the table's unit, 1e-8 W m^-2 sr^-1 um^-1
 #: (Leinert et al. 1998, note to table 17: 1 S10 = 1.28e-8 W m^-2 sr^-1 um^-1).
@@ -125,7 +129,6 @@ def reddening(wavelengths_nm, elongation_deg: float) -> np.ndarray:
 def zodiacal_relative_spectrum(wavelengths_nm, elongation_deg: float) -> np.ndarray:
     """The reddened solar spectrum binned onto ``wavelengths_nm``, relative to the solar
     spectrum (transfer values for SpectralBasis), normalised to 1 at 500 nm before binning."""
-    from skydome.spectra.tables import solar_irradiance
 
     grid = np.arange(360.0, 831.0, 1.0)
     radiance = solar_irradiance(grid) * reddening(grid, elongation_deg)
@@ -140,8 +143,6 @@ def enu_to_ecliptic_matrix(observer, time) -> np.ndarray:
     to the mean ecliptic and equinox of date: ENU = E N(t) R1(-eps_A) ecl, with E the true
     equator -> ENU matrix of the local apparent sidereal time (frames.equatorial_to_enu_matrix)
     and N the nutation matrix (IAU 1980, as skydome.astro.Observer uses)."""
-    from skydome.astro import frames
-    from skydome.astro.time import gast
 
     jd_tt = float(np.asarray(time.jd_tt).ravel()[0])
     jd_ut1 = float(np.asarray(time.jd_ut1).ravel()[0])
@@ -153,7 +154,6 @@ def enu_to_ecliptic_matrix(observer, time) -> np.ndarray:
 
 def sun_ecliptic_longitude(time) -> float:
     """The Sun's apparent geocentric ecliptic longitude (rad) at ``time`` (skydome.astro.sun)."""
-    from skydome.astro.sun import sun_apparent_geocentric
 
     jd_tt = float(np.asarray(time.jd_tt).ravel()[0])
     return float(sun_apparent_geocentric(jd_tt)["lon"])

@@ -27,6 +27,9 @@ import math
 
 import numpy as np
 
+from skydome.clouds.ms_table import ms_source
+from skydome.clouds.phase import PEAK_FRACTION, RENDER_PHASE
+
 
 def two_stream_gammas(g_scaled: float, mu0: float) -> tuple[float, float, float]:
     """Meador & Weaver's Eddington gamma1 (= gamma2 at albedo 1), gamma3, gamma4."""
@@ -83,8 +86,6 @@ def source(tau, tau_total, mu0, mu_view_up, nu, cos_phi, albedo=0.0, sky=0.0):
     ``cos_phi`` from the light's: the exact single scattering (RENDER_PHASE), the Monte Carlo
     table's orders >= 2 (skydome.clouds.ms_table), the ground's light and the sky's (diffuse
     irradiance ``sky`` per unit E0) from the two-stream field of RENDER_PHASE's moments."""
-    from skydome.clouds.ms_table import ms_source
-    from skydome.clouds.phase import RENDER_PHASE
 
     g, f = RENDER_PHASE.asymmetry, RENDER_PHASE.second_moment
     g_scaled = (g - f) / (1.0 - f)
@@ -109,7 +110,6 @@ def slab_radiance(tau_total, mu0, direction, *, albedo=0.0, steps=4000):
     (-sqrt(1 - mu0^2), 0, -mu0)): reflected for direction.z > 0, transmitted (diffuse) for
     direction.z < 0. The source is integrated along the ray in the scaled optical depth
     (1 - PEAK_FRACTION) tau_total (midpoint rule, exact attenuation per step)."""
-    from skydome.clouds.phase import PEAK_FRACTION
 
     d = np.asarray(direction, dtype=np.float64)
     mu = float(d[2])

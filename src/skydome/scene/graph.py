@@ -39,14 +39,19 @@ from skydome.core.cameras import (
 )
 from skydome.core.frame import Frame
 from skydome.core.layer import STAGES, DrawContext, Layer
-from skydome.core.services import VolumeInputs
+from skydome.core.services import AirService, VolumeInputs
 from skydome.core.tiles import TILE_SIZE, frame_tiles, input_image, input_texture
-from skydome.display.exposure import DEFAULT_KEY, scale_to_ev100
+from skydome.display.exposure import DEFAULT_KEY, auto_exposure, scale_to_ev100
+from skydome.display.gpu_exposure import GpuExposure
+from skydome.display.gpu_tonemap import GpuToneMapper, gpu_tonemap, upload_frame
+from skydome.display.night_vision import NightVision
+from skydome.display.overlays import Overlays, parse_overlays
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass, shared_context
 from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.textures import release_all
 from skydome.physics.constants import M_PER_KM
+from skydome.spectra.grids import wavelengths
 
 
 @dataclass(frozen=True)
@@ -146,8 +151,6 @@ class FrameGraph:
             layer.prepare(self)
         self.basis = basis or self._default_basis()
         if solar_scale is None:
-            from skydome.core.services import AirService
-
             air = self.find_service(AirService)
             self.solar_scale = 1.0 if air is None else float(air.solar_scale)
 
@@ -156,7 +159,6 @@ class FrameGraph:
             basis = getattr(layer, "spectral_basis", None)
             if basis is not None:
                 return basis
-        from skydome.spectra.grids import wavelengths
 
         return SpectralBasis.for_wavelengths(wavelengths("accurate"))
 
@@ -462,7 +464,6 @@ class FrameGraph:
     ):
         """The 8-bit image of a frame (a texture in GL rows, or the read-back frame):
         night vision, tone map and overlays on the GPU, one read-back."""
-        from skydome.display.gpu_tonemap import gpu_tonemap, upload_frame
 
         overlays = self._overlay_pass(state)
         if not self.night_vision and overlays is None:
@@ -484,7 +485,6 @@ class FrameGraph:
         if isinstance(exposure, str):
             if exposure != "auto":
                 raise ParameterError(f"exposure {exposure!r} must be 'auto' or a scale in m^2/cd")
-            from skydome.display.exposure import auto_exposure
 
             if texture is None:  # several tiles: the same average over the read-back frame
                 return auto_exposure(data, compensation_ev=compensation_ev)
@@ -495,8 +495,6 @@ class FrameGraph:
 
     def exposure_pass(self):
         if self._exposure is None:
-            from skydome.display.gpu_exposure import GpuExposure
-
             self._exposure = GpuExposure(self.ctx)
         return self._exposure
 
@@ -527,7 +525,6 @@ class FrameGraph:
         (:meth:`frame_texture`): only the post passes run (a viewer's static view shown at a
         new exposure).
         Returns the exposure scale used (m^2/cd) when it is known on the CPU, else None."""
-        from skydome.display.gpu_tonemap import GpuToneMapper
 
         w, h = size or tuple(framebuffer.viewport[2:]) or framebuffer.size
         if texture is None:
@@ -576,8 +573,6 @@ class FrameGraph:
         if overlays is not None:
             names: tuple[str, ...] = ()
             if overlays:
-                from skydome.display.overlays import parse_overlays
-
                 text = overlays if isinstance(overlays, str) else ",".join(overlays)
                 names = parse_overlays(text)
             if names != self.overlays and self._overlays is not None:
@@ -593,7 +588,6 @@ class FrameGraph:
         when ``measured``: the exposure pass holds this texture's average)."""
         if not self.night_vision:
             return texture
-        from skydome.display.night_vision import NightVision
 
         if self._night_vision is None:
             self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
@@ -614,7 +608,6 @@ class FrameGraph:
         """The overlays, updated for ``state``; None when there are none."""
         if not self.overlays:
             return None
-        from skydome.display.overlays import Overlays
 
         if self._overlays is None:
             self._overlays = Overlays(self.ctx, self.overlays)

@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass, field, replace
 
 from skydome.core.cameras import MAX_ALTITUDE_M, EquirectCamera, FisheyeCamera, PerspectiveCamera
+from skydome.display import TONEMAPS
 from skydome.errors import ParameterError
 
 #: Projections the viewer offers (the cube map's strip is not a view).
@@ -295,7 +296,6 @@ class Controls:
 
 def clamped(s: ViewState) -> ViewState:
     """``s`` with every number in the viewer's ranges and every choice a valid one."""
-    from skydome.display import TONEMAPS
 
     jd = None if s.jd_utc is None else clamp(s.jd_utc, *JD_RANGE)
     lat = None if s.latitude_deg is None else clamp(s.latitude_deg, *LAT_RANGE)

@@ -5,6 +5,8 @@ Each finds the first event strictly after a time, from ``skydome.astro.events``.
 
 from __future__ import annotations
 
+from skydome.astro.events import moon_phases, rise_set
+from skydome.astro.time import Time
 from skydome.errors import ParameterError
 
 #: The events the viewer can jump to, and how far ahead each is looked for (days).
@@ -18,8 +20,6 @@ def next_event(observer, jd_utc: float, kind: str) -> float | None:
     """The UTC Julian Date of the first ``kind`` (a key of JUMPS) after ``jd_utc`` seen by
     ``observer`` (the full Moon needs none: pass any), or None when there is none within
     the search span (a polar day has no sunset)."""
-    from skydome.astro.events import moon_phases, rise_set
-    from skydome.astro.time import Time
 
     if kind not in JUMPS:
         raise ParameterError(f"jump {kind!r} must be one of {', '.join(JUMPS)}")

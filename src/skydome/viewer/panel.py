@@ -19,7 +19,13 @@ from __future__ import annotations
 
 import math
 import time as _time
+from datetime import datetime, timezone
 
+from skydome.astro.places import search
+from skydome.astro.time import Time, to_time
+from skydome.atmosphere.presets import PRESETS
+from skydome.display import TONEMAPS
+from skydome.display.overlays import OVERLAYS
 from skydome.viewer import require
 from skydome.viewer.controls import (
     COMPENSATION_RANGE,
@@ -35,6 +41,7 @@ from skydome.viewer.controls import (
     VIEW_FOV_RANGE_DEG,
     VIEW_PITCH_RANGE_DEG,
 )
+from skydome.viewer.imgui_gl import ImguiPlatform, ImguiRenderer
 from skydome.viewer.rebuild import KNOB_RANGES, AtmosphereRebuild, Knobs, build_sky, clamp_knobs
 
 #: Panel width (window units) and where it sits.
@@ -47,7 +54,6 @@ class Panel:
 
     def __init__(self, window):
         imgui = require("imgui_bundle", "imgui-bundle").imgui
-        from skydome.viewer.imgui_gl import ImguiPlatform, ImguiRenderer
 
         self.imgui = imgui
         self.context = imgui.create_context()
@@ -210,7 +216,6 @@ class Panel:
             if changed:
                 c.set(sun_azimuth_deg=az)
             return
-        from skydome.astro.time import Time, to_time
 
         if self._time_text_jd != s.jd_utc and not imgui.get_io().want_text_input:
             self.time_text = str(Time.from_utc(s.jd_utc).iso())
@@ -232,8 +237,6 @@ class Panel:
                 c.set(jd_utc=s.jd_utc + days)
             imgui.same_line()
         if imgui.button("Now"):
-            from datetime import datetime, timezone
-
             c.set(jd_utc=float(to_time(datetime.now(timezone.utc)).jd_utc))
         hours = (s.jd_utc - 0.5) % 1.0 * 24.0
         changed, h = imgui.slider_float("hour (UTC)", hours, 0.0, 24.0, "%.2f h", _clamp(imgui))
@@ -292,7 +295,6 @@ class Panel:
         changed, text = imgui.input_text("search", self.search_text)
         if changed:
             self.search_text = text
-            from skydome.astro.places import search
 
             self.search_results = search(text, limit=8) if text.strip() else []
         for p in self.search_results:
@@ -353,7 +355,6 @@ class Panel:
         if self.knobs is None:
             self.knobs = Knobs.of(scene.base.layer("atmosphere").params)
         k = self.knobs
-        from skydome.atmosphere.presets import PRESETS
 
         names = list(PRESETS)
         edited = False
@@ -408,7 +409,6 @@ class Panel:
 
     def _display(self, scene) -> None:
         imgui = self.imgui
-        from skydome.display import TONEMAPS
 
         c = scene.controls
         s = c.state
@@ -435,7 +435,6 @@ class Panel:
         changed, v = imgui.checkbox("night vision", s.night_vision)
         if changed:
             c.set(night_vision=v)
-        from skydome.display.overlays import OVERLAYS
 
         for name in OVERLAYS:
             changed, on = imgui.checkbox(f"overlay: {name}", name in s.overlays)

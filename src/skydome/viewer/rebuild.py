@@ -15,7 +15,16 @@ import multiprocessing as mp
 import queue as queue_module
 from dataclasses import dataclass, replace
 
+import numpy as np
+
+from skydome.atmosphere import preset
+from skydome.atmosphere.params import AtmosphereParams
+from skydome.atmosphere.presets import PRESETS
+from skydome.atmosphere.tables import load_tables
 from skydome.errors import ParameterError
+from skydome.gpu import shared_context
+from skydome.sky import Sky
+from skydome.viewer.controls import clamp
 
 #: The panel's atmosphere knobs and their ranges: ground albedo, the Mie amount (aerosol
 #: optical depth at 550 nm) and asymmetry g, the ozone column (DU), and a factor on the
@@ -44,7 +53,6 @@ class Knobs:
 
     @classmethod
     def of_preset(cls, name: str) -> Knobs:
-        from skydome.atmosphere import preset
 
         return cls.of(preset(name))
 
@@ -52,8 +60,6 @@ class Knobs:
     def of(cls, params) -> Knobs:
         """The knobs of ``params``, against its preset's own values (``params.name``; a
         params of no preset is its own base)."""
-        from skydome.atmosphere import preset
-        from skydome.atmosphere.presets import PRESETS
 
         values = _knob_values(params)
         base = _knob_values(preset(params.name)) if params.name in PRESETS else values
@@ -61,7 +67,6 @@ class Knobs:
 
     def params(self):
         """The AtmosphereParams: the preset with the knobs that differ from its own."""
-        from skydome.atmosphere import preset
 
         b = self.base or (None,) * 5
         changed = lambda i, v: v if b[i] is None or abs(v - b[i]) > 1e-9 else None  # noqa: E731
@@ -79,7 +84,6 @@ class Knobs:
 
 
 def _knob_values(params) -> tuple[float, ...]:
-    import numpy as np
 
     return (
         float(np.mean(params.ground_albedo.values)),
@@ -92,7 +96,6 @@ def _knob_values(params) -> tuple[float, ...]:
 
 def clamp_knobs(knobs: Knobs, **changes: float) -> Knobs:
     """``knobs`` with ``changes``, every knob clamped to KNOB_RANGES."""
-    from skydome.viewer.controls import clamp
 
     values = {f: getattr(knobs, f) for f in KNOB_RANGES}
     values.update(changes)
@@ -101,8 +104,6 @@ def clamp_knobs(knobs: Knobs, **changes: float) -> Knobs:
 
 def _precompute(params, config, messages) -> None:  # runs in the child process
     try:
-        from skydome.atmosphere.tables import load_tables
-        from skydome.gpu import shared_context
 
         def progress(stage: str, fraction: float) -> None:
             messages.put(("progress", str(stage), float(fraction)))
@@ -139,7 +140,6 @@ class AtmosphereRebuild:
     def start(self, params, config=None) -> None:
         """Compute the tables of ``params`` (an AtmosphereParams) and ``config`` in the
         background (stopping a rebuild under way)."""
-        from skydome.atmosphere.params import AtmosphereParams
 
         if not isinstance(params, AtmosphereParams):
             raise ParameterError(f"a rebuild needs AtmosphereParams, got {type(params).__name__}")
@@ -206,7 +206,6 @@ def build_sky(template, params, config=None):
     """A Sky like ``template`` (its description: place, time, layers, clouds and display;
     its context) with the atmosphere ``params`` and tables ``config``: its tables load from
     the cache when a rebuild put them there."""
-    from skydome.sky import Sky
 
     changes = {"atmosphere": params}
     if config is not None:

@@ -12,10 +12,18 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
+from skydome.astro import Observer
+from skydome.astro.time import Time
 from skydome.core.frame import Frame
+from skydome.display.adaptation import EyeAdaptation
+from skydome.display.exposure import scale_to_ev100
 from skydome.errors import ParameterError
-from skydome.sky import Sky
+from skydome.scene.state import abstract_state, state_at
+from skydome.sky import Sky, default_look, exposure_scale
 from skydome.viewer.controls import Controls, ViewState
+from skydome.viewer.jumps import next_event
 
 #: The most the Sun or the Moon may move (deg) before a new time is drawn: a tenth of
 #: their disks' diameter (less when half a pixel of the view is less).
@@ -26,7 +34,6 @@ def initial_state(sky: Sky, **overrides: Any) -> ViewState:
     """A ViewState for ``sky``'s place and time, the camera on what ``skydome render``
     would look at (the Sun, or at night the Moon when it is up, else south); then
     ``overrides`` (ViewState fields)."""
-    from skydome.sky import default_look
 
     state = sky.state
     fields: dict[str, Any] = {}
@@ -62,7 +69,6 @@ class ViewerScene:
     """
 
     def __init__(self, sky: Sky, controls: Controls | None = None):
-        from skydome.display.adaptation import EyeAdaptation
 
         self.base = sky
         self.controls = controls or Controls(initial_state(sky))
@@ -91,8 +97,6 @@ class ViewerScene:
             return None
         key = (s.latitude_deg, s.longitude_deg, s.elevation_m)
         if key != self._observer_key:
-            from skydome.astro import Observer
-
             base = self.base.observer
             weather = {}
             if base is not None:
@@ -119,14 +123,9 @@ class ViewerScene:
             key = (s.jd_utc, s.latitude_deg, s.longitude_deg, s.elevation_m)
         if (key != self._key or self._sky is None) and not (not s.abstract and self._hold(key)):
             if s.abstract:
-                from skydome.scene.state import abstract_state
-
                 state = abstract_state(s.sun_elevation_deg, s.sun_azimuth_deg)
                 self._sky = Sky._view(self.base, state)
             else:
-                from skydome.astro.time import Time
-                from skydome.scene.state import state_at
-
                 state = self._pending or state_at(self.observer(), Time.from_utc(s.jd_utc))
                 self._sky = Sky._view(self.base, state)
             self._key = key
@@ -147,10 +146,6 @@ class ViewerScene:
         from the state drawn, while the time plays: then the drawn state is kept and its tables are not re-aimed
         (a time running slowly costs one astronomy call a frame, not a re-aim). Otherwise
         the new state is kept in ``_pending`` for :meth:`sky`."""
-        import numpy as np
-
-        from skydome.astro.time import Time
-        from skydome.scene.state import state_at
 
         self._pending = None
         s = self.controls.state
@@ -184,7 +179,6 @@ class ViewerScene:
     def jump(self, kind: str) -> bool:
         """Set the time to the next ``kind`` (``viewer.jumps.JUMPS``: sunrise, sunset,
         moonrise, moonset, full_moon); False when there is none ahead (or no place)."""
-        from skydome.viewer.jumps import next_event
 
         s = self.controls.state
         if s.abstract:
@@ -209,8 +203,6 @@ class ViewerScene:
         if s.exposure_mode == "ev":
             return s.ev100, s.compensation_ev
         if s.exposure_mode == "adapt" and self.eye.adapted_luminance is not None:
-            from skydome.display.exposure import scale_to_ev100
-
             return scale_to_ev100(self.eye.exposure_scale(0.0)), s.compensation_ev
         return "auto", s.compensation_ev
 
@@ -229,8 +221,6 @@ class ViewerScene:
         8-bit target, which is copied (a blit) into ``framebuffer`` for as long as nothing
         changes. When only the display changes (an exposure, the tone map, night vision,
         overlays) the post passes alone run again, from the kept float frame."""
-        from skydome.display.exposure import scale_to_ev100
-        from skydome.sky import exposure_scale
 
         s = self.controls.state
         self.view_width_px = int(size[0])

@@ -12,11 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
+from skydome.display.gpu_tonemap import read_rgb8
+from skydome.io import WRITERS, check_output_path, write_outputs
+
 
 def read_screen(framebuffer, size: tuple[int, int]) -> np.ndarray:
     """The RGB pixels of ``framebuffer`` over (0, 0, w, h) as uint8 (h, w, 3), top row
     first."""
-    from skydome.display.gpu_tonemap import read_rgb8
 
     w, h = size
     pixels = read_rgb8(framebuffer, w, h)
@@ -31,7 +33,6 @@ def read_screen(framebuffer, size: tuple[int, int]) -> np.ndarray:
 
 def wants_hdr(paths) -> bool:
     """Whether any of ``paths`` is an HDR format (.exr, .hdr, .npy)."""
-    from skydome.io import WRITERS
 
     return any(WRITERS[Path(p).suffix.lower()].hdr for p in paths)
 
@@ -40,7 +41,6 @@ def save(paths, image: np.ndarray, scene=None, *, metadata: dict | None = None) 
     """Write ``image`` (the screen's uint8 pixels) to the 8-bit paths, and the frame of
     ``scene``'s state at the image's size (cd/m^2) to the HDR ones; atomically, each
     format by its extension. Returns the written paths."""
-    from skydome.io import check_output_path, write_outputs
 
     checked = [check_output_path(p) for p in paths]
     data = None

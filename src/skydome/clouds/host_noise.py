@@ -1,10 +1,12 @@
-"""Float64 twin of ``shaders/clouds/noise_common.glsl``: the same hash, gradient (Perlin)
-noise, cellular (Worley) noise and fBm, evaluated with NumPy at given points.
+"""The clouds' noise on the host: ``shaders/clouds/noise_common.glsl``'s hash, gradient
+(Perlin) noise, cellular (Worley) noise and fBm in float64 NumPy at given points.
 
-The hash is integer arithmetic modulo 2^32, so it is bit-identical to the GLSL; the
-noise values then differ from the float32 shaders only by float32 rounding. Points are
-arrays of shape (..., 3) in lattice units (texture coordinates times the period) and must
-be >= 0, as in the shaders. Slow and obvious: for tests, never the production path.
+The weather map's generator (``skydome.clouds.weather``) makes its host-side noise with it,
+and the tests hold the GLSL noise to it (it is the shaders' float64 twin). The hash is
+integer arithmetic modulo 2^32, so it is bit-identical to the GLSL; the noise values then
+differ from the float32 shaders only by float32 rounding. Points are arrays of shape
+(..., 3) in lattice units (texture coordinates times the period) and must be >= 0, as in
+the shaders.
 """
 
 from __future__ import annotations
