@@ -6,19 +6,21 @@ Usage: python benchmarks/bench_scene.py [--repeats 9] [--no-timelapse]
 Prints the GL device, then:
 - frames at 1280 x 720 of a Sky at Valletta, 2018-03-09 06:00 UTC (the Sun 7 deg and a
   waning Moon 33 deg up, both in the view), read back: the scene (both lights, both disks),
-  its atmosphere layer alone (both lights), and, for scale, the precomputed renderer's frame
-  with the Sun's light only; the budget is scene <= 1.15 x the atmosphere alone;
+  its atmosphere layer alone (both lights), and, for scale, a Sky of the atmosphere layer
+  alone lit by the Sun only; the budget is scene <= 1.15 x the atmosphere alone;
 - ``at(t)``: a new time (astronomy, the Moon's disk integral, the sky-view tables re-aimed at
   both lights), GPU work finished;
 - ``draw 1920x1080``: Sky.draw into an offscreen 8-bit framebuffer (no read-back; GPU
   exposure and tone mapping), GPU work finished;
 - ``timelapse``: ``skydome timelapse`` of 24 hours at 1-minute steps (1441 frames) at
-  640 x 360 to MP4, wall time of the command in this process.
+  640 x 360 to MP4, wall time of the command (a process of its own).
 """
 
 from __future__ import annotations
 
 import argparse
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -26,7 +28,9 @@ from pathlib import Path
 from timing import draw_ms, median_ms
 
 from skydome import Sky
-from skydome.atmosphere.precomputed import PrecomputedRenderer
+from skydome.atmosphere.layer import AtmosphereLayer
+from skydome.celestial.moon import MoonLayer
+from skydome.celestial.sun import SunLayer
 from skydome.core.cameras import PerspectiveCamera
 from skydome.gpu import gl_info
 from skydome.scene.state import state_series
@@ -48,11 +52,15 @@ def main() -> None:
     cam = PerspectiveCamera(
         fov_deg=120.0, yaw_deg=0.5 * (sun.azimuth_deg + moon.azimuth_deg), pitch_deg=20.0
     )
-    air = sky.layer("atmosphere").renderer
-    alone = PrecomputedRenderer(air.params, air.config, ctx=ctx)
+    air = sky.layer("atmosphere")
+    # The same air and tables, lit by the Sun alone (its direction and distance this morning).
+    alone = Sky(
+        sun_elevation_deg=sun.elevation_deg, sun_azimuth_deg=sun.azimuth_deg, ctx=ctx,
+        layers=[AtmosphereLayer(air.params, config=air.sky.config)],
+    )  # fmt: skip
 
     def renderer_frame():
-        alone.render(cam, 1280, 720, sun_direction=sun.direction_true, altitude_m=57.7)
+        alone.render(cam, 1280, 720, altitude_m=sky.altitude_m(), exposure=None)
 
     def scene_frame():
         sky.render(cam, 1280, 720, exposure=None)
@@ -75,7 +83,7 @@ def main() -> None:
         runs["air"].append(median_ms(atmosphere_layer_frame, args.repeats // 3 or 1))
         runs["scene"].append(median_ms(scene_frame, args.repeats // 3 or 1))
     r_ms, a_ms, s_ms = (sorted(v)[1] for v in runs.values())
-    print(f"precomputed renderer frame 1280x720 (the Sun's sky and disk): {r_ms:.1f} ms")
+    print(f"atmosphere layer lit by the Sun alone 1280x720: {r_ms:.1f} ms")
     print(f"atmosphere layer alone 1280x720 (sky lit by the Sun and the Moon): {a_ms:.1f} ms")
     print(
         f"scene frame 1280x720 (+ Sun and Moon disks): {s_ms:.1f} ms, "
@@ -92,17 +100,14 @@ def main() -> None:
             later = base.at(f"2018-03-09T07:{next(minute) % 60:02d}:00Z")
             later.graph.update(later.state)
             layer = later.layer("atmosphere")
-            layer.renderer.frame_plan(cam, (64, 36), altitude_m=57.7, **layer._lights)
+            layer.sky.frame_plan(later.altitude_m(), layer.lights())
             ctx.finish()
+            later.release()
 
         return step
 
     at_ms = median_ms(new_time(sky), args.repeats)
     print(f"at(t) (astronomy + Moon integral + sky-view tables): {at_ms:.1f} ms")
-    from skydome.atmosphere.layer import AtmosphereLayer
-    from skydome.celestial.moon import MoonLayer
-    from skydome.celestial.sun import SunLayer
-
     air_small = AtmosphereLayer(air.params, sky_view_size=(128, 128))
     small = Sky(PLACE, TIME, layers=[SunLayer(), MoonLayer(), air_small])
     small_ms = median_ms(new_time(small), args.repeats)
@@ -115,15 +120,14 @@ def main() -> None:
     print(f"draw 1920x1080 (no read-back): {draw_ms(sky, cam, (1920, 1080), args.repeats):.1f} ms")
 
     if not args.no_timelapse:
-        from tests.cli_helpers import run_cli
-
         with tempfile.TemporaryDirectory() as d:
             out = Path(d) / "day.mp4"
             t0 = time.perf_counter()
-            r = run_cli(
-                "timelapse", "--lat", "35.8989", "--lon", "14.5146", "--start",
-                "2018-03-01T00:00Z", "--end", "2018-03-02T00:00Z", "--step", "1min",
-                "--size", "640x360", "-o", str(out),
+            r = subprocess.run(
+                [sys.executable, "-m", "skydome", "timelapse", "--lat", "35.8989",
+                "--lon", "14.5146", "--start", "2018-03-01T00:00Z", "--end", "2018-03-02T00:00Z", "--step", "1min",
+                "--size", "640x360", "-o", str(out)],
+                capture_output=True, text=True,
             )  # fmt: skip
             wall = time.perf_counter() - t0
             if r.returncode != 0:
