@@ -33,7 +33,7 @@ chain the star catalogue uses (frame bias < 0.02" neglected). -> ENU with the lo
 sidereal time (skydome.astro.time.gast + east longitude). Annual aberration (<= 20.5") is left
 out: the map's pixels are 0.18 deg. The shader gets one mat3 (ENU -> galactic) per update
 and looks up each pixel's airless direction (refraction from a table over the sine of the
-apparent elevation, skydome.render.refraction).
+apparent elevation, skydome.physics.refraction).
 """
 
 from __future__ import annotations

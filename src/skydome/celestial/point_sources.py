@@ -294,7 +294,7 @@ class PointSources:
         occluder=None,
         cache_key=None,
     ) -> None:
-        """Add the sources' light to ``frame`` (a ``scene.layer.DrawContext``).
+        """Add the sources' light to ``frame`` (a ``skydome.core.layer.DrawContext``).
 
         Args:
             frame: the tile to draw into (its camera, frame size, tile and framebuffer).

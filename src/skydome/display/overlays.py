@@ -30,7 +30,7 @@ GL rows), never into a frame's cd/m^2, and are off unless asked for:
   in pixels from the local pixel scale.
 
 In the abstract mode (``state.observer`` None) only the grid is drawn. A
-:class:`~skydome.render.cameras.DirectionsCamera` has no image plane: nothing is drawn.
+:class:`~skydome.core.cameras.DirectionsCamera` has no image plane: nothing is drawn.
 """
 
 from __future__ import annotations

@@ -388,7 +388,7 @@ def tonemap(frame: np.ndarray, name: str, exposure_scale: float, **params: float
     Args:
         frame: (H, W, 4) float frame (linear sRGB in cd/m^2, channel 3 scotopic and ignored
             here), row 0 at the top; (H, W, 3) also accepted, and any object with a
-            ``.data`` array (``skydome.render.Frame``). Must be finite.
+            ``.data`` array (``skydome.core.frame.Frame``). Must be finite.
         name: an operator of ``TONEMAPS`` (ParameterError listing them otherwise).
         exposure_scale: m^2/cd, from ``ev100_to_scale`` or ``auto_exposure``.
         **params: operator parameters (see each operator; unknown names -> ParameterError).

@@ -75,7 +75,7 @@ X264_PRESETS = (
     "slower",
     "veryslow",
 )
-#: Largest frame side accepted (the renderer's limit, skydome.render.cameras.MAX_SIDE).
+#: Largest frame side accepted (the renderer's limit, skydome.core.cameras.MAX_SIDE).
 MAX_VIDEO_SIDE = 16384
 #: Frame rates accepted, frames per second.
 FPS_RANGE = (0.1, 1000.0)
