@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import ast
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -140,3 +142,18 @@ def test_function_level_imports_only_at_the_front_ends():
     allowed = ("cli/", "viewer/", "__init__.py")
     lazy = [f"{a}:{line} -> {b}" for a, b, line, is_lazy in EDGES if is_lazy]
     assert all(x.startswith(allowed) for x in lazy), [x for x in lazy if not x.startswith(allowed)]
+
+
+def test_the_package_root_forwards_exactly_the_public_face():
+    # `skydome/__init__.py` lists the public names without importing them (the command line
+    # starts without NumPy) and forwards each, on first use, to `skydome.api`: the two lists
+    # are one list, and every name resolves to the same object. Run in a fresh interpreter:
+    # importing the root must not import NumPy.
+    code = (
+        "import sys, skydome, skydome.api as api\n"
+        "assert skydome.__all__ == api.__all__, set(skydome.__all__) ^ set(api.__all__)\n"
+        "assert all(getattr(skydome, n) is getattr(api, n) for n in api.__all__)\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
+    bare = "import sys, skydome; assert 'numpy' not in sys.modules, 'numpy imported'"
+    subprocess.run([sys.executable, "-c", bare], check=True)
