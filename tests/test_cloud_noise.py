@@ -10,9 +10,9 @@ import moderngl
 import numpy as np
 import pytest
 
+from skydome.clouds import lattice_noise as ref
 from skydome.clouds import noise as cn
 from skydome.errors import ParameterError
-from skydome.reference import cloud_noise as ref
 
 N = 32  # small textures: llvmpipe on 2 cores
 

@@ -67,6 +67,7 @@ from skydome.atmosphere.uniforms import (
 from skydome.errors import CacheError, ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.textures import copy_array_to_3d, linear_clamped, release_unbound
+from skydome.physics.packing import mat4, mat4_groups
 from skydome.spectra import LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, spectral_to_rgbs_matrix
 
 __all__ = [
@@ -129,17 +130,6 @@ def table_matrix(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
     to_xyzs = np.eye(4)
     to_xyzs[:3, :3] = LINEAR_SRGB_TO_XYZ
     return to_xyzs @ m
-
-
-def _mat4(m: np.ndarray) -> list[float]:
-    """A 4x4 matrix as a GLSL mat4 uniform (column-major)."""
-    return np.asarray(m, dtype=np.float64).T.ravel().tolist()
-
-
-def _group_mats(matrix: np.ndarray) -> list[float]:
-    """mat4 uniforms per group of 4 columns (GLSL column j = wavelength j of the group)."""
-    groups = matrix.shape[1] // 4
-    return np.concatenate([matrix[:, 4 * g : 4 * g + 4].T.ravel() for g in range(groups)]).tolist()
 
 
 def transmittance_weights(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
@@ -346,9 +336,9 @@ class PrecomputedAtmosphere:
         return {
             **geometry_uniforms(self.params),
             **spectral_uniforms(self.params, wl),
-            "u_spectral_to_rgbs": _group_mats(conversion_matrix(wl, cfg.output)),
-            "u_transmittance_to_output": _group_mats(transmittance_weights(wl, cfg.output)),
-            "u_table_to_output": _mat4(output_matrix(cfg.output)),
+            "u_spectral_to_rgbs": mat4_groups(conversion_matrix(wl, cfg.output)),
+            "u_transmittance_to_output": mat4_groups(transmittance_weights(wl, cfg.output)),
+            "u_table_to_output": mat4(output_matrix(cfg.output)),
             "u_transmittance_size": self.transmittance_size,
             "u_mu_s_min": self.mu_s_min,
             "u_mu_s_knee": math.radians(cfg.mu_s_knee_deg),
@@ -522,7 +512,7 @@ class _Precomputation:
     def _spectral(self, wl) -> dict[str, object]:
         return {
             **spectral_uniforms(self.params, wl),
-            "u_spectral_to_table": _group_mats(table_matrix(wl, self.cfg.output)),
+            "u_spectral_to_table": mat4_groups(table_matrix(wl, self.cfg.output)),
         }
 
     def _to_3d(self, arr, dtype: str = "f4"):
@@ -673,9 +663,9 @@ class _Precomputation:
         if interp is not None:
             defines.update(MS_LOG_INTERP=1, NUM_RENDER_GROUPS=self.groups)
             # one mat4 per render group: its 4 rows of ln L(render) = W ln L(samples)
-            blocks = [_mat4(interp[4 * k : 4 * k + 4]) for k in range(self.groups)]
+            blocks = [mat4(interp[4 * k : 4 * k + 4]) for k in range(self.groups)]
             uniforms["u_ms_log_interp"] = [x for b in blocks for x in b]
-            uniforms["u_render_to_table"] = _group_mats(table_matrix(self.wl, cfg.output))
+            uniforms["u_render_to_table"] = mat4_groups(table_matrix(self.wl, cfg.output))
         prog = _program(ctx, "atmosphere/precompute_ms_scattering.glsl", defines, layered=True)
         prog.draw(fbo, uniforms, {**self.t_tex, "u_density": self.j3d}, layers=(0, d))
         if cfg.ms_dtype == "f4":
@@ -704,7 +694,7 @@ class _Precomputation:
             **self._spectral(self.wl),
             **_ray_rules(cfg.single_samples),
             # Linear tables: (R, G, B, scotopic) directly.
-            "u_spectral_to_table": _group_mats(conversion_matrix(self.wl, cfg.output)),
+            "u_spectral_to_table": mat4_groups(conversion_matrix(self.wl, cfg.output)),
             "u_scattering_size": cfg.glsl_size(cfg.scattering_size),
             "u_table_scale": 1.0,
         }

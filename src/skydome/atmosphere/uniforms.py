@@ -7,8 +7,7 @@ import math
 import numpy as np
 
 from skydome.atmosphere.params import AtmosphereParams, DensityProfile
-
-M_PER_KM = 1000.0
+from skydome.physics.constants import M_PER_KM
 
 #: Samples per constituent of ``u_profile_table`` (PROFILE_TABLE_SIZE in common/atmosphere_common.glsl).
 PROFILE_TABLE_SIZE = 256

@@ -48,6 +48,7 @@ from skydome.core.layer import DrawContext, Layer
 from skydome.core.refraction_table import RefractionTable
 from skydome.errors import ParameterError
 from skydome.io.packaged import read_packaged_npz
+from skydome.physics.packing import mat3
 from skydome.scene.state import SkyState
 from skydome.spectra.blackbody import planck_relative
 
@@ -264,8 +265,7 @@ class MilkyWayLayer(Layer):
             wl = basis.wavelengths_nm
             self._colour = (basis, basis.colour(spectral_shape(wl) / solar_irradiance(wl)))
         self._uniforms = {
-            # GLSL mat3 is column-major: the columns of gal_from_enu one after the other.
-            "u_enu_to_galactic": tuple(float(v) for v in gal_from_enu.T.ravel()),
+            "u_enu_to_galactic": mat3(gal_from_enu),
             "u_colour": tuple(float(v) for v in self._colour[1] * (S10_CD_M2 * self.scale)),
         }
         self._refraction = state.refraction_scale

@@ -28,8 +28,10 @@ import numpy as np
 
 from skydome.astro.photometry import magnitude_to_lux, moon_magnitude
 from skydome.celestial.moon_albedo import albedo_at, moon_albedo_map, moon_spectral_albedo
+from skydome.celestial.surface_laws import lommel_seeliger_law
 from skydome.core.layer import DrawContext, Layer
 from skydome.physics.constants import AU_KM
+from skydome.physics.packing import mat3
 from skydome.scene.state import SkyState
 
 #: Gauss-Legendre nodes per dimension of each piece of the CPU disk integral (6 ms a call).
@@ -103,7 +105,7 @@ def disk_integrals(
         d_omega = mu * rho * rho * cb / p2 * weight
         if sunlit:
             mu0 = cb * np.cos(lam - a)
-            law = np.where(mu0 > 0.0, mu0 / np.maximum(mu0 + mu, 1e-300), 0.0)
+            law = lommel_seeliger_law(mu0, mu)
         else:
             law = 0.5
         albedo = 1.0
@@ -202,8 +204,7 @@ class MoonLayer(Layer):
             "u_moon_direction_true": tuple(float(v) for v in u),
             "u_sin_angular_radius": sin_r,
             "u_moon_to_sun": tuple(float(v) for v in view.to_sun),
-            # GLSL mat3 is column-major: the columns of enu_to_moon one after the other.
-            "u_enu_to_moon": tuple(np.asarray(enu_to_moon).T.ravel()),
+            "u_enu_to_moon": mat3(enu_to_moon),
             "u_sunlit_scale": sunlit_scale,
             "u_earthlit_scale": earthlit_scale,
             "u_colour": tuple(float(v) for v in self._colour[1]),

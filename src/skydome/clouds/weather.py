@@ -191,7 +191,7 @@ class WeatherMap:
         parameters (512^2 in 2 s on 2 CPU cores), and the threshold is a global search over the
         whole array. Its noise is the float64 twin of the shaders' (same hash and lattice).
         """
-        from skydome.reference import cloud_noise as twin
+        from skydome.clouds import lattice_noise as twin
 
         seed = check_seed(seed)
         tile_km = _check_tile(tile_km)

@@ -21,6 +21,7 @@ import numpy as np
 
 from skydome.errors import ParameterError, check_choice, check_range
 from skydome.physics.geometry import direction_from_angles
+from skydome.physics.packing import mat3
 
 __all__ = [
     "CAMERAS",
@@ -166,8 +167,7 @@ class PerspectiveCamera(Camera):
     def uniforms(self, width: float, height: float) -> dict[str, object]:
         return {
             **super().uniforms(width, height),
-            # GLSL mat3 is column-major: pass the columns one after the other.
-            "u_camera_basis": tuple(self.basis().T.ravel()),
+            "u_camera_basis": mat3(self.basis()),
             "u_tan_half_fov": math.tan(math.radians(self.fov_deg) / 2.0),
         }
 

@@ -19,12 +19,14 @@ import math
 
 import numpy as np
 
+from skydome.astro.photometry import mag_to_optical_depth, mag_to_s10
 from skydome.core.basis import SpectralBasis
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.refraction_table import RefractionTable
 from skydome.night import airglow as ag
 from skydome.night import light_pollution as lp
 from skydome.night import zodiacal as zl
+from skydome.physics.packing import mat3
 from skydome.physics.refraction import horizon_dip_sin
 from skydome.scene.state import SkyState
 
@@ -88,7 +90,7 @@ class AirglowLayer(Layer):
             from skydome.errors import check_range
 
             m = check_range("zenith_mag_arcsec2", zenith_mag_arcsec2, 15.0, 30.0, "mag/arcsec^2")
-            zenith_s10 = 10.0 ** (-0.4 * (m - ag.S10_MAG_ARCSEC2))
+            zenith_s10 = float(mag_to_s10(m))
         self.zenith_s10, self.solar_flux_sfu = ag.check_airglow_parameters(
             zenith_s10, solar_flux_sfu
         )
@@ -193,7 +195,7 @@ class ZodiacalLightLayer(Layer):
             # Node i of n at texture coordinate (i + 0.5) / n.
             "u_grid_map": ((nu - 1) / nu, (nv - 1) / nv, 0.5 / nu, 0.5 / nv),
             **self._refraction_table.uniforms(),
-            "u_enu_to_helioecliptic": self._matrix.T.ravel().tolist(),  # column-major
+            "u_enu_to_helioecliptic": mat3(self._matrix),
             "u_colour_near": _vec4(self.scale * near),
             "u_colour_far_minus_near": _vec4(self.scale * (far - near)),
         }
@@ -258,7 +260,7 @@ class LightPollutionLayer(Layer):
         uniforms = {
             "u_lp_zenith": _vec4(zenith * colour),
             "u_lp_colour": _vec4(colour),
-            "u_tau": m.extinction_mag / (2.5 * math.log10(math.e)),
+            "u_tau": float(mag_to_optical_depth(m.extinction_mag)),
             "u_dip_sin": horizon_dip_sin(frame.altitude_m),
             "u_num_cities": n,
             "u_city": cities.ravel().tolist(),
