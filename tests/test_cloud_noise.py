@@ -10,7 +10,7 @@ import moderngl
 import numpy as np
 import pytest
 
-from skydome.clouds import host_noise as ref
+from skydome.clouds import lattice_noise as ref
 from skydome.clouds import noise as cn
 from skydome.errors import ParameterError
 

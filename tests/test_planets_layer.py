@@ -9,7 +9,7 @@ Sources:
   against Meeus and JPL numbers), called here independently of the layer; the frame
   position of a direction: ``render.projection`` (the float64 twin of camera.glsl);
 - the Lommel-Seeliger disk integral: Fairbairn (2005), JRASC 99, 92
-  (``skydome.reference.disks.lommel_seeliger_phase_function``) and the Moon layer's
+  (``skydome.celestial.surface_laws.lommel_seeliger_phase_function``) and the Moon layer's
   Gauss-Legendre quadrature (``celestial.moon.disk_integrals``); the Lambert disk integral:
   Russell (1916), checked here by brute-force quadrature;
 - the planets' colours: Mallama, Krobusek & Pavlov (2017), Icarus 282, 19, Table 7 (B, V and
@@ -38,6 +38,7 @@ from skydome.celestial.planets import (
     disk_law_integral,
     planet_to_sun,
 )
+from skydome.celestial.surface_laws import lommel_seeliger_phase_function
 from skydome.core.cameras import (
     EquirectCamera,
     PerspectiveCamera,
@@ -45,7 +46,6 @@ from skydome.core.cameras import (
 from skydome.errors import ParameterError
 from skydome.reference.disks import (
     equirect_pixel_solid_angles,
-    lommel_seeliger_phase_function,
     perspective_pixel_solid_angles,
 )
 from skydome.scene import FrameGraph
@@ -93,7 +93,7 @@ def test_disk_integrals_match_quadratures(phase_deg):
     a = math.radians(phase_deg)
     r = math.radians(20.0 / 3600.0)
     omega = 2.0 * math.pi * (1.0 - math.cos(r))
-    # Lommel-Seeliger: Fairbairn's closed form (the reference twin) and the Moon layer's
+    # Lommel-Seeliger: Fairbairn's closed form (surface_laws) and the Moon layer's
     # quadrature of the same law over a sphere at finite distance (relative size 1e-4).
     ls = disk_law_integral("lommel-seeliger", a, r)
     assert ls == pytest.approx(0.5 * omega * float(lommel_seeliger_phase_function(a)), rel=1e-9)

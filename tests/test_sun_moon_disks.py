@@ -14,7 +14,7 @@ Sources:
   (the rows of tests/test_limb_darkening.py);
 - refraction: Saemundsson (1986), Meeus eq. 16.4 (skydome.astro.frames);
 - the Lommel-Seeliger disk integral: Fairbairn (2005), JRASC 99, 92, in closed form
-  (skydome.reference.disks), checked against brute-force quadrature;
+  (skydome.celestial.surface_laws), checked against brute-force quadrature;
 - the full Moon: Allen's Astrophysical Quantities / USNO, 0.26 lx at mean distance and
   phase 0 (Krisciunas & Schaefer 1991, PASP 103, 1033, V = -12.73), and Kyba, Mohar &
   Posch (2017), "How bright is moonlight?", Astron. & Geophys. 58, 1.31: up to 0.32 lx for
@@ -41,13 +41,13 @@ from skydome.astro.time import gast
 from skydome.celestial.limb_darkening import disk_normalisation, limb_darkening
 from skydome.celestial.moon import MoonLayer, disk_integrals
 from skydome.celestial.sun import SunLayer
+from skydome.celestial.surface_laws import lommel_seeliger_phase_function
 from skydome.core.basis import SpectralBasis
 from skydome.core.cameras import EquirectCamera, PerspectiveCamera
 from skydome.reference.disks import (
     disk_integral_brute_force,
     equirect_pixel_directions,
     equirect_pixel_solid_angles,
-    lommel_seeliger_phase_function,
     moon_disk_radiance,
     perspective_pixel_directions,
     perspective_pixel_solid_angles,
@@ -394,9 +394,9 @@ def test_moon_disk_quadrature_against_closed_form_lommel_seeliger(phase_deg):
 
 
 def test_closed_form_lommel_seeliger_against_brute_force():
-    # The oracle's closed form against the oracle's brute-force ray-traced grid (a sphere
+    # The closed form against the oracle's brute-force ray-traced grid (a sphere
     # of sin alpha = 1e-4, where the finite distance moves the law by < 1e-4), two methods
-    # that share nothing. Tolerance 0.3 %: the 1000-cell grid's limb error; measured
+    # that share only the law. Tolerance 0.3 %: the 1000-cell grid's limb error; measured
     # 1.4e-4 to 2.2e-4.
     s = 1e-4
     omega = 2.0 * math.pi * s * s / (1.0 + math.sqrt(1.0 - s * s))

@@ -31,14 +31,19 @@ import functools
 import numpy as np
 
 from skydome.astro._series import (
-    J2000,
     PhasorSums,
     integer_combination_plan,
     smooth,
     tables,
     vsop,
 )
-from skydome.physics.constants import AU_KM, EARTH_EQUATORIAL_RADIUS_KM
+from skydome.physics.constants import (
+    ARCSEC_RAD,
+    AU_KM,
+    EARTH_EQUATORIAL_RADIUS_KM,
+    J2000_JD,
+    JULIAN_CENTURY_DAYS,
+)
 from skydome.physics.geometry import horizontal_to_enu
 from skydome.physics.refraction import refraction_bennett, refraction_saemundsson
 
@@ -65,6 +70,7 @@ __all__ = [
     "enu_to_horizontal",
     "equatorial_to_enu_matrix",
     "geodetic_to_geocentric_km",
+    "diurnal_speed_au_per_day",
     "refraction_bennett",
     "refraction_saemundsson",
     "rot_x",
@@ -74,7 +80,7 @@ __all__ = [
     "cartesian_to_spherical",
 ]
 
-ARCSEC = np.pi / 648000.0  # radians per arcsecond
+ARCSEC = ARCSEC_RAD  # radians per arcsecond
 DEG = np.pi / 180.0
 C_KM_PER_S = 299792.458
 C_AU_PER_DAY = C_KM_PER_S * 86400.0 / AU_KM  # 173.1446... au/day
@@ -83,9 +89,10 @@ WGS84_F = 1.0 / 298.257223563  # flattening
 EARTH_OMEGA = 7.292115e-5  # rad/s, WGS84 nominal rotation rate (for diurnal velocity)
 
 
-def _t(jd_tt) -> np.ndarray:
-    """Julian centuries of TT since J2000.0 (Meeus eq. 22.1)."""
-    return (np.asarray(jd_tt, dtype=float) - J2000) / 36525.0
+def julian_centuries(jd_tt) -> np.ndarray:
+    """Julian centuries of 36525 days since J2000.0 (Meeus eq. 22.1); also
+    ``skydome.astro.time.julian_centuries``."""
+    return (np.asarray(jd_tt, dtype=float) - J2000_JD) / JULIAN_CENTURY_DAYS
 
 
 # ------------------------------------------------------------------ rotation helpers
@@ -151,7 +158,7 @@ def mean_obliquity(jd_tt) -> np.ndarray:
 
     ``jd_tt``: Julian Date(s), TT.
     """
-    t = _t(jd_tt)
+    t = julian_centuries(jd_tt)
     eps = 84381.406 + t * (
         -46.836769 + t * (-0.0001831 + t * (0.00200340 + t * (-0.000000576 + t * -0.0000000434)))
     )
@@ -178,7 +185,7 @@ def precession_matrix(jd_tt) -> np.ndarray:
 
     ``jd_tt``: Julian Date(s), TT. Frame bias (ICRS vs J2000 mean, 0.02") is neglected.
     """
-    zeta, z, theta = _precession_angles(_t(jd_tt))
+    zeta, z, theta = _precession_angles(julian_centuries(jd_tt))
     cz, sz = np.cos(zeta), np.sin(zeta)
     cZ, sZ = np.cos(z), np.sin(z)
     ct, st = np.cos(theta), np.sin(theta)
@@ -230,7 +237,7 @@ def _nutation_sums() -> PhasorSums:
 
 def _nutation_direct(jd_tt: np.ndarray) -> np.ndarray:
     """(dpsi, deps) in radians, shape (2, N), IAU 1980 series of Meeus table 22.A."""
-    t = _t(jd_tt).ravel()
+    t = julian_centuries(jd_tt).ravel()
     fund = _fundamental_args(t)
     rows = _nutation_sums()(lambda blk: fund[:, blk], t.size)
     dpsi = rows[0] + t * rows[1]
@@ -276,7 +283,7 @@ def equation_of_equinoxes(jd_tt) -> np.ndarray:
     0.00264" sin(Omega) + 0.000063" sin(2 Omega) (IERS Conventions 1996 ch. 5)."""
     jd = np.asarray(jd_tt, dtype=float)
     dpsi, _ = nutation_angles(jd)
-    om = _fundamental_args(_t(jd).ravel())[4].reshape(jd.shape)
+    om = _fundamental_args(julian_centuries(jd).ravel())[4].reshape(jd.shape)
     return (
         dpsi * np.cos(mean_obliquity(jd))
         + (0.00264 * np.sin(om) + 0.000063 * np.sin(2 * om)) * ARCSEC
@@ -469,6 +476,14 @@ def geodetic_to_geocentric_km(lat_rad, lon_rad, height_m) -> np.ndarray:
         [(n + hk) * cp * np.cos(lon), (n + hk) * cp * np.sin(lon), (n * (1 - e2) + hk) * sp],
         axis=-1,
     )
+
+
+def diurnal_speed_au_per_day(lat_rad: float, height_m: float) -> float:
+    """Eastward speed (au/day) at which the Earth's rotation carries an observer at a WGS84
+    geodetic latitude and height: EARTH_OMEGA times the distance from the axis (the velocity
+    of the diurnal aberration)."""
+    r = geodetic_to_geocentric_km(lat_rad, 0.0, height_m)
+    return float(np.hypot(r[0], r[1])) / AU_KM * EARTH_OMEGA * 86400.0
 
 
 # ------------------------------------------------------------------ refraction

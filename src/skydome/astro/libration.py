@@ -42,9 +42,9 @@ from typing import Any
 import numpy as np
 
 from skydome.astro import frames, moon, sun
-from skydome.astro._series import J2000, PhasorSums, integer_combination_plan
+from skydome.astro._series import PhasorSums, integer_combination_plan
 from skydome.astro.frames import AU_KM
-from skydome.astro.time import Time, gast
+from skydome.astro.time import Time, gast, julian_centuries
 from skydome.errors import ParameterError
 
 __all__ = [
@@ -87,7 +87,7 @@ def _arguments(jd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Fundamental arguments (rad), shape (7, ...): D, M, M', F, Omega (Meeus eqs. 47.2-47.5
     and 47.7, the expressions ch. 53 prescribes) and K1, K2 (p. 373); and the eccentricity
     factor E (eq. 47.6)."""
-    t = (jd - J2000) / 36525.0
+    t = julian_centuries(jd)
     d = 297.8501921 + t * (445267.1114034 + t * (-0.0018819 + t * (1 / 545868 - t / 113065000)))
     m = 357.5291092 + t * (35999.0502909 + t * (-0.0001536 + t / 24490000))
     mp = 134.9633964 + t * (477198.8675055 + t * (0.0087414 + t * (1 / 69699 - t / 14712000)))

@@ -23,13 +23,13 @@ import numpy as np
 
 from skydome.astro import frames
 from skydome.astro._series import (
-    J2000,
     PhasorSums,
     integer_combination_plan,
     smooth,
     tables,
     unit_phasor,
 )
+from skydome.astro.time import julian_centuries
 
 __all__ = [
     "MOON_RADIUS_KM",
@@ -77,7 +77,7 @@ def _moon_periodic_sums() -> PhasorSums:
 
 def _moon_direct(jd_tt: np.ndarray) -> np.ndarray:
     """(lambda, beta) in rad (lambda unwrapped) and distance in km; shape (3, N)."""
-    t = (np.asarray(jd_tt, dtype=float).ravel() - J2000) / 36525.0
+    t = julian_centuries(np.asarray(jd_tt, dtype=float).ravel())
     # Meeus eq. 47.1-47.5 (degrees)
     lp = 218.3164477 + t * (481267.88123421 + t * (-0.0015786 + t * (1 / 538841 - t / 65194000)))
     d = 297.8501921 + t * (445267.1114034 + t * (-0.0018819 + t * (1 / 545868 - t / 113065000)))

@@ -31,8 +31,9 @@ import numpy as np
 
 from skydome.astro import frames, moon, photometry, planets, sun
 from skydome.astro.frames import ARCSEC, AU_KM, C_AU_PER_DAY
-from skydome.astro.time import Time, gmst, to_time
+from skydome.astro.time import Time, gmst, julian_centuries, to_time
 from skydome.errors import ParameterError
+from skydome.physics.constants import ARCMIN_RAD
 
 __all__ = ["Observer", "BodyPosition", "SkyPositions", "BODIES"]
 
@@ -180,7 +181,7 @@ class Observer:
         dpsi, deps = frames.nutation_angles(jd)
         nut = frames._nutation_matrix_from(eps_a, dpsi, deps)
         ecl_to_true = nut @ frames.rot_x(-eps_a)
-        om = frames._fundamental_args(frames._t(jd))[4]
+        om = frames._fundamental_args(julian_centuries(jd))[4]
         eqeq = dpsi * np.cos(eps_a) + (0.00264 * np.sin(om) + 0.000063 * np.sin(2 * om)) * ARCSEC
         gast = gmst(t.jd_ut1.ravel(), jd) + eqeq
         r_itrs = frames.geodetic_to_geocentric_km(lat, lon, h)  # (N, 3) km
@@ -230,7 +231,7 @@ class Observer:
         p, tc = geo["pressure"], geo["temperature"]
         if enu0.ndim == 3:
             p, tc = p[:, None], tc[:, None]
-        refr = frames.refraction_saemundsson(np.degrees(alt0), p, tc) * (np.pi / 10800.0)
+        refr = frames.refraction_saemundsson(np.degrees(alt0), p, tc) * ARCMIN_RAD
         alt = alt0 + refr
         return {
             "alt": alt,

@@ -48,6 +48,8 @@ __all__ = [
     "luminance_to_mag",
     "s10_to_mag",
     "s10_to_luminance",
+    "mag_to_s10",
+    "mag_to_optical_depth",
 ]
 
 SOLAR_CONSTANT_W_M2 = 1361.0
@@ -128,6 +130,18 @@ def s10_to_mag(s10) -> np.ndarray:
     """V mag/arcsec^2 of a brightness in S10 units."""
     with np.errstate(divide="ignore"):
         return S10_MAG_ARCSEC2 - 2.5 * np.log10(np.asarray(s10, dtype=np.float64))
+
+
+def mag_to_s10(mag_arcsec2) -> np.ndarray:
+    """Brightness in S10 units of a V surface brightness (mag/arcsec^2): the inverse of
+    :func:`s10_to_mag`."""
+    return 10.0 ** (-0.4 * (np.asarray(mag_arcsec2, dtype=np.float64) - S10_MAG_ARCSEC2))
+
+
+def mag_to_optical_depth(extinction_mag) -> np.ndarray:
+    """Optical depth tau of an extinction in magnitudes: a loss of m mag is a factor
+    10^(-0.4 m) = exp(-tau), so tau = m / (2.5 log10 e) = 0.921 m."""
+    return np.asarray(extinction_mag, dtype=np.float64) / (2.5 * math.log10(math.e))
 
 
 def s10_to_luminance(s10) -> np.ndarray:

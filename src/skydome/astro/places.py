@@ -31,7 +31,6 @@ from functools import cache
 from importlib import resources
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-from skydome.astro.observer import Observer  # the NumPy layer, only when asked for
 from skydome.errors import ParameterError, SkydomeError, check_range
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -122,6 +121,7 @@ class Place:
                 f"Place.observer() takes the weather only (pressure_hPa, temperature_C); "
                 f"{', '.join(taken)} comes from the place"
             )
+        from skydome.astro.observer import Observer  # the NumPy layer, only when asked for
 
         return Observer(
             latitude=self.latitude_deg,

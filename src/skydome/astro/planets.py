@@ -24,8 +24,8 @@ from skydome.astro import frames
 from skydome.astro._series import smooth, vsop
 from skydome.astro.frames import C_AU_PER_DAY
 from skydome.astro.sun import earth_heliocentric_ecliptic
+from skydome.astro.time import julian_centuries
 from skydome.errors import ParameterError
-from skydome.physics.constants import J2000_JD, JULIAN_CENTURY_DAYS
 
 __all__ = [
     "PLANETS",
@@ -77,7 +77,7 @@ def planet_geocentric_ecliptic(
 def saturn_ring_tilt(geo_ecl_of_date: np.ndarray, jd_tt: Any) -> np.ndarray:
     """Saturnicentric latitude B (rad) of the Earth referred to the ring plane (Meeus
     eq. 45.3), from Saturn's geocentric ecliptic vector of date."""
-    t = (np.asarray(jd_tt, dtype=float) - J2000_JD) / JULIAN_CENTURY_DAYS
+    t = julian_centuries(jd_tt)
     inc = np.radians(28.075216 - 0.012998 * t + 0.000004 * t * t)
     node = np.radians(169.508470 + 1.394681 * t + 0.000412 * t * t)
     lam, beta, _ = frames.cartesian_to_spherical(geo_ecl_of_date)

@@ -21,7 +21,7 @@ import numpy as np
 from skydome.astro import frames
 from skydome.astro._series import smooth, vsop
 from skydome.astro.frames import ARCSEC, AU_KM
-from skydome.physics.constants import J2000_JD, JULIAN_CENTURY_DAYS
+from skydome.astro.time import julian_centuries
 
 __all__ = [
     "SUN_SEMIDIAMETER_1AU_ARCSEC",
@@ -50,7 +50,7 @@ def _jd(jd_tt: Any) -> np.ndarray:
 
 def _fk5(lbr: np.ndarray, jd: np.ndarray) -> np.ndarray:
     """Apply Meeus eq. 32.3 to heliocentric (L, B, R) rows (rad)."""
-    t = (jd - J2000_JD) / JULIAN_CENTURY_DAYS
+    t = julian_centuries(jd)
     lp = lbr[0] - np.radians(1.397 * t + 0.00031 * t * t)
     dl = -0.09033 + 0.03916 * (np.cos(lp) + np.sin(lp)) * np.tan(lbr[1])
     db = 0.03916 * (np.cos(lp) - np.sin(lp))

@@ -37,9 +37,9 @@ from typing import Any
 
 import numpy as np
 
-from skydome.astro.frames import equation_of_equinoxes
+from skydome.astro.frames import equation_of_equinoxes, julian_centuries
 from skydome.errors import ParameterError
-from skydome.physics.constants import J2000_JD
+from skydome.physics.constants import ARCSEC_RAD, J2000_JD
 
 __all__ = [
     "J2000",
@@ -64,7 +64,6 @@ UNIX_EPOCH_JD = 2440587.5
 TT_MINUS_TAI = 32.184  # seconds
 SECONDS_PER_DAY = 86400.0
 _TWO_PI = 2.0 * np.pi
-_ARCSEC = np.pi / 648000.0
 
 
 # ---------------------------------------------------------------------- calendar
@@ -119,11 +118,6 @@ def calendar_date(jd) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     month = np.where(e < 14, e - 1, e - 13)
     year = np.where(month > 2, c - 4716, c - 4715)
     return year, month, day
-
-
-def julian_centuries(jd_tt) -> np.ndarray:
-    """Julian centuries of 36525 days since J2000.0 (Meeus eq. 22.1)."""
-    return (np.asarray(jd_tt, dtype=float) - J2000) / 36525.0
 
 
 def julian_millennia(jd_tt) -> np.ndarray:
@@ -460,7 +454,7 @@ def gmst(jd_ut1, jd_tt=None, model: str = "iau2006") -> np.ndarray:
     poly = 0.014506 + t * (
         4612.156534 + t * (1.3915817 + t * (-0.00000044 + t * (-0.000029956 + t * -0.0000000368)))
     )
-    return np.mod(earth_rotation_angle(jd_ut1) + poly * _ARCSEC, _TWO_PI)
+    return np.mod(earth_rotation_angle(jd_ut1) + poly * ARCSEC_RAD, _TWO_PI)
 
 
 def gast(jd_ut1, jd_tt=None, model: str = "iau2006") -> np.ndarray:

@@ -68,6 +68,7 @@ from skydome.atmosphere.params import (
     Spectrum,
 )
 from skydome.errors import ParameterError, check_range
+from skydome.physics.phase import cornette_shanks_mean_cosine
 
 #: OPAC's wavelengths (nm) at which the types' spectra are tabulated.
 OPAC_WAVELENGTHS_NM = (350.0, 400.0, 450.0, 500.0, 550.0, 600.0, 650.0, 700.0, 750.0, 800.0,
@@ -75,11 +76,6 @@ OPAC_WAVELENGTHS_NM = (350.0, 400.0, 450.0, 500.0, 550.0, 600.0, 650.0, 700.0, 7
 #: Wavelengths (nm) at which :func:`with_aerosol_type` samples the spectra (5 nm steps, so that
 #: the linear interpolation of :class:`Spectrum` follows the log-log one within 1e-4).
 TYPE_GRID_NM = np.arange(350.0, 1001.0, 5.0)
-
-
-def cornette_shanks_mean_cosine(g: float) -> float:
-    """Mean scattering cosine ⟨cos θ⟩ of the Cornette-Shanks phase function of parameter g."""
-    return 3.0 * g * (4.0 + g * g) / (5.0 * (2.0 + g * g))
 
 
 def cornette_shanks_g_for(asymmetry: float) -> float:

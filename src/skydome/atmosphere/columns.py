@@ -13,12 +13,14 @@ from __future__ import annotations
 import numpy as np
 
 from skydome.atmosphere.params import AtmosphereParams
+from skydome.physics import geometry
 
 _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(8)
 
 
 def densities(params: AtmosphereParams, altitude_m) -> np.ndarray:
-    """Relative densities (..., 3) of Rayleigh, Mie and absorbing constituents."""
+    """Relative densities (..., 3) of Rayleigh, Mie and absorbing constituents.
+    GLSL twin: ``densities``."""
     h = np.asarray(altitude_m, float)
     return np.stack(
         [
@@ -31,20 +33,18 @@ def densities(params: AtmosphereParams, altitude_m) -> np.ndarray:
 
 
 def distance_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
-    r, mu = np.asarray(r, float), np.asarray(mu, float)
-    disc = r * r * (mu * mu - 1.0) + params.top_radius_m**2
-    return np.maximum(-r * mu + np.sqrt(np.maximum(disc, 0.0)), 0.0)
+    """Distance (m) from (r, mu) to the top of the atmosphere."""
+    return geometry.distance_to_top(r, mu, params.top_radius_m)
 
 
 def distance_to_bottom(params: AtmosphereParams, r, mu) -> np.ndarray:
-    r, mu = np.asarray(r, float), np.asarray(mu, float)
-    disc = r * r * (mu * mu - 1.0) + params.bottom_radius_m**2
-    return np.maximum(-r * mu - np.sqrt(np.maximum(disc, 0.0)), 0.0)
+    """Distance (m) from (r, mu) to the ground (where :func:`ray_hits_ground`)."""
+    return geometry.distance_to_bottom(r, mu, params.bottom_radius_m)
 
 
 def ray_hits_ground(params: AtmosphereParams, r, mu) -> np.ndarray:
-    r, mu = np.asarray(r, float), np.asarray(mu, float)
-    return (mu < 0.0) & (r * r * (mu * mu - 1.0) + params.bottom_radius_m**2 >= 0.0)
+    """Whether the ray (r, mu) meets the ground."""
+    return geometry.ray_hits_ground(r, mu, params.bottom_radius_m)
 
 
 def column(params: AtmosphereParams, r, mu, length_m, intervals: int = 400) -> np.ndarray:
@@ -64,3 +64,16 @@ def column(params: AtmosphereParams, r, mu, length_m, intervals: int = 400) -> n
 def column_to_top(params: AtmosphereParams, r, mu) -> np.ndarray:
     """Column densities (..., 3), metres, from (r, mu) to the top of the atmosphere."""
     return column(params, r, mu, distance_to_top(params, r, mu))
+
+
+def optical_depth(coefficients: dict, column) -> np.ndarray:
+    """Optical depth (..., N) of column densities (..., 3) (Rayleigh, Mie, absorbing; m) at
+    the N wavelengths of ``coefficients`` (:meth:`AtmosphereParams.coefficients`, per m):
+    beta_R c_R + beta_M,ext c_M + beta_A c_A. The transmittance is exp(-optical depth).
+    GLSL twin: ``optical_depth``."""
+    col = np.asarray(column, float)
+    return (
+        col[..., 0:1] * coefficients["rayleigh_scattering"]
+        + col[..., 1:2] * coefficients["mie_extinction"]
+        + col[..., 2:3] * coefficients["absorption_extinction"]
+    )

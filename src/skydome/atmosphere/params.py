@@ -27,6 +27,7 @@ import numpy as np
 
 from skydome.atmosphere.phase import MiePhaseLobes
 from skydome.errors import ParameterError, check_range
+from skydome.physics.phase import cornette_shanks
 from skydome.spectra import photopic_efficiency
 from skydome.spectra import solar_irradiance as tabulated
 from skydome.spectra.tables import ozone_cross_section
@@ -595,10 +596,7 @@ class AtmosphereParams:
         where set, else Cornette-Shanks of ``mie_g`` (the same at every wavelength)."""
         if self.mie_phase is not None:
             return self.mie_phase.phase(cos_theta, wavelengths_nm)
-        mu = np.asarray(cos_theta, float)[..., None]
-        g = self.mie_g
-        k = 3.0 / (8.0 * np.pi) * (1.0 - g * g) / (2.0 + g * g)
-        p = k * (1.0 + mu * mu) / (1.0 + g * g - 2.0 * g * mu) ** 1.5
+        p = cornette_shanks(np.asarray(cos_theta, float)[..., None], self.mie_g)
         return np.broadcast_to(p, (*np.shape(cos_theta), np.size(wavelengths_nm))).copy()
 
     def coefficients(self, wavelengths_nm) -> dict[str, np.ndarray]:

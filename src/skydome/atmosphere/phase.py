@@ -22,16 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from skydome.errors import ParameterError
+from skydome.physics.phase import MAX_LOBES, henyey_greenstein
 
-#: Most lobes a phase function may hold (``MIE_LOBES`` in the shaders).
-MAX_LOBES = 12
-
-
-def henyey_greenstein(cos_theta, g) -> np.ndarray:
-    """Henyey-Greenstein phase function (sr^-1): (1 - g^2) / (4 pi (1 + g^2 - 2 g cos)^1.5)."""
-    mu = np.asarray(cos_theta, float)
-    g = np.asarray(g, float)
-    return (1.0 - g * g) / (4.0 * np.pi * (1.0 + g * g - 2.0 * g * mu) ** 1.5)
+__all__ = ["MAX_LOBES", "MiePhaseLobes", "henyey_greenstein"]
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from skydome.errors import ParameterError
+from skydome.physics.geometry import horizon_dip_rad
 from skydome.spectra import wavelengths as resolve_wavelengths
 
 #: The twilight the tables must cover: the Sun down to 18 degrees below the horizon (the end of
@@ -207,7 +208,7 @@ class PrecomputeConfig:
         """
         if self.mu_s_min is not None:
             return float(self.mu_s_min)
-        dip = 2.0 * math.degrees(math.acos(bottom_radius_m / top_radius_m))
+        dip = 2.0 * math.degrees(horizon_dip_rad(top_radius_m, bottom_radius_m))
         elevation = -max(-MIN_SUN_ELEVATION_DEG, dip)
         return float(min(params_mu_s_min, math.sin(math.radians(elevation))))
 

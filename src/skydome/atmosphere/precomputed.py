@@ -44,6 +44,7 @@ from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.textures import linear_clamped, release_all
 from skydome.physics.constants import M_PER_KM
+from skydome.physics.geometry import horizon_dip_rad
 
 #: Texels of the view-transmittance table (per camera altitude, over the view cosine).
 VIEW_TRANSMITTANCE_SIZE = 1024
@@ -306,7 +307,9 @@ class PrecomputedSky:
         r = p.bottom_radius_m + max(altitude_m, 0.0)
         if r >= p.top_radius_m:
             return -90.0
-        tilt = math.acos(p.bottom_radius_m / r) + math.acos(p.bottom_radius_m / p.top_radius_m)
+        tilt = horizon_dip_rad(r, p.bottom_radius_m) + horizon_dip_rad(
+            p.top_radius_m, p.bottom_radius_m
+        )
         cutoff = math.asin(max(self.tables.mu_s_min - 0.05, -1.0))
         return math.degrees(cutoff - tilt)
 

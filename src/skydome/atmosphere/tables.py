@@ -21,7 +21,7 @@ from skydome.core.cache import CacheSpec, load_or_build
 #: ``version`` when an edit of one of them changes the tables (tests/test_cache.py checks).
 TABLES_CACHE = CacheSpec(
     name="atmosphere-tables",
-    version=1,
+    version=2,
     shader_folders=("atmosphere", "common"),
     builder_files=(
         "atmosphere/tables.py",
@@ -30,7 +30,9 @@ TABLES_CACHE = CacheSpec(
         "atmosphere/transmittance.py",
         "atmosphere/inputs.py",
         "physics/constants.py",
+        "physics/geometry.py",
         "physics/packing.py",
+        "physics/phase.py",
         "atmosphere/params.py",
         "atmosphere/phase.py",
         "spectra/__init__.py",

@@ -215,6 +215,8 @@ def limb_darkening(mu, wavelength_nm) -> np.ndarray:
 
     Raises:
         ParameterError: mu outside [0, 1] or NaN; a bad wavelength.
+
+    GLSL twin: ``limb_darkening``.
     """
     m = _as_float_array(mu, "mu")
     _check(m, (m >= 0.0) & (m <= 1.0), "mu", "[0, 1]")

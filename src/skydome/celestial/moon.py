@@ -29,6 +29,7 @@ import numpy as np
 
 from skydome.astro.photometry import magnitude_to_lux, moon_magnitude
 from skydome.celestial.moon_albedo import albedo_at, moon_albedo_map, moon_spectral_albedo
+from skydome.celestial.surface_laws import lommel_seeliger_law
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
@@ -107,7 +108,7 @@ def disk_integrals(
         d_omega = mu * rho * rho * cb / p2 * weight
         if sunlit:
             mu0 = cb * np.cos(lam - a)
-            law = np.where(mu0 > 0.0, mu0 / np.maximum(mu0 + mu, 1e-300), 0.0)
+            law = lommel_seeliger_law(mu0, mu)
         else:
             law = 0.5
         albedo = 1.0

@@ -23,7 +23,8 @@ the planet -> Sun vector has, across the line of sight, the component of the obs
 vector (the planet lies on the line of sight), and makes the phase angle with the planet ->
 observer direction. Its radiance follows one of two laws, each normalised on the CPU by its
 closed-form disk integral (exact for a sphere seen from far away; a planet's finite
-distance changes it by the planet's angular radius in radians, < 3e-4):
+distance changes it by the planet's angular radius in radians, < 3e-4;
+skydome.celestial.surface_laws):
 
 - **Lommel-Seeliger**, L = k mu0 / (mu0 + mu), for Mercury and Mars: the single-scattering
   law of a dark, porous regolith (Hapke 2012, "Theory of reflectance and emittance
@@ -51,6 +52,7 @@ import numpy as np
 from skydome.astro.planets import PLANETS
 from skydome.celestial.planet_colours import planet_albedo
 from skydome.celestial.point_sources import PointSources
+from skydome.celestial.surface_laws import lambert_phase_function, lommel_seeliger_phase_function
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import Light, SkyState
@@ -71,21 +73,6 @@ LAWS = {
     "neptune": "lambert",
 }
 _LAW_DEFINE = {"lambert": 0, "lommel-seeliger": 1}
-
-
-def lambert_phase_function(phase_angle_rad) -> np.ndarray:
-    """Disk-integrated Lambert sphere at phase angle a (rad), 1 at a = 0:
-    (sin a + (pi - a) cos a) / pi (Russell 1916)."""
-    a = np.clip(np.asarray(phase_angle_rad, dtype=np.float64), 0.0, math.pi)
-    return (np.sin(a) + (math.pi - a) * np.cos(a)) / math.pi
-
-
-def lommel_seeliger_phase_function(phase_angle_rad) -> np.ndarray:
-    """Disk-integrated Lommel-Seeliger sphere at phase angle a (rad), 1 at a = 0:
-    1 - sin(a/2) tan(a/2) ln(cot(a/4)) (Fairbairn 2005, JRASC 99, 92)."""
-    a = np.clip(np.asarray(phase_angle_rad, dtype=np.float64), 1e-9, math.pi - 1e-9)
-    phi = 1.0 - np.sin(a / 2) * np.tan(a / 2) * np.log(1.0 / np.tan(a / 4))
-    return np.maximum(phi, 0.0)
 
 
 def disk_law_integral(law: str, phase_angle_rad: float, angular_radius_rad: float) -> float:

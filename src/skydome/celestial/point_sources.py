@@ -63,6 +63,7 @@ from skydome.core.cameras import (
 from skydome.errors import ParameterError
 from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.passes import ShaderProgram
+from skydome.physics.constants import ARCSEC_RAD
 
 VERTEX_SHADER = "celestial/point_sources_vs.glsl"
 FRAGMENT_SHADER = "celestial/point_sources.glsl"
@@ -77,7 +78,6 @@ MAX_SIGMA_PX = 64.0
 #: Quads up to this many pixels a side get their weights per column and row from the
 #: vertex stage, once per quad, instead of per pixel.
 TABLE_SIZE = 8
-_ARCSEC = math.pi / 648_000.0
 _STEP_RAD = 1e-3  # finite-difference step of the seeing's pixel scale
 # Floats per instance: the quad's corners (4), the source's position from the lower-left
 # corner and 1 / sigma (4), the cube face (1), the channels (4).
@@ -351,7 +351,7 @@ class PointSources:
             return
         w, h = frame.frame_size
         x0, y0, tw, th = frame.tile
-        seeing_sigma_rad = seeing * _ARCSEC / FWHM_PER_SIGMA
+        seeing_sigma_rad = seeing * ARCSEC_RAD / FWHM_PER_SIGMA
         # Every copy's frame position (float64); then a first cull with the largest quad the
         # PSF can have (its own sigma, or MAX_SIGMA_PX with a seeing disk), so that the
         # rest of the work is done for the sources near the tile only.

@@ -40,6 +40,7 @@ from __future__ import annotations
 import numpy as np
 
 from skydome.errors import ParameterError
+from skydome.physics.airmass import kasten_young_airmass
 
 #: Dark-adapted pupil diameter, cm.
 EYE_APERTURE_CM = 0.7
@@ -59,9 +60,8 @@ def airmass_kasten_young(apparent_altitude_rad) -> np.ndarray:
     """Relative air mass X at an apparent altitude (rad), Kasten & Young (1989):
     X = 1 / (sin h + 0.50572 (h_deg + 6.07995)^-1.6364); the horizon's value below it, and
     at least 1 (the fit gives 0.9997 at the zenith)."""
-    h = np.degrees(np.maximum(np.asarray(apparent_altitude_rad, dtype=np.float64), 0.0))
-    x = 1.0 / (np.sin(np.radians(h)) + 0.50572 * (h + 6.07995) ** -1.6364)
-    return np.maximum(x, 1.0)
+    h = np.maximum(np.asarray(apparent_altitude_rad, dtype=np.float64), 0.0)
+    return np.maximum(kasten_young_airmass(0.5 * np.pi - h), 1.0)
 
 
 def young_sigma(

@@ -40,7 +40,7 @@ from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.errors import ParameterError
 from skydome.physics.constants import J2000_JD
-from skydome.physics.refraction import horizon_dip_sin
+from skydome.physics.refraction import horizon_dip_sin, refract_enu
 from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
 from skydome.spectra.blackbody import planck_relative
 from skydome.spectra.tables import solar_irradiance
@@ -143,25 +143,13 @@ class StarsLayer(Layer):
         # Diurnal aberration: the observer moves east at omega x (distance from the axis).
         # frames.aberrate's first-order formula u' = normalize(u + b - u (u.b)), written out
         # for b = (beta, 0, 0) (a third of the general form's cost for 37,622 stars).
-        r = frames.geodetic_to_geocentric_km(lat, lon, float(obs.elevation_m))
-        speed = float(np.hypot(r[0], r[1])) / frames.AU_KM * frames.EARTH_OMEGA * 86400.0
+        speed = frames.diurnal_speed_au_per_day(lat, float(obs.elevation_m))
         beta = speed / frames.C_AU_PER_DAY
         enu *= (1.0 - beta * enu[:, 0])[:, None]
         enu[:, 0] += beta
         enu /= np.sqrt(np.einsum("ij,ij->i", enu, enu))[:, None]
-        # Refraction raises each star towards the zenith along its vertical: the altitude
-        # changes, the horizontal direction (x, y) / |(x, y)| stays (no azimuth round trip).
-        horizontal = np.hypot(enu[:, 0], enu[:, 1])
-        alt0 = np.arctan2(enu[:, 2], horizontal)
-        refr = frames.refraction_saemundsson(
-            np.degrees(alt0), state.pressure_hPa, state.temperature_C
-        )  # arcmin
-        alt = alt0 + np.radians(refr / 60.0)
-        scale = np.cos(alt) / np.maximum(horizontal, 1e-300)
-        enu[:, 0] *= scale
-        enu[:, 1] *= scale
-        enu[:, 2] = np.sin(alt)
-        return enu, alt
+        # Refraction raises each star towards the zenith along its vertical.
+        return refract_enu(enu, state.pressure_hPa, state.temperature_C)
 
     def update(self, state: SkyState) -> None:
         key = id(state)

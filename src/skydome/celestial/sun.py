@@ -36,6 +36,24 @@ class SunInputs(ShaderInputs):
     u_refraction_scale: float
 
 
+def limb_uniforms(wavelengths_nm, angular_radius_rad: float, darkened: bool = True) -> dict:
+    """``u_limb`` (the polynomial coefficients A_k of I(mu)/I(1) of each group's 4
+    wavelengths, vec4 6 g + k) and ``u_limb_norm`` (1 / the disk integral of I/I(1), 1/sr) of
+    ``shaders/celestial/sun.glsl`` for a disk of ``angular_radius_rad``; ``darkened=False``:
+    a uniform disk (I = I(1))."""
+    wl = np.asarray(wavelengths_nm, dtype=np.float64)
+    if darkened:
+        coeffs = limb_coefficients(wl)  # (N, 6)
+        norm = 1.0 / disk_normalisation(angular_radius_rad, wl)
+    else:
+        coeffs = np.zeros((len(wl), 6))
+        coeffs[:, 0] = 1.0
+        norm = np.full(len(wl), 1.0 / (2.0 * np.pi * (1.0 - np.cos(angular_radius_rad))))
+    groups = len(wl) // 4
+    limb = [coeffs[4 * g : 4 * g + 4, k] for g in range(groups) for k in range(6)]
+    return {"u_limb": np.concatenate(limb).tolist(), "u_limb_norm": norm.tolist()}
+
+
 class SunLayer(Layer):
     """The Sun's disk. ``limb_darkening=False`` draws a uniform disk of the same irradiance."""
 
@@ -55,25 +73,14 @@ class SunLayer(Layer):
         key = (id(state), id(basis))
         if key == self._key:
             return
-        wl = basis.wavelengths_nm
         alpha = float(sun.angular_radius_rad)
-        if self.limb_darkening:
-            coeffs = limb_coefficients(wl)  # (N, 6)
-            norm = 1.0 / disk_normalisation(alpha, wl)
-        else:
-            coeffs = np.zeros((len(wl), 6))
-            coeffs[:, 0] = 1.0
-            norm = np.full(len(wl), 1.0 / (2.0 * np.pi * (1.0 - np.cos(alpha))))
-        groups = basis.groups
-        limb = [coeffs[4 * g : 4 * g + 4, k] for g in range(groups) for k in range(6)]
         self._inputs = SunInputs(
             u_sun_direction_true=tuple(float(v) for v in sun.direction_true),
             u_sin_angular_radius=float(np.sin(alpha)),
             # The tables' spectrum is the Sun's at 1 au: scale by the true distance.
             u_sun_scale=(AU_KM / sun.distance_km) ** 2 * self.graph.solar_scale,
             u_spectral_to_rgbs=basis.group_matrices(),
-            u_limb=np.concatenate(limb).tolist(),
-            u_limb_norm=norm.tolist(),
+            **limb_uniforms(basis.wavelengths_nm, alpha, self.limb_darkening),
             u_refraction_scale=state.refraction_scale,
         )
         self._key = key

@@ -58,11 +58,7 @@ def ground_direct_horizontal_lux(
     column_m = ref.column_to_top(params, r_m, mu)
     wl = np.arange(360.0, 831.0, 1.0)
     c = params.coefficients(wl)
-    tau = (
-        c["rayleigh_scattering"] * column_m[0]
-        + c["mie_extinction"] * column_m[1]
-        + c["absorption_extinction"] * column_m[2]
-    )
+    tau = ref.optical_depth(c, column_m)
     weight = solar_irradiance(wl) * photopic_efficiency(wl)
     transmittance = float(np.sum(weight * np.exp(-tau)) / np.sum(weight))
     return float(normal_lux) * transmittance * mu

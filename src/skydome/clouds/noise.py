@@ -1,7 +1,7 @@
 """Tileable noise textures for volumetric clouds (after Schneider 2015/2017, Nubis).
 
 Three textures, each drawn by a fragment shader of ``shaders/clouds/`` (the per-texel math;
-its float64 twin is :mod:`skydome.clouds.host_noise`), seeded and deterministic, and
+its float64 twin is :mod:`skydome.clouds.lattice_noise`), seeded and deterministic, and
 tiling seamlessly with ``repeat`` wrapping:
 
 - ``shape``: 3D, RGBA32F, default 128^3. R = Perlin-Worley (Perlin fBm remapped by the

@@ -27,7 +27,7 @@ import numpy as np
 
 from skydome.errors import ParameterError
 from skydome.io.packaged import read_packaged_csv
-from skydome.physics.phase import MAX_LOBES, henyey_greenstein
+from skydome.physics.phase import MAX_LOBES, henyey_greenstein, sample_hg
 
 __all__ = [
     "CLOUD_PHASE",
@@ -41,19 +41,6 @@ __all__ = [
 
 #: The packaged table of :data:`CLOUD_PHASE` (built by ``tools/build_cloud_phase.py``).
 PHASE_CSV = "cloud_droplet_phase.csv"
-
-
-def sample_hg(g, u) -> np.ndarray:
-    """Cosines of scattering angles drawn from HG(g) by inverting its CDF at uniform deviates
-    ``u`` in [0, 1) (``g`` and ``u`` broadcast):
-    cos = (1 + g^2 - ((1 - g^2) / (1 - g + 2 g u))^2) / (2 g), and 2 u - 1 where |g| < 1e-6."""
-    g = np.asarray(g, float)
-    u = np.asarray(u, float)
-    small = np.abs(g) < 1e-6
-    gs = np.where(small, 0.5, g)  # placeholder where isotropic, result replaced below
-    s = (1.0 - gs * gs) / (1.0 - gs + 2.0 * gs * u)
-    mu = (1.0 + gs * gs - s * s) / (2.0 * gs)
-    return np.clip(np.where(small, 2.0 * u - 1.0, mu), -1.0, 1.0)
 
 
 #: Lobes at least this forward are the droplets' diffraction peak (delta-M takes them out).

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from skydome.clouds import host_noise
+from skydome.clouds import lattice_noise
 from skydome.clouds.noise import check_seed, render_curl
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
@@ -235,8 +235,10 @@ class WeatherMap:
         c = (np.arange(size) + 0.5) / size
         x, y = np.meshgrid(c, c)  # [j, i]: y north (rows), x east (columns)
         u3 = np.stack([x, y, np.zeros_like(x)], axis=-1)
-        texture = 0.5 + host_noise.perlin_fbm(u3, 8, 4, seed, 200)  # inside the clouds, ~[0.1, 0.9]
-        background = np.clip(0.5 + 1.5 * host_noise.perlin_fbm(u3, 4, 4, seed, 210), 0.0, 1.0)
+        texture = 0.5 + lattice_noise.perlin_fbm(
+            u3, 8, 4, seed, 200
+        )  # inside the clouds, ~[0.1, 0.9]
+        background = np.clip(0.5 + 1.5 * lattice_noise.perlin_fbm(u3, 4, 4, seed, 210), 0.0, 1.0)
 
         rng = np.random.default_rng([seed, 0x57EA])
         field = 0.45 * background
@@ -261,9 +263,9 @@ class WeatherMap:
         if cirrus > 0:
             # Streaks: the noise stretched 4:1 along x (periods 2 and 8 cells per tile).
             p = np.stack([x * 2, y * 8, np.zeros_like(x)], axis=-1)
-            sheet = host_noise.perlin_noise(p, (2, 8, 1), host_noise.noise_salt(seed, 220))
-            sheet += 0.5 * host_noise.perlin_noise(
-                2 * p, (4, 16, 1), host_noise.noise_salt(seed, 221)
+            sheet = lattice_noise.perlin_noise(p, (2, 8, 1), lattice_noise.noise_salt(seed, 220))
+            sheet += 0.5 * lattice_noise.perlin_noise(
+                2 * p, (4, 16, 1), lattice_noise.noise_salt(seed, 221)
             )
             data[..., 3] = _threshold_to_mean(sheet, cirrus, _CIRRUS_EDGE)
         return cls(data, tile_km)

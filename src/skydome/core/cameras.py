@@ -22,6 +22,7 @@ import numpy as np
 from skydome.errors import ParameterError, check_choice, check_range
 from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.geometry import direction_from_angles
+from skydome.physics.packing import mat3
 
 __all__ = [
     "CAMERAS",
@@ -191,8 +192,7 @@ class PerspectiveCamera(Camera):
         return CameraInputs(
             (float(width), float(height)),
             (float(tile_offset[0]), float(tile_offset[1])),
-            # GLSL mat3 is column-major: pass the columns one after the other.
-            tuple(float(v) for v in self.basis().T.ravel()),
+            mat3(self.basis()),
             math.tan(math.radians(self.fov_deg) / 2.0),
             direction_map,
         )

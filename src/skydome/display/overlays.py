@@ -54,6 +54,7 @@ from skydome.errors import ParameterError, check_range
 from skydome.gpu import shared_context
 from skydome.gpu.inputs import ShaderInputs
 from skydome.gpu.passes import ShaderProgram
+from skydome.physics.refraction import refract_enu
 
 __all__ = [
     "OVERLAYS",
@@ -113,7 +114,6 @@ _PLANET_NAMES = {
     "neptune": "Neptune",
 }
 _CARDINALS = (("N", 0.0), ("E", 90.0), ("S", 180.0), ("W", 270.0))
-_ARCMIN = math.pi / 10800.0
 
 
 def parse_overlays(text: str) -> tuple[str, ...]:
@@ -296,15 +296,7 @@ def refract(enu: np.ndarray, pressure_hPa: float, temperature_C: float) -> np.nd
     """Apparent unit ENU vectors of airless ones (..., 3): the altitude raised by
     Saemundsson's refraction (Meeus eq. 16.4) for the weather, the azimuth kept, as
     :class:`skydome.astro.Observer` places every body."""
-    v = np.asarray(enu, dtype=np.float64)
-    horiz = np.hypot(v[..., 0], v[..., 1])
-    alt0 = np.arctan2(v[..., 2], horiz)
-    alt = alt0 + frames.refraction_saemundsson(np.degrees(alt0), pressure_hPa, temperature_C) * (
-        _ARCMIN
-    )
-    scale = np.where(horiz > 0, np.cos(alt) / np.where(horiz > 0, horiz, 1.0), 0.0)
-    out = np.stack([v[..., 0] * scale, v[..., 1] * scale, np.sin(alt)], axis=-1)
-    return np.where((horiz > 0)[..., None], out, v)
+    return refract_enu(enu, pressure_hPa, temperature_C)[0]
 
 
 def _cube_face(d: np.ndarray) -> np.ndarray:
@@ -659,12 +651,10 @@ class Overlays:
         places = self._date_places(jd_tt)
         # Diurnal aberration (<= 0.32"), as the stars layer applies it: the observer moves
         # east at the Earth's rotation rate times its distance from the axis.
-        r = frames.geodetic_to_geocentric_km(
-            math.radians(float(obs.latitude)), 0.0, float(obs.elevation_m)
+        speed = frames.diurnal_speed_au_per_day(
+            math.radians(float(obs.latitude)), float(obs.elevation_m)
         )
-        v_east = np.array(
-            [float(np.hypot(r[0], r[1])) / frames.AU_KM * frames.EARTH_OMEGA * 86400.0, 0, 0]
-        )
+        v_east = np.array([speed, 0.0, 0.0])
 
         def apparent(date_dirs: np.ndarray) -> np.ndarray:
             return refract(frames.aberrate(date_dirs @ enu_m.T, v_east), p, t)

@@ -23,6 +23,8 @@ def srgb_encode(linear: np.ndarray | float) -> np.ndarray:
     """Encode linear display values (dimensionless, [0, 1]) with the sRGB curve.
 
     Inputs are clipped to [0, 1] first; returns float64 code values in [0, 1].
+
+    GLSL twin: ``srgb_encode``.
     """
     v = np.clip(np.asarray(linear, dtype=np.float64), 0.0, 1.0)
     return np.where(
@@ -36,6 +38,8 @@ def srgb_decode(encoded: np.ndarray | float) -> np.ndarray:
     """Decode sRGB code values (dimensionless, [0, 1]) to linear display values.
 
     Inputs are clipped to [0, 1] first; returns float64 linear values in [0, 1].
+
+    GLSL twin: ``srgb_decode``.
     """
     v = np.clip(np.asarray(encoded, dtype=np.float64), 0.0, 1.0)
     return np.where(

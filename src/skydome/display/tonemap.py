@@ -188,6 +188,8 @@ def aces_narkowicz(x: np.ndarray) -> np.ndarray:
     RRT + sRGB ODT with the display gamma removed, pre-exposed so that 1 maps to about 0.80.
     Monotonic for x >= 0 (the numerator of f' has only positive coefficients); f(0) = 0,
     f(7.24) = 1, f -> 2.51 / 2.43 as x -> inf. Not clipped. Dimensionless in and out.
+
+    GLSL twin: ``aces_narkowicz``.
     """
     x = np.asarray(x, dtype=np.float64)
     return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)
@@ -374,7 +376,8 @@ def check_exposure_scale(exposure_scale: float) -> float:
 def tonemap_linear(
     frame: np.ndarray, name: str, exposure_scale: float, **params: float
 ) -> np.ndarray:
-    """Display-linear RGB (H, W, 3) float64 in [0, 1]: exposure then operator ``name``."""
+    """Display-linear RGB (H, W, 3) float64 in [0, 1]: exposure then operator ``name``.
+    GLSL twin: ``tonemap_display_linear``."""
     op = get_operator(name)
     checked = op.check_params(params)
     a = check_frame(frame)

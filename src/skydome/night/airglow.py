@@ -45,6 +45,8 @@ def van_rhijn(zenith_rad, layer_height_m: float = AIRGLOW_HEIGHT_M, observer_hei
     It is the shell's slant thickness over its vertical thickness. Examples (h = 90 km, observer
     at sea level): V(60 deg) = 1.94, V(80 deg) = 4.19, V(85 deg) = 5.34, V(90 deg) = 6.01.
     Rays that cannot reach the shell (observer above it) get 0.
+
+    GLSL twin: ``van_rhijn``.
     """
     z = np.asarray(zenith_rad, dtype=np.float64)
     r_obs = EARTH_RADIUS_M + np.asarray(observer_height_m, dtype=np.float64)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skydome.astro.photometry import mag_to_optical_depth, mag_to_s10
 from skydome.core.basis import SpectralBasis
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import BehindInputs, DrawContext, Layer
@@ -130,7 +131,7 @@ class AirglowLayer(Layer):
         super().__init__(enabled=enabled)
         if zenith_mag_arcsec2 is not None:
             m = check_range("zenith_mag_arcsec2", zenith_mag_arcsec2, 15.0, 30.0, "mag/arcsec^2")
-            zenith_s10 = 10.0 ** (-0.4 * (m - ag.S10_MAG_ARCSEC2))
+            zenith_s10 = float(mag_to_s10(m))
         self.zenith_s10, self.solar_flux_sfu = ag.check_airglow_parameters(
             zenith_s10, solar_flux_sfu
         )
@@ -296,7 +297,7 @@ class LightPollutionLayer(Layer):
         inputs = LightPollutionInputs(
             u_lp_zenith=_vec4(zenith * colour),
             u_lp_colour=_vec4(colour),
-            u_tau=m.extinction_mag / (2.5 * math.log10(math.e)),
+            u_tau=float(mag_to_optical_depth(m.extinction_mag)),
             u_dip_sin=horizon_dip_sin(frame.altitude_m),
             u_num_cities=n,
             u_city=cities.ravel().tolist(),

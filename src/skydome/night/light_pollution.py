@@ -13,8 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skydome.astro.photometry import mag_to_optical_depth
 from skydome.errors import ParameterError, check_choice, check_range
 from skydome.night.airglow import bin_relative_to_sun, luminance_to_mag, mag_to_luminance
+from skydome.physics.airmass import kasten_young_airmass
 from skydome.physics.refraction import horizon_dip_sin
 from skydome.spectra.tables import cmf_xyz, photopic_efficiency, scotopic_efficiency
 
@@ -66,23 +68,15 @@ def artificial_zenith_luminance(total_mag: float, natural_mag: float = NATURAL_Z
     return max(float(mag_to_luminance(total_mag) - mag_to_luminance(natural_mag)), 0.0)
 
 
-def kasten_young_airmass(zenith_rad) -> np.ndarray:
-    """Relative optical air mass (Kasten & Young 1989, Appl. Opt. 28, 4735):
-    X = 1 / (cos z + 0.50572 (96.07995 - z_deg)^-1.6364); 37.92 at the horizon (their
-    tabulated value for the model atmosphere is 38.0868), 0.99971 at the zenith. Zenith
-    angles beyond 90 deg are taken as 90 deg."""
-    z = np.minimum(np.asarray(zenith_rad, dtype=np.float64), 0.5 * np.pi)
-    return 1.0 / (np.cos(z) + 0.50572 * (96.07995 - np.degrees(z)) ** -1.6364)
-
-
 def slab_profile(zenith_rad, extinction_mag: float = DEFAULT_EXTINCTION_MAG) -> np.ndarray:
     """Zenith-angle profile of a glow that fills the air around the observer, relative to the
     zenith: the radiance of a plane-parallel layer with a uniform source function and zenith
     optical depth tau, (1 - exp(-tau X(z))) / (1 - exp(-tau X(0))) (the formal solution of the
     transfer equation for a homogeneous slab: Chandrasekhar 1960, Radiative Transfer, ch. I;
     with X the Kasten-Young air mass for the curved air). tau = extinction_mag / (2.5 log10 e).
-    At 0.25 mag/airmass the horizon is 4.86 times the zenith."""
-    tau = float(extinction_mag) / (2.5 * math.log10(math.e))
+    At 0.25 mag/airmass the horizon is 4.86 times the zenith.
+    GLSL twin: ``slab``."""
+    tau = float(mag_to_optical_depth(extinction_mag))
     x = kasten_young_airmass(zenith_rad)
     x0 = float(kasten_young_airmass(0.0))
     return np.expm1(-tau * x) / math.expm1(-tau * x0)

@@ -55,7 +55,8 @@ def refraction_bennett(
     apparent_alt_deg, pressure_hPa=STANDARD_PRESSURE_HPA, temperature_C=STANDARD_TEMPERATURE_C
 ) -> np.ndarray:
     """Refraction R (arcmin) to subtract from an apparent altitude (deg) to get the true one
-    (Bennett's law; 0 below -1 deg: a body so far below the horizon is not seen)."""
+    (Bennett's law; 0 below -1 deg: a body so far below the horizon is not seen).
+    GLSL twin: ``refraction_bennett``."""
     scale = refraction_scale(pressure_hPa, temperature_C)
     return cot_refraction(apparent_alt_deg, BENNETT, scale)
 
@@ -64,9 +65,29 @@ def refraction_saemundsson(
     true_alt_deg, pressure_hPa=STANDARD_PRESSURE_HPA, temperature_C=STANDARD_TEMPERATURE_C
 ) -> np.ndarray:
     """Refraction R (arcmin) to add to a true (airless) altitude (deg) to get the apparent
-    one (Saemundsson's law; 0 below -1.9 deg, where the apparent altitude is about -1 deg)."""
+    one (Saemundsson's law; 0 below -1.9 deg, where the apparent altitude is about -1 deg).
+    GLSL twin: ``refraction_saemundsson``."""
     scale = refraction_scale(pressure_hPa, temperature_C)
     return cot_refraction(true_alt_deg, SAEMUNDSSON, scale)
+
+
+def refract_enu(
+    enu, pressure_hPa=STANDARD_PRESSURE_HPA, temperature_C=STANDARD_TEMPERATURE_C
+) -> tuple[np.ndarray, np.ndarray]:
+    """Apparent unit ENU vectors (..., 3) of airless ones, and their apparent altitudes (rad):
+    each raised towards the zenith along its vertical by Saemundsson's refraction for the
+    weather, its horizontal direction (x, y) / |(x, y)| kept (no azimuth round trip). The
+    zenith and the nadir stay as they are."""
+    v = np.asarray(enu, dtype=np.float64)
+    horizontal = np.hypot(v[..., 0], v[..., 1])
+    alt0 = np.arctan2(v[..., 2], horizontal)
+    alt = alt0 + np.radians(
+        refraction_saemundsson(np.degrees(alt0), pressure_hPa, temperature_C) / 60.0
+    )
+    seen = horizontal > 0.0
+    scale = np.where(seen, np.cos(alt) / np.where(seen, horizontal, 1.0), 0.0)
+    out = np.stack([v[..., 0] * scale, v[..., 1] * scale, np.sin(alt)], axis=-1)
+    return np.where(seen[..., None], out, v), alt
 
 
 def airless_offset(z, scale: float = 1.0) -> np.ndarray:
@@ -74,7 +95,8 @@ def airless_offset(z, scale: float = 1.0) -> np.ndarray:
     law, then two Saemundsson steps), as one number per sine ``z`` of the apparent
     elevation: the airless direction of a unit apparent one ``d`` is parallel to
     ``d + k (z d - up)`` with k = tan(R) / cos(h), R the refraction (rad). ``scale`` is the
-    weather's factor (:func:`refraction_scale`); 0 gives k = 0."""
+    weather's factor (:func:`refraction_scale`); 0 gives k = 0.
+    GLSL twin: ``airless_direction``."""
     z = np.clip(np.asarray(z, dtype=np.float64), -1.0, 1.0)
     c = np.sqrt(np.maximum(1.0 - z * z, 0.0))
     h = np.degrees(np.arctan2(z, c))
@@ -101,7 +123,8 @@ def airless_offset_table(scale: float) -> np.ndarray:
 
 def airless_offset_lookup(z, scale: float = 1.0) -> np.ndarray:
     """Float64 twin of the shaders' fetch: :func:`airless_offset_table` interpolated linearly
-    in z between its nodes."""
+    in z between its nodes.
+    GLSL twin: ``airless_from_table``."""
     t = airless_offset_table(float(scale)).astype(np.float64)
     x = (np.clip(np.asarray(z, dtype=np.float64), -1.0, 1.0) + 1.0) * 0.5 * (len(t) - 1)
     i = np.clip(np.floor(x).astype(int), 0, len(t) - 2)

@@ -1,5 +1,7 @@
 """Float64 oracles for the Sun's and the Moon's disks: pixel geometry, a ray-traced sphere,
-the Lommel-Seeliger phase law and the refracted limbs. Slow and obvious, for tests only.
+the Moon's photometry and the refracted limbs. Slow and obvious, for tests only (the laws
+themselves, and the Lommel-Seeliger disk integral in closed form, are production's:
+skydome.celestial.surface_laws).
 
 - Pixel directions and exact pixel solid angles of the perspective and equirectangular
   cameras (the mappings of ``shaders/common/camera.glsl``, row 0 at the top of a frame);
@@ -7,8 +9,6 @@ the Lommel-Seeliger phase law and the refracted limbs. Slow and obvious, for tes
   quadratic solved in float64, not the shader's small-angle form);
 - :func:`moon_disk_radiance`: the Moon layer's photometry (Lommel-Seeliger sunlit law, the
   earthlit term, the albedo map) for given directions, from its own ray tracer;
-- :func:`lommel_seeliger_phase_function`: the closed-form disk integral of the
-  Lommel-Seeliger law over a sphere seen from infinitely far away;
 - :func:`disk_integral_brute_force`: the Moon layer's two disk integrals on a fine
   tangent-plane grid (the obvious method, to check the production quadrature);
 - :func:`true_elevation_deg`: the airless elevation whose Saemundsson-refracted image is a
@@ -26,6 +26,7 @@ import numpy as np
 
 from skydome.astro import frames
 from skydome.celestial.moon_albedo import albedo_at
+from skydome.celestial.surface_laws import lommel_seeliger_law
 from skydome.core.cameras import PerspectiveCamera
 from skydome.errors import ParameterError
 
@@ -128,7 +129,7 @@ def moon_disk_radiance(
     mask, n, mu = sphere_hit(directions, moon_true, sin_radius)
     n = np.where(mask[..., None], n, 0.0)
     mu0 = n @ np.asarray(to_sun, dtype=np.float64)
-    law = np.where(mu0 > 0.0, mu0 / np.where(mu0 + mu > 0.0, mu0 + mu, 1.0), 0.0)
+    law = lommel_seeliger_law(mu0, mu)
     albedo = np.ones(mask.shape)
     if use_map:
         m = n[mask] @ np.asarray(enu_to_moon, dtype=np.float64).T
@@ -137,20 +138,6 @@ def moon_disk_radiance(
         albedo[mask] = albedo_at(lon, lat)
     out = albedo * (sunlit_scale * law + earthlit_scale)
     return np.where(mask, out, 0.0)
-
-
-def lommel_seeliger_phase_function(phase_angle_rad) -> np.ndarray:
-    """The disk-integrated Lommel-Seeliger law of a sphere seen from infinitely far away,
-    relative to phase 0: 1 - sin(a/2) tan(a/2) ln(cot(a/4)) (Fairbairn 2005, "Planetary
-    photometry: the Lommel-Seeliger law", JRASC 99, 92). At phase 0 the law mu0/(mu0+mu) is
-    1/2 everywhere, so the integral over the disk is (Omega/2) times this. ``a`` in
-    [0, pi)."""
-    a = np.asarray(phase_angle_rad, dtype=np.float64)
-    if np.any(~((a >= 0.0) & (a < math.pi))):
-        raise ParameterError(f"phase angle {phase_angle_rad!r} rad is outside [0, pi)")
-    with np.errstate(divide="ignore", invalid="ignore"):
-        v = 1.0 - np.sin(a / 2.0) * np.tan(a / 2.0) * np.log(1.0 / np.tan(a / 4.0))
-    return np.where(a == 0.0, 1.0, v)
 
 
 def disk_integral_brute_force(

@@ -98,6 +98,9 @@ from numpy.typing import ArrayLike
 
 from skydome.atmosphere.params import AtmosphereParams, DensityLayer, DensityProfile
 from skydome.errors import ParameterError
+from skydome.physics.phase import cornette_shanks as cornette_shanks_phase
+from skydome.physics.phase import henyey_greenstein as _hg_phase
+from skydome.physics.phase import rayleigh_phase, sample_hg
 
 __all__ = [
     "MCOrders",
@@ -139,41 +142,9 @@ BAND_E_HI = math.radians(40.0)
 BAND_E_SCALE = math.radians(8.0)
 BAND_RHO = 0.6
 
-_FOUR_PI = 4.0 * math.pi
-
-
 # --------------------------------------------------------------------------------------------
-# Phase functions and sampling
+# Sampling (the phase functions and HG's sampling: skydome.physics.phase)
 # --------------------------------------------------------------------------------------------
-
-
-def rayleigh_phase(mu: ArrayLike) -> np.ndarray:
-    """Rayleigh phase function 3/(16π)(1+μ²) in sr^-1 (μ = cosine of the scattering angle)."""
-    mu = np.asarray(mu, dtype=np.float64)
-    return 3.0 / (16.0 * math.pi) * (1.0 + mu * mu)
-
-
-def cornette_shanks_phase(mu: ArrayLike, g: float) -> np.ndarray:
-    """Cornette-Shanks (1992) phase function in sr^-1, normalized over the sphere.
-
-    p(μ) = 3/(8π)·(1-g²)(1+μ²) / ((2+g²)(1+g²-2gμ)^{3/2}) (Bruneton 2017 MiePhaseFunction).
-    """
-    mu = np.asarray(mu, dtype=np.float64)
-    k = 3.0 / (8.0 * math.pi) * (1.0 - g * g) / (2.0 + g * g)
-    return k * (1.0 + mu * mu) / (1.0 + g * g - 2.0 * g * mu) ** 1.5
-
-
-def _hg_phase(mu: ArrayLike, g: float) -> np.ndarray:
-    """Henyey-Greenstein phase function (1-g²)/(4π(1+g²-2gμ)^{3/2}) in sr^-1."""
-    return (1.0 - g * g) / (_FOUR_PI * (1.0 + g * g - 2.0 * g * mu) ** 1.5)
-
-
-def _sample_hg_mu(xi: np.ndarray, g: float) -> np.ndarray:
-    """Inverse CDF of HG in μ (PBRT 3rd ed. §15.2.3; sign flipped: here μ = +1 is forward)."""
-    if abs(g) < 1e-3:
-        return 1.0 - 2.0 * xi
-    sq = (1.0 - g * g) / (1.0 - g + 2.0 * g * xi)
-    return np.clip((1.0 + g * g - sq * sq) / (2.0 * g), -1.0, 1.0)
 
 
 def _horizon_frame(up: np.ndarray, sun: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -884,7 +855,7 @@ def _trace(
         sm = med.k_sca[1][None, :] * rho[1][:, None]
         p_ray = sr / np.maximum(sr + sm, 1e-300)  # (n, L)
         use_ray = rng.random(n) < p_ray[ar, hero]
-        mu_ph = np.where(use_ray, _sample_rayleigh_mu(xi1), _sample_hg_mu(xi1, g))
+        mu_ph = np.where(use_ray, _sample_rayleigh_mu(xi1), sample_hg(g, xi1))
         new_d = _around(d, mu_ph, phi)
         if guide_alpha > 0.0:
             # defensive mixture with the twilight guide where the Sun is below the local

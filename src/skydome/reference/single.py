@@ -19,27 +19,11 @@ from skydome.atmosphere.columns import (  # noqa: F401  (re-exported for the tes
     densities,
     distance_to_bottom,
     distance_to_top,
+    optical_depth,
     ray_hits_ground,
 )
 from skydome.atmosphere.params import AtmosphereParams
-
-
-def _optical_depth(coef: dict, col: np.ndarray) -> np.ndarray:
-    """(..., N) optical depth of column densities (..., 3)."""
-    return (
-        col[..., 0:1] * coef["rayleigh_scattering"]
-        + col[..., 1:2] * coef["mie_extinction"]
-        + col[..., 2:3] * coef["absorption_extinction"]
-    )
-
-
-def rayleigh_phase(nu):
-    return 3.0 / (16.0 * np.pi) * (1.0 + nu * nu)
-
-
-def cornette_shanks_phase(nu, g: float):
-    k = 3.0 / (8.0 * np.pi) * (1.0 - g * g) / (2.0 + g * g)
-    return k * (1.0 + nu * nu) / (1.0 + g * g - 2.0 * g * nu) ** 1.5
+from skydome.physics.phase import cornette_shanks, rayleigh_phase
 
 
 def single_scattering(
@@ -88,7 +72,7 @@ def single_scattering(
     length = np.where(ground, distance_to_bottom(params, r, mu), distance_to_top(params, r, mu))
     phase_r = rayleigh_phase(nu)
     if params.mie_phase is None:
-        phase_m = cornette_shanks_phase(nu, params.mie_g)[:, None]
+        phase_m = cornette_shanks(nu, params.mie_g)[:, None]
     else:  # a phase function per wavelength (n_rays, n_wl)
         phase_m = params.mie_phase.phase(nu, wavelengths_nm)
     du = 1.0 / samples
@@ -106,7 +90,7 @@ def single_scattering(
             d[:, 0:1] * coef["rayleigh_scattering"] * phase_r[:, None]
             + d[:, 1:2] * coef["mie_scattering"] * phase_m
         )
-        out += np.where(lit[:, None], scat * np.exp(-_optical_depth(coef, col)), 0.0)
+        out += np.where(lit[:, None], scat * np.exp(-optical_depth(coef, col)), 0.0)
 
     col_view = column(params, r, mu, length)
     # Ground: albedo / pi * cos(sun zenith) * T(ground -> sun) * T(camera -> ground).
@@ -116,9 +100,9 @@ def single_scattering(
     col_g = column_to_top(params, np.full(n_rays, Rb), np.clip(mu_sg, 0, 1)) + col_view
     out += np.where(
         sunlit[:, None],
-        coef["ground_albedo"] / np.pi * mu_sg[:, None] * np.exp(-_optical_depth(coef, col_g)),
+        coef["ground_albedo"] / np.pi * mu_sg[:, None] * np.exp(-optical_depth(coef, col_g)),
         0.0,
     )
     seen = live & ~ground & disk
-    out += np.where(seen[:, None], disk_radiance * np.exp(-_optical_depth(coef, col_view)), 0.0)
+    out += np.where(seen[:, None], disk_radiance * np.exp(-optical_depth(coef, col_view)), 0.0)
     return out

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field, replace
 from skydome.core.cameras import MAX_ALTITUDE_M, EquirectCamera, FisheyeCamera, PerspectiveCamera
 from skydome.display import TONEMAPS
 from skydome.errors import ParameterError
+from skydome.physics.constants import EARTH_MEAN_RADIUS_M as EARTH_RADIUS_M
 
 #: Projections the viewer offers (the cube map's strip is not a view).
 PROJECTIONS = ("perspective", "fisheye", "equirect")
@@ -66,7 +67,6 @@ TURN_RATE_DEG_S = 60.0  # at a 90 deg field of view; proportional to the field o
 CLIMB_RATE_PER_S = 2.0  # d ln(altitude + CLIMB_FLOOR_M) / dt
 CLIMB_FLOOR_M = 10.0
 WALK_SPEED_FLOOR_M_S = 50.0  # walking speed at the ground; else one altitude per second
-EARTH_RADIUS_M = 6_371_000.0
 DEFAULT_EYE_M = 1.7
 
 #: Key names Controls understands (the front ends map their key codes to these).

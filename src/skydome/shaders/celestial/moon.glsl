@@ -8,6 +8,7 @@
 // Output: the output channels of the Moon's colour (solar spectrum x lunar spectral albedo),
 // drawn added; the atmosphere layer applies the transmittance.
 #include "celestial/disk_pixel.glsl"
+#include "celestial/surface_laws.glsl"
 
 uniform vec3 u_moon_direction_true;   // airless, unit ENU, observer -> Moon centre
 uniform float u_sin_angular_radius;
@@ -29,6 +30,5 @@ void main() {
     vec3 m = u_enu_to_moon * n;
     vec2 st = vec2(atan(m.y, m.x) / (2.0 * PI) + 0.5, 0.5 - atan(m.z, length(m.xy)) / PI);
     float albedo = texture(u_albedo_map, st).r;
-    float lommel_seeliger = mu0 > 0.0 ? mu0 / (mu0 + mu) : 0.0;
-    frag = u_colour * (albedo * (u_sunlit_scale * lommel_seeliger + u_earthlit_scale));
+    frag = u_colour * (albedo * (u_sunlit_scale * lommel_seeliger_law(mu0, mu) + u_earthlit_scale));
 }

@@ -8,6 +8,7 @@
 // Output: the planet's colour (solar spectrum x its albedo spectrum) in the frame's output
 // channels, drawn added; the atmosphere layer applies the transmittance.
 #include "celestial/disk_pixel.glsl"
+#include "celestial/surface_laws.glsl"
 
 uniform vec3 u_planet_direction_true;  // airless, unit ENU, observer -> planet centre
 uniform float u_sin_angular_radius;
@@ -27,10 +28,9 @@ float law(vec3 true_dir) {
     float mu0 = dot(n, u_planet_to_sun);
     if (mu0 <= 0.0) return 0.0;
 #if LAW == 0
-    return mu0;
+    return lambert_law(mu0);
 #else
-    float mu = max(dot(n, -true_dir), 0.0);
-    return mu0 / (mu0 + mu);
+    return lommel_seeliger_law(mu0, max(dot(n, -true_dir), 0.0));
 #endif
 }
 

@@ -15,6 +15,15 @@ uniform vec4 u_limb[6 * NUM_GROUPS];
 uniform vec4 u_limb_norm[NUM_GROUPS];  // 1 / integral of I/I(1) over the disk, 1/sr
 out vec4 frag;
 
+// I(mu)/I(1) of the 4 wavelengths of group g at mu, the cosine of the heliocentric angle
+// (Horner's scheme).
+// twin: skydome.celestial.limb_darkening.limb_darkening(mu, wavelength_nm) mu=0..1 g=0..1 CAMERA_MODEL=0 NUM_GROUPS=2
+vec4 limb_darkening(int g, float mu) {
+    int k = 6 * g;
+    return u_limb[k] + mu * (u_limb[k + 1] + mu * (u_limb[k + 2] + mu * (u_limb[k + 3]
+         + mu * (u_limb[k + 4] + mu * u_limb[k + 5]))));
+}
+
 void main() {
     frag = vec4(0.0);
     vec3 true_dir;
@@ -22,11 +31,7 @@ void main() {
     // Heliocentric angle: sin(psi) = sin(theta) / sin(alpha) (exact for a sphere).
     float rho = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
     float mu = sqrt(max(1.0 - rho * rho, 0.0));
-    for (int g = 0; g < NUM_GROUPS; ++g) {
-        int k = 6 * g;
-        vec4 ld = u_limb[k] + mu * (u_limb[k + 1] + mu * (u_limb[k + 2] + mu * (u_limb[k + 3]
-                + mu * (u_limb[k + 4] + mu * u_limb[k + 5]))));
-        frag += u_spectral_to_rgbs[g] * (ld * u_limb_norm[g]);
-    }
+    for (int g = 0; g < NUM_GROUPS; ++g)
+        frag += u_spectral_to_rgbs[g] * (limb_darkening(g, mu) * u_limb_norm[g]);
     frag *= u_sun_scale;
 }

@@ -1,5 +1,5 @@
 // Tileable, seeded noise for clouds: an integer hash, gradient (Perlin) noise, cellular
-// (Worley) noise and their fBm sums. Float64 twin: skydome/reference/cloud_noise.py.
+// (Worley) noise and their fBm sums. Float64 twin: skydome.clouds.lattice_noise.
 //
 // Points are in lattice units: a noise of integer period P repeats every P units along each
 // axis, so a texture that spans [0, P) per axis tiles seamlessly (wrap = repeat). Lattice
@@ -94,6 +94,7 @@ float worley_f1(vec3 p, ivec3 period, uint salt) {
 
 // fBm of gradient noise: octaves at periods P, 2P, 4P, ... with amplitudes 1, 1/2, 1/4, ...,
 // divided by the sum of the amplitudes. Octave o uses stream `stream + o`.
+// twin: skydome.clouds.lattice_noise.perlin_fbm(u, period, octaves, seed, stream) u=0..1 period=4 octaves=3 seed=7 stream=2
 float perlin_fbm(vec3 u, int period, int octaves, int seed, int stream) {
     float sum = 0.0, amp = 1.0, norm = 0.0;
     int p = period;
@@ -114,6 +115,7 @@ float worley_inverted(vec3 u, int period, int seed, int stream) {
 
 // Worley fBm of Schneider (GPU Pro 7, 2016): 0.625 W(P) + 0.25 W(2P) + 0.125 W(4P), W the
 // inverted Worley noise; streams `stream`, `stream + 1`, `stream + 2`.
+// twin: skydome.clouds.lattice_noise.worley_fbm(u, period, seed, stream) u=0..1 period=3 seed=7 stream=5
 float worley_fbm(vec3 u, int period, int seed, int stream) {
     return 0.625 * worley_inverted(u, period, seed, stream)
          + 0.25 * worley_inverted(u, 2 * period, seed, stream + 1)

@@ -78,26 +78,36 @@ float profile_density(int constituent, float altitude) {
 }
 
 // Relative densities (Rayleigh, Mie, absorption) at an altitude in km.
+// twin: skydome.atmosphere.columns.densities(params, altitude * 1000) altitude=0..100
 vec3 densities(float altitude) {
     return vec3(profile_density(0, altitude), profile_density(1, altitude), profile_density(2, altitude));
 }
 
-// Distance from radius r along direction cosine mu to the top boundary (Bruneton eq. 2.x).
+// Distance from radius r along direction cosine mu to the top boundary (Bruneton 2017,
+// DistanceToTopAtmosphereBoundary; skydome.physics.geometry).
+// twin: skydome.physics.geometry.distance_to_top(r, mu, u_top_radius) r=6360..6420 mu=-1..1 u_top_radius=6420
 float distance_to_top(float r, float mu) {
     float disc = r * r * (mu * mu - 1.0) + u_top_radius * u_top_radius;
     return max(-r * mu + safe_sqrt(disc), 0.0);
 }
 
+// Distance from radius r along direction cosine mu to the ground (Bruneton 2017,
+// DistanceToBottomAtmosphereBoundary), where the ray hits it.
+// twin: skydome.physics.geometry.distance_to_bottom(r, mu, u_bottom_radius) r=6360..6420 mu=-1..0 u_bottom_radius=6360
 float distance_to_bottom(float r, float mu) {
     float disc = r * r * (mu * mu - 1.0) + u_bottom_radius * u_bottom_radius;
     return max(-r * mu - safe_sqrt(disc), 0.0);
 }
 
+// Whether the ray (r, mu) meets the ground (Bruneton 2017, RayIntersectsGround).
+// twin: skydome.physics.geometry.ray_hits_ground(r, mu, u_bottom_radius) r=6360..6420 mu=-1..1 u_bottom_radius=6360
 bool ray_hits_ground(float r, float mu) {
     return mu < 0.0 && r * r * (mu * mu - 1.0) + u_bottom_radius * u_bottom_radius >= 0.0;
 }
 
-// Nearest non-negative intersection distance of ray o + t d with a centred sphere, or -1.
+// Distances along the ray o + t d (d unit) to its two intersections with a sphere of `radius`
+// around the origin, nearer first (negative behind o); both -1 where the line misses it.
+// twin: skydome.physics.geometry.ray_sphere(o, d, radius) o=unit*6300..6600 d=unit radius=6420
 vec2 ray_sphere(vec3 o, vec3 d, float radius) {
     float b = dot(o, d);
     float c = dot(o, o) - radius * radius;

@@ -25,6 +25,7 @@ vec3 cube_face_direction(int face, vec2 p) {
     return vec3(p.x, p.y, -1.0);                   // -Z down: right = east
 }
 
+// twin: skydome.core.cameras.Camera.directions(x, y, width, height) tile_xy=0..64
 bool camera_ray(vec2 tile_xy, out vec3 dir) {
     vec2 frag_xy = tile_xy + u_tile_offset;
     vec2 uv = frag_xy / u_resolution;

@@ -2,7 +2,7 @@
 // the solid angle of a pixel there. For point sources and overlays drawn by vertex shaders.
 // Frame positions are GL pixels of the whole frame (x right, y up, pixel i covering
 // [i, i + 1]); subtract u_tile_offset for a tile. Models 0-3 (a direction map, model 4, has
-// no forward mapping). Float64 twin: skydome.render.projection.
+// no forward mapping). Float64 twins: the camera classes of skydome.core.cameras.
 #include "common/camera.glsl"
 
 // The face (camera.glsl's order) and face coordinates in [-1, 1]^2 of a direction.
@@ -22,6 +22,7 @@ int cube_face_of(vec3 d, out vec2 p) {
 
 // False where the camera does not see `dir` (behind a perspective camera, below the
 // fisheye's horizon); `frag_xy` is its frame position.
+// twin: skydome.core.cameras.Camera.project(dir, width, height) dir=unit
 bool camera_project(vec3 dir, out vec2 frag_xy) {
     frag_xy = vec2(-1e9);
 #if CAMERA_MODEL == 0
@@ -55,6 +56,7 @@ bool camera_project(vec3 dir, out vec2 frag_xy) {
 }
 
 // Solid angle (sr) of one pixel where the frame sees `dir`.
+// twin: skydome.core.cameras.Camera.solid_angle(dir, width, height) dir=unit
 float camera_pixel_solid_angle(vec3 dir) {
 #if CAMERA_MODEL == 0
     float f = max(dot(u_camera_basis[2], dir), 1e-12);

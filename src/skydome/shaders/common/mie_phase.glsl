@@ -14,6 +14,7 @@
 uniform float u_mie_lobe_g[MIE_LOBES];
 uniform vec4 u_mie_lobe_weight[NUM_GROUPS * MIE_LOBES];  // group-major: [g * MIE_LOBES + j]
 
+// twin: skydome.atmosphere.phase.MiePhaseLobes.phase(nu, wavelengths_nm) nu=-1..1 g=0..1 NUM_GROUPS=2
 vec4 mie_phase_group(float nu, int g) {
     vec4 p = vec4(0.0);
     for (int j = 0; j < MIE_LOBES; ++j)

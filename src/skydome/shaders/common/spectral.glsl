@@ -10,6 +10,7 @@ uniform float u_mie_g;
 uniform mat4 u_spectral_to_rgbs[NUM_GROUPS];
 
 // Optical depth of column densities c = (Rayleigh, Mie, absorption) km, for group g.
+// twin: skydome.atmosphere.columns.optical_depth(coefficients, c * 1000) g=0..1 c=0..200 NUM_GROUPS=2
 vec4 optical_depth(int g, vec3 c) {
     return u_rayleigh_scattering[g] * c.x + u_mie_extinction[g] * c.y + u_absorption_extinction[g] * c.z;
 }

@@ -11,11 +11,16 @@ uniform float u_radius_ratio_sq; // (r_observer / r_layer)^2, < 1
 uniform float u_dip_sin;         // sin of the ground horizon's dip below the horizontal
 out vec4 frag;
 
+// The van Rhijn factor at the cosine of the zenith angle: 1 / sqrt(1 - (r/R_l)^2 sin^2 z).
+// twin: skydome.night.airglow.van_rhijn(np.arccos(cos_z)) cos_z=-1..1 CAMERA_MODEL=0
+float van_rhijn(float cos_z) {
+    return inversesqrt(1.0 - u_radius_ratio_sq * max(1.0 - cos_z * cos_z, 0.0));
+}
+
 void main() {
     frag = vec4(0.0);
     vec3 dir;
     if (!camera_ray(gl_FragCoord.xy, dir)) return;
     if (dir.z < -u_dip_sin) return;  // the ground
-    float sin2 = max(1.0 - dir.z * dir.z, 0.0);
-    frag = u_airglow_zenith * inversesqrt(1.0 - u_radius_ratio_sq * sin2);
+    frag = u_airglow_zenith * van_rhijn(dir.z);
 }

@@ -18,11 +18,15 @@ uniform float u_kappa;             // azimuthal concentration of a city's dome
 uniform float u_eta;               // its fall-off with elevation
 out vec4 frag;
 
+// Kasten & Young's (1989) relative air mass at the cosine of the zenith angle.
+// twin: skydome.physics.airmass.kasten_young_airmass(np.arccos(cos_z)) cos_z=0..1 CAMERA_MODEL=0
 float airmass(float cos_z) {
     float z = acos(clamp(cos_z, 0.0, 1.0));
     return 1.0 / (max(cos_z, 0.0) + 0.50572 * pow(96.07995 - degrees(z), -1.6364));
 }
 
+// The glow of a homogeneous slab of zenith optical depth u_tau relative to the zenith.
+// twin: skydome.night.light_pollution.slab_profile(np.arccos(cos_z), extinction_mag) cos_z=0..1 CAMERA_MODEL=0
 float slab(float cos_z) {
     return (1.0 - exp(-u_tau * airmass(cos_z))) / (1.0 - exp(-u_tau * airmass(1.0)));
 }

@@ -75,6 +75,7 @@ vec3 tm_hvs(vec3 c) {
 }
 
 // Narkowicz 2016, ACES filmic fit (not clipped).
+// twin: skydome.display.tonemap.aces_narkowicz(x) x=0..64 FILMIC_INPUT_CAP=64.0 FILMIC_DESATURATION_STOPS=3.0
 float aces_narkowicz(float x) { return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14); }
 
 // The fit on n = max(R, G, B), colour scaled by f(n) / n (hue preserved), then above n = 1
@@ -92,6 +93,8 @@ vec3 tm_filmic(vec3 c) {
     return x * ((n_display - white) / n) + white;  // f(n) (r + t (1 - r)), r = x / n
 }
 
+// The operator OPERATOR on exposed linear RGB, clamped to [0, 1] (display-linear).
+// twin: skydome.display.tonemap.tonemap_linear(exposed, name, 1.0) exposed=-0.5..12
 vec3 tonemap_display_linear(vec3 exposed) {
     vec3 c = max(exposed, vec3(0.0));  // negative (out-of-gamut) components -> 0
     vec3 d;

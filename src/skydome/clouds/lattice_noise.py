@@ -1,12 +1,11 @@
-"""The clouds' noise on the host: ``shaders/clouds/noise_common.glsl``'s hash, gradient
-(Perlin) noise, cellular (Worley) noise and fBm in float64 NumPy at given points.
+"""Float64 twin of ``shaders/clouds/noise_common.glsl``: the same hash, gradient (Perlin)
+noise, cellular (Worley) noise and fBm, evaluated with NumPy at given points.
 
-The weather map's generator (``skydome.clouds.weather``) makes its host-side noise with it,
-and the tests hold the GLSL noise to it (it is the shaders' float64 twin). The hash is
-integer arithmetic modulo 2^32, so it is bit-identical to the GLSL; the noise values then
-differ from the float32 shaders only by float32 rounding. Points are arrays of shape
-(..., 3) in lattice units (texture coordinates times the period) and must be >= 0, as in
-the shaders.
+The hash is integer arithmetic modulo 2^32, so it is bit-identical to the GLSL; the
+noise values then differ from the float32 shaders only by float32 rounding. Points are
+arrays of shape (..., 3) in lattice units (texture coordinates times the period) and must
+be >= 0, as in the shaders. The weather maps (:mod:`skydome.clouds.weather`, host data made
+once per seed) are drawn with it; the noise textures themselves are drawn by the shaders.
 """
 
 from __future__ import annotations
@@ -110,7 +109,8 @@ def worley_f1(p: np.ndarray, period, salt: int) -> np.ndarray:
 
 def perlin_fbm(u: np.ndarray, period: int, octaves: int, seed: int, stream: int) -> np.ndarray:
     """Gradient-noise fBm at tile coordinates ``u`` (..., 3): periods P, 2P, ...; amplitudes
-    1, 1/2, ...; divided by the sum of the amplitudes."""
+    1, 1/2, ...; divided by the sum of the amplitudes.
+    GLSL twin: ``perlin_fbm``."""
     u = np.asarray(u, dtype=np.float64)
     total, norm = np.zeros(u.shape[:-1]), 0.0
     for o in range(octaves):
@@ -129,7 +129,8 @@ def worley_inverted(u: np.ndarray, period: int, seed: int, stream: int) -> np.nd
 
 
 def worley_fbm(u: np.ndarray, period: int, seed: int, stream: int) -> np.ndarray:
-    """Schneider's Worley fBm: 0.625 W(P) + 0.25 W(2P) + 0.125 W(4P)."""
+    """Schneider's Worley fBm: 0.625 W(P) + 0.25 W(2P) + 0.125 W(4P).
+    GLSL twin: ``worley_fbm``."""
     return (
         0.625 * worley_inverted(u, period, seed, stream)
         + 0.25 * worley_inverted(u, 2 * period, seed, stream + 1)
