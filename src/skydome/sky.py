@@ -120,8 +120,10 @@ class Sky:
         progress: ``progress(stage, fraction)`` while tables are precomputed.
         ctx: a moderngl context (default: the shared headless one; a window's for a viewer).
 
-    A Sky owns its frame graph and layers; the tables, textures and compiled shaders behind
-    them are shared with every other Sky of the same context that needs the same ones.
+    A Sky owns its frame graph and layers; the atmosphere's tables and the clouds' noise
+    behind them are shared with every other Sky of the same context that needs the same
+    ones (the layers' small textures and their shaders are made again: about 30 ms of
+    compiling on a CPU rasterizer, with the driver's shader cache).
     ``release()`` (or ``with Sky(...) as sky:``) frees its GPU memory now; garbage
     collection does it otherwise.
     """
@@ -251,7 +253,7 @@ class Sky:
     def at(self, time: Any) -> Sky:
         """The same sky at another ``time``: a new Sky with its own layers and settings (the
         layers on and off, night vision and overlays as this one's now), sharing this one's
-        tables, textures and compiled shaders."""
+        atmosphere tables and cloud noise."""
         if self.observer is None:
             raise ParameterError("an abstract sky (a Sun elevation) has no time: make a new Sky")
         return self._remade(self.description.with_(time=time))
