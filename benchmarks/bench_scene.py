@@ -9,7 +9,7 @@ Prints the GL device, then:
   its atmosphere layer alone (both lights), and, for scale, a Sky of the atmosphere layer
   alone lit by the Sun only; the budget is scene <= 1.15 x the atmosphere alone;
 - ``at(t)``: a new time (astronomy, the Moon's disk integral, the sky-view tables re-aimed at
-  both lights), GPU work finished;
+  both lights), GPU work finished; a whole Sky's life (made, a first small frame, released);
 - ``draw 1920x1080``: Sky.draw into an offscreen 8-bit framebuffer (no read-back; GPU
   exposure and tone mapping), GPU work finished;
 - ``timelapse``: ``skydome timelapse`` of 24 hours at 1-minute steps (1441 frames) at
@@ -116,6 +116,15 @@ def main() -> None:
     batch = [f"2018-03-09T06:{m:02d}:30Z" for m in range(40)]
     many = median_ms(lambda: state_series(sky.observer, batch), 3) / len(batch)
     print(f"  astronomy alone: {one:.1f} ms for one time, {many:.2f} ms per time in a batch of 40")
+
+    def lifetime():
+        """A whole Sky's life: made (tables shared), a first 64 x 32 frame (its shaders
+        compiled, its textures uploaded), released."""
+        with Sky(PLACE, f"2018-03-09T08:{next(minute) % 60:02d}:00Z", ctx=ctx) as one:
+            one.render(width=64, height=32, exposure=None)
+
+    life_ms = median_ms(lifetime, args.repeats)
+    print(f"a Sky made, drawn once at 64x32 and released: {life_ms:.1f} ms")
 
     print(f"draw 1920x1080 (no read-back): {draw_ms(sky, cam, (1920, 1080), args.repeats):.1f} ms")
 
