@@ -22,8 +22,8 @@ test_camera_round_trip             150         the float64 twins: ``directions``
                                                vectors, ``project`` brings them back
 test_sky_frames                     80  yes    ``Sky(...).render(...)``: settings and cameras,
                                                frames of 32x16 or less, depth and shadow images
-test_cli_arguments                 200         ``skydome render`` flags up to the render (the
-                                               Sky is not built)
+test_cli_arguments                 200         ``skydome render`` (and ``timelapse``) flags
+                                               up to the render (the Sky is not built)
 test_cli_astro_commands             30         ``skydome ephemeris`` and ``events`` flags
 test_cli_renders                    12  yes    ``skydome render`` of small frames to .npy
 ===============================  =====  =====  ===============================================
@@ -865,15 +865,65 @@ def _check_cli_result(res, out):
         assert not os.path.exists(out), f"{out} written by a failed command"
 
 
+def timelapse_flags():
+    """``skydome timelapse``'s own flags, valid or not (with cli_flags' shared ones)."""
+    value = lambda *choices: st.one_of(st.sampled_from(choices), cli_text)  # noqa: E731
+    return st.fixed_dictionaries(
+        {
+            "--start": value("2024-06-21T19:00Z", "2024-06-21", "dusk"),
+            "--end": value("2024-06-21T19:02Z", "2024-06-21T18:00Z", "2999-01-01T00:00Z"),
+        },
+        optional={
+            "--step": value("30s", "1min", "0s", "-1h", "2 fortnights"),
+            "--fps": cli_number(1, 240),
+            "--format": value("png", "exr", "gif"),
+            "--adaptation-speed": cli_number(0.01, 1e6),
+            "--exposure": value("adapt", "auto", "12", "99"),
+        },
+    ).map(lambda d: [a for k, v in d.items() for a in (k, v)])
+
+
+#: render's flags that timelapse does not take (it has no Sun, tables or night flags).
+RENDER_ONLY = {
+    "--sun-elevation", "--sun-azimuth", "--time", "--orders", "--spectral", "--bortle",
+    "--overlay", "--roll", "--model", "--samples", "--night-vision",
+}  # fmt: skip
+
+
+def _timelapse_shared(args: list[str]) -> list[str]:
+    """cli_flags' ``args`` without render's own flags (and their values), with a place
+    when they give none (most are then valid up to the Sky)."""
+    out, i = [], 0
+    while i < len(args):
+        if args[i] in RENDER_ONLY:
+            i += 1 if args[i] == "--night-vision" else 2
+            continue
+        out.append(args[i])
+        i += 1
+    if not {"--place", "--lat", "--lon"} & set(out):
+        out = ["--lat", "35.9", "--lon", "14.5", *out]
+    return out
+
+
 @settings(FAST, max_examples=200)
-@given(args=cli_flags())
-def test_cli_arguments(tmp_path_factory, args):
-    """Random ``skydome render`` flags, as far as the render: exit status 2 with one
-    ``skydome: error:`` line on stderr and nothing written, or a valid command (the Sky is
-    not built: see test_cli_renders)."""
+@given(
+    command=st.integers(0, 3).map(lambda k: "timelapse" if k == 0 else "render"),
+    args=cli_flags(),
+    timelapse=timelapse_flags(),
+    mp4=st.booleans(),
+)
+def test_cli_arguments(tmp_path_factory, command, args, timelapse, mp4):
+    """Random ``skydome render`` (or ``timelapse``) flags, as far as the render: exit status
+    2 with one ``skydome: error:`` line on stderr and nothing written, or a valid command
+    (the Sky is not built: see test_cli_renders)."""
     import skydome.sky
 
-    out = tmp_path_factory.mktemp("cli") / "sky.png"
+    folder = tmp_path_factory.mktemp("cli")
+    if command == "render":
+        out = folder / "sky.png"
+    else:
+        out = folder / ("day.mp4" if mp4 else "frames")
+        args = timelapse + _timelapse_shared(args)
     with pytest.MonkeyPatch.context() as mp:
 
         def refuse(*a, **k):
@@ -881,11 +931,11 @@ def test_cli_arguments(tmp_path_factory, args):
 
         mp.setattr(skydome.sky, "Sky", refuse)
         try:
-            res = run_cli("render", *args, "-o", out)
+            res = run_cli(command, *args, "-o", out)
         except _Rendered:
-            event("valid: a Sky would be built")
+            event(f"{command}: valid, a Sky would be built")
             return
-    event(f"exit {res.returncode}: {res.stderr[16:46]}")
+    event(f"{command} exit {res.returncode}: {res.stderr[16:46]}")
     _check_cli_result(res, out)
     assert res.returncode == 2, f"{args} exited {res.returncode} without building a sky"
 
