@@ -14,7 +14,7 @@ the layers it describes, in drawing order.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import astuple, dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
@@ -118,6 +118,10 @@ class SkyDescription:
     def __post_init__(self):
         if self.observer is not None and not isinstance(self.observer, Observer):
             raise ParameterError(f"observer must be an Observer, got {self.observer!r}")
+        if self.observer is not None and any(np.ndim(v) for v in astuple(self.observer)):
+            raise ParameterError(
+                f"a sky is for one place and weather: numbers, not arrays, got {self.observer!r}"
+            )
         if (self.observer is None) != (self.time is None):
             raise ParameterError(
                 "a place needs a time and a time needs a place (or give neither, and a Sun "
@@ -127,10 +131,13 @@ class SkyDescription:
             not isinstance(self.time, Time) or np.shape(self.time.jd_utc) != ()
         ):
             raise ParameterError("time must be one instant (skydome.astro.Time)")
-        check_range("sun_elevation_deg", self.sun_elevation_deg, -90.0, 90.0, "deg")
-        check_range("sun_azimuth_deg", self.sun_azimuth_deg, -360.0, 360.0, "deg")
-        check_range("pressure_hPa", self.pressure_hPa, 0.0, 2000.0, "hPa")
-        check_range("temperature_C", self.temperature_C, -100.0, 100.0, "deg C")
+        for name, lo, hi, unit in (
+            ("sun_elevation_deg", -90.0, 90.0, "deg"),
+            ("sun_azimuth_deg", -360.0, 360.0, "deg"),
+            ("pressure_hPa", 0.0, 2000.0, "hPa"),
+            ("temperature_C", -100.0, 100.0, "deg C"),
+        ):
+            object.__setattr__(self, name, check_range(name, getattr(self, name), lo, hi, unit))
         if not isinstance(self.atmosphere, AtmosphereParams):
             raise ParameterError(f"atmosphere must be AtmosphereParams, got {self.atmosphere!r}")
         check_choice("model", self.model, MODELS, "model")
@@ -143,7 +150,7 @@ class SkyDescription:
         if self.clouds is not None and not isinstance(self.clouds, Clouds):
             raise ParameterError(f"clouds must be a Clouds or None, got {self.clouds!r}")
         check_choice("cloud_quality", self.cloud_quality, QUALITY, "cloud quality")
-        object.__setattr__(self, "overlays", tuple(self.overlays))
+        object.__setattr__(self, "overlays", parse_overlays(self.overlays))
         if self.model == "single" and (
             self.clouds is not None or self.night_vision or self.overlays or self.observer
         ):
@@ -197,9 +204,9 @@ class SkyDescription:
         observer = instant = None
         if abstract:
             if pressure_hPa is not None:
-                weather["pressure_hPa"] = float(pressure_hPa)
+                weather["pressure_hPa"] = pressure_hPa
             if temperature_C is not None:
-                weather["temperature_C"] = float(temperature_C)
+                weather["temperature_C"] = temperature_C
         else:
             observer = observer_for(place, pressure_hPa, temperature_C)
             instant = to_time(time)
@@ -207,15 +214,12 @@ class SkyDescription:
                 raise ParameterError(f"a sky is for one instant; got {instant.shape} times")
         if isinstance(clouds, str):
             clouds = Clouds(clouds)
-        if isinstance(overlays, str):
-            overlays = parse_overlays(overlays)
-        elif overlays:
-            overlays = parse_overlays(",".join(overlays))
+        overlays = () if overlays is None else parse_overlays(overlays)
         return cls(
             observer=observer,
             time=instant,
-            sun_elevation_deg=30.0 if sun_elevation_deg is None else float(sun_elevation_deg),
-            sun_azimuth_deg=float(sun_azimuth_deg),
+            sun_elevation_deg=30.0 if sun_elevation_deg is None else sun_elevation_deg,
+            sun_azimuth_deg=sun_azimuth_deg,
             atmosphere=atmosphere_params(atmosphere),
             model=model,
             config=config or PrecomputeConfig(),

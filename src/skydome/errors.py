@@ -41,7 +41,7 @@ def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -
     """
     try:
         v = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"{name} must be a number, got {value!r}") from None
     if not (lo <= v <= hi):  # also rejects NaN
         u = f" {unit}" if unit else ""

@@ -17,7 +17,7 @@ import weakref
 from typing import Any
 
 from skydome.clouds.layer import CloudLayer
-from skydome.core.cameras import Camera, EquirectCamera, PerspectiveCamera
+from skydome.core.cameras import MAX_ALTITUDE_M, Camera, EquirectCamera, PerspectiveCamera
 from skydome.core.frame import Frame
 from skydome.core.layer import Layer
 from skydome.core.lights import SkyState
@@ -62,6 +62,15 @@ def exposure_scale(exposure, compensation_ev: float):
     as its scale (m^2/cd); the compensation checked."""
     check_range("exposure compensation", compensation_ev, *COMPENSATION_RANGE, "EV")
     return exposure if exposure is None or exposure == "auto" else ev100_to_scale(exposure)
+
+
+def check_camera(camera, optional: bool = False) -> None:
+    """ParameterError unless ``camera`` is a Camera (or None when ``optional``)."""
+    if not isinstance(camera, Camera) and not (optional and camera is None):
+        raise ParameterError(
+            f"camera must be a skydome camera (PerspectiveCamera, FisheyeCamera, EquirectCamera, "
+            f"CubemapCamera or DirectionsCamera), got {camera!r}"
+        )
 
 
 def default_look(state: SkyState) -> str:
@@ -302,7 +311,7 @@ class Sky:
         """The camera's height above the atmosphere's ground (m): given, or the place's
         elevation plus a standing eye (EYE_HEIGHT_M)."""
         if altitude_m is not None:
-            return float(altitude_m)
+            return check_range("altitude_m", altitude_m, 0.0, MAX_ALTITUDE_M, "m")
         ground = 0.0 if self.observer is None else max(float(self.observer.elevation_m), 0.0)
         return ground + EYE_HEIGHT_M
 
@@ -335,6 +344,7 @@ class Sky:
         (aerial perspective). ``shadow_length_m``: an (H, W) image of the length (m) of each
         ray, from the camera, in the shadow of something of yours (light shafts)."""
         self._check_alive()
+        check_camera(camera, optional=True)
         cam = camera or self.camera(look or default_look(self.state))
         scale = exposure_scale(exposure, compensation_ev)
         frame = self.graph.render(
@@ -375,6 +385,7 @@ class Sky:
         Returns the exposure scale used (m^2/cd, compensation included) when known on the
         CPU, else None."""
         self._check_alive()
+        check_camera(camera)
         scale = exposure_scale(exposure, compensation_ev)
         return self.graph.draw(
             self.state,

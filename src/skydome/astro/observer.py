@@ -44,7 +44,7 @@ _OMEGA_RAD_PER_DAY = frames.EARTH_OMEGA * 86400.0
 def _check_array(name: str, value: Any, lo: float, hi: float, unit: str) -> np.ndarray | float:
     try:
         a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"{name} must be a number, got {value!r}") from None
     bad = ~((a >= lo) & (a <= hi))  # also catches NaN
     if np.any(bad):

@@ -360,7 +360,7 @@ def _number(name: str, value: Any) -> float:
         if isinstance(value, bool):
             raise TypeError
         v = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"{name} must be a number, got {value!r}") from None
     if math.isnan(v):
         raise ParameterError(f"{name} must be a number, got {value!r}")

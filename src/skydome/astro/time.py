@@ -381,7 +381,10 @@ def _parse_one(value: Any) -> float:
                 f"time {value!r} is not an ISO 8601 date/time (e.g. 2024-03-20T12:00:00Z)"
             ) from None
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
-        return float(value)
+        try:
+            return float(value)
+        except OverflowError:
+            raise ParameterError(f"time {value!r} is too large for a Julian Date") from None
     raise ParameterError(
         f"time {value!r} must be a datetime, ISO 8601 string, numpy datetime64 or Julian Date"
     )

@@ -297,7 +297,7 @@ def _check_table(altitudes_m, values) -> tuple[tuple[float, ...], tuple[float, .
     try:
         alt = np.asarray(altitudes_m, dtype=np.float64).ravel()
         val = np.asarray(values, dtype=np.float64).ravel()
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(
             "a tabulated DensityProfile needs numeric altitudes and values"
         ) from None
@@ -636,7 +636,7 @@ def _check_ssa(ssa: float) -> float:
     lo, hi = SSA_RANGE
     try:
         value = float(ssa)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"ssa must be a number, got {ssa!r}") from None
     if not (lo < value <= hi):  # also rejects NaN
         raise ParameterError(f"ssa = {ssa} is outside the valid range ({lo}, {hi}]")

@@ -255,12 +255,11 @@ def preset(
     """The named preset, with any knobs set (``AtmosphereParams.with_knobs``; None keeps the
     preset's own value); raises ParameterError listing the valid names or naming a knob's
     valid range. E.g. ``preset("earth", aod_550=0.1, angstrom=1.3, ozone_du=300)``."""
-    try:
-        params = PRESETS[name]()
-    except KeyError:
+    if not isinstance(name, str) or name not in PRESETS:
         raise ParameterError(
             f"unknown atmosphere preset {name!r}; choose one of {', '.join(PRESETS)}"
-        ) from None
+        )
+    params = PRESETS[name]()
     return params.with_knobs(
         albedo=albedo, aod_550=aod_550, angstrom=angstrom, ozone_du=ozone_du, ssa=ssa
     )

@@ -31,7 +31,7 @@ def check_sky_view_size(size) -> tuple[int, int]:
     count of at least 4 (two halves)."""
     try:
         w, h = (int(v) for v in size)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"sky-view size must be two integers, got {size!r}") from None
     if w < 2 or h < 4 or h % 2:
         raise ParameterError(f"sky-view size must be (>= 2, even >= 4) texels, got {size}")

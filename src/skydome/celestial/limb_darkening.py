@@ -147,7 +147,7 @@ _GL_W = 0.5 * _GL_W
 def _as_float_array(value, name: str) -> np.ndarray:
     try:
         return np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(
             f"{name} must be a number or an array of numbers, got {value!r}"
         ) from None

@@ -66,7 +66,7 @@ PRESETS: dict[str, dict[str, Any]] = {
 def _number(name: str, value: Any, lo: float, hi: float, unit: str = "") -> float:
     try:
         v = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"cloud {name} must be a number, got {value!r}") from None
     if not math.isfinite(v) or not lo <= v <= hi:
         unit = f" {unit}" if unit else ""
@@ -111,7 +111,7 @@ class Clouds:
     tile_km: float = 40.0
 
     def __post_init__(self):
-        if self.preset not in PRESETS:
+        if not isinstance(self.preset, str) or self.preset not in PRESETS:
             raise ParameterError(
                 f"cloud preset {self.preset!r} must be one of {', '.join(PRESETS)}"
             )
@@ -141,7 +141,7 @@ class Clouds:
         )
         try:
             wind = tuple(float(v) for v in self.wind_m_s)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ParameterError(f"wind must be (east, north) m/s, got {self.wind_m_s!r}") from None
         if len(wind) != 2 or not all(math.isfinite(v) and abs(v) <= 200 for v in wind):
             raise ParameterError(

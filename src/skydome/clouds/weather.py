@@ -60,7 +60,7 @@ _EVOLUTION_Z_PERIOD = 256.0
 def _check_tile(tile_km) -> float:
     try:
         t = float(tile_km)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"tile_km must be a number, got {tile_km!r}") from None
     if not (math.isfinite(t) and t > 0):
         raise ParameterError(f"tile_km = {tile_km} must be a finite number of km > 0")
@@ -121,7 +121,7 @@ class WeatherMap:
             a = np.asarray(array)
             if a.dtype != np.float32:  # float32 is kept (half the memory of a big map)
                 a = a.astype(np.float64)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ParameterError("a weather map must be a numeric array") from None
         if a.ndim == 2:
             a = a[..., None]
@@ -224,7 +224,7 @@ class WeatherMap:
             raise ParameterError(f"clouds must be an integer >= 0, got {clouds!r}")
         try:
             lo, hi = (float(v) for v in cloud_size)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ParameterError(
                 f"cloud_size must be two numbers (min, max), fractions of the tile in "
                 f"(0, 0.5], got {cloud_size!r}"
@@ -297,7 +297,7 @@ def _threshold_to_mean(field: np.ndarray, mean: float, edge: float) -> np.ndarra
 def _pair(name: str, value) -> tuple[float, float]:
     try:
         east, north = (float(v) for v in value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"{name} must be two numbers (east, north) in m/s") from None
     if not (math.isfinite(east) and math.isfinite(north)):
         raise ParameterError(f"{name} = {value} must be finite")
@@ -418,7 +418,7 @@ class AnimatedWeather:
         time returns it without drawing)."""
         try:
             t = float(time_s)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ParameterError(f"time_s must be a number of seconds, got {time_s!r}") from None
         if not math.isfinite(t):
             raise ParameterError(f"time_s = {time_s} must be finite")

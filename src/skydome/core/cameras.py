@@ -375,18 +375,26 @@ class DirectionsCamera(Camera):
     has_projection: ClassVar[bool] = False
 
     def __post_init__(self):
-        d = np.asarray(self.view_directions, dtype=np.float64)
+        try:
+            d = np.asarray(self.view_directions, dtype=np.float64)
+        except (TypeError, ValueError, OverflowError):
+            raise ParameterError(
+                "directions must be a finite (H, W, 3) or (N, 3) array of numbers, got "
+                f"{type(self.view_directions).__name__} {str(self.view_directions)[:60]}"
+            ) from None
         if d.ndim == 2:
             d = d[None]
         if d.ndim != 3 or d.shape[-1] != 3 or not np.all(np.isfinite(d)):
             raise ParameterError(
                 f"directions must be a finite (H, W, 3) or (N, 3) array, got shape {d.shape}"
             )
-        norm = np.linalg.norm(d, axis=-1, keepdims=True)
-        if np.any(norm == 0):
+        # Scaled before the norm, which overflows for components beyond ~1e154.
+        scale = np.max(np.abs(d), axis=-1, keepdims=True)
+        if np.any(scale == 0):
             raise ParameterError("directions must be non-zero vectors")
+        d = d / scale
         check_size(d.shape[1], d.shape[0])
-        object.__setattr__(self, "view_directions", d / norm)
+        object.__setattr__(self, "view_directions", d / np.linalg.norm(d, axis=-1, keepdims=True))
 
     def frame_size(self, width: int | None = None, height: int | None = None) -> tuple[int, int]:
         return self.view_directions.shape[1], self.view_directions.shape[0]

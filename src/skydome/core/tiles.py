@@ -32,7 +32,12 @@ def input_image(
     for shadow lengths a length past any ray's end). NaN and -inf are refused.
     """
     w, h = size
-    a = np.asarray(image, dtype=np.float64)
+    try:
+        a = np.asarray(image, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(
+            f"{name} must be a ({h}, {w}) array of numbers, got {type(image).__name__}"
+        ) from None
     if a.shape != (h, w):
         raise ParameterError(f"{name} must be a ({h}, {w}) array for this frame, got {a.shape}")
     if np.isnan(a).any() or np.isneginf(a).any():

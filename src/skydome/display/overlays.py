@@ -116,12 +116,18 @@ _PLANET_NAMES = {
 _CARDINALS = (("N", 0.0), ("E", 90.0), ("S", 180.0), ("W", 270.0))
 
 
-def parse_overlays(text: str) -> tuple[str, ...]:
+def parse_overlays(text: str | list[str] | tuple[str, ...]) -> tuple[str, ...]:
     """The overlays named in a comma-separated list, e.g. ``"lines,labels"`` ->
-    ``("lines", "labels")``, in the given order without repeats. ``""`` or ``"none"`` gives
-    ``()``, ``"all"`` every overlay. Raises ParameterError naming an unknown name."""
+    ``("lines", "labels")``, in the given order without repeats (or in names, e.g.
+    ``["lines", "labels"]``). ``""`` or ``"none"`` gives ``()``, ``"all"`` every overlay.
+    Raises ParameterError naming an unknown name, or a value that is neither."""
     if not isinstance(text, str):
-        raise ParameterError(f"overlays must be a comma-separated string, got {text!r}")
+        names = list(text) if hasattr(text, "__iter__") else None
+        if names is None or not all(isinstance(name, str) for name in names):
+            raise ParameterError(
+                f"overlays must be a comma-separated string or names, got {text!r}"
+            )
+        text = ",".join(names)
     out: list[str] = []
     for part in text.split(","):
         name = part.strip().lower()

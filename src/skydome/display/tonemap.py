@@ -366,7 +366,7 @@ def check_exposure_scale(exposure_scale: float) -> float:
     """Validate an exposure scale (m^2/cd): finite and positive."""
     try:
         s = float(exposure_scale)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(f"exposure scale must be a number, got {exposure_scale!r}") from None
     if not (math.isfinite(s) and s > 0.0):
         raise ParameterError(f"exposure scale = {exposure_scale!r} must be finite and > 0")

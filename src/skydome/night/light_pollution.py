@@ -56,7 +56,11 @@ MAX_CITIES = 8
 def bortle_zenith_mag(bortle_class: int) -> float:
     """Total zenith sky brightness (V mag/arcsec^2) of a Bortle class 1-9: its range's centre
     (class 8: 18.19)."""
-    if bortle_class not in BORTLE_SQM_RANGES:
+    try:
+        known = bortle_class in BORTLE_SQM_RANGES and not isinstance(bortle_class, bool)
+    except TypeError:  # unhashable: a list, an array...
+        known = False
+    if not known:
         raise ParameterError(f"bortle class = {bortle_class!r} is outside the valid range 1 to 9")
     lo, hi = BORTLE_SQM_RANGES[bortle_class]
     return 0.5 * (lo + hi)
@@ -222,7 +226,10 @@ class LightPollution:
             self.zenith_cd_m2 = check_range("zenith_cd_m2", zenith_cd_m2, 0.0, 1.0, "cd/m^2")
         else:
             self.zenith_cd_m2 = 0.0
-        self.cities = tuple(cities)
+        try:
+            self.cities = tuple(cities)
+        except TypeError:
+            raise ParameterError(f"cities must be City objects, got {cities!r}") from None
         if len(self.cities) > MAX_CITIES:
             raise ParameterError(f"{len(self.cities)} cities: at most {MAX_CITIES}")
         for c in self.cities:
@@ -237,6 +244,7 @@ class LightPollution:
         """The glow of a Bortle class (1-9): its zenith total (bortle_zenith_mag) less the
         natural sky, uniform over the sky with the slab profile (plus any ``cities``)."""
         natural = kwargs.get("natural_zenith_mag", NATURAL_ZENITH_MAG)
+        natural = check_range("natural_zenith_mag", natural, 15.0, 25.0, "mag/arcsec^2")
         lum = artificial_zenith_luminance(bortle_zenith_mag(bortle_class), natural)
         lp = cls(zenith_cd_m2=lum, **kwargs)
         lp.bortle_class = int(bortle_class)

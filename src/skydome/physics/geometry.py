@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 
+from skydome.errors import ParameterError, check_range
+
 
 def horizontal_to_enu(alt_rad, az_rad) -> np.ndarray:
     """Unit ENU vectors (..., 3) from altitude and azimuth (rad)."""
@@ -16,8 +18,13 @@ def horizontal_to_enu(alt_rad, az_rad) -> np.ndarray:
 
 
 def direction_from_angles(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
-    """The unit ENU vector of an elevation and an azimuth in degrees."""
-    return horizontal_to_enu(math.radians(elevation_deg), math.radians(azimuth_deg))
+    """The unit ENU vector of an elevation (-90 to 90) and an azimuth (any finite value)
+    in degrees; ParameterError for other values."""
+    el = check_range("elevation_deg", elevation_deg, -90.0, 90.0, "deg")
+    az = check_range("azimuth_deg", azimuth_deg, -math.inf, math.inf, "deg")
+    if not math.isfinite(az):
+        raise ParameterError(f"azimuth_deg = {azimuth_deg} deg must be a finite number")
+    return horizontal_to_enu(math.radians(el), math.radians(az))
 
 
 def elevation_deg(direction) -> float:

@@ -573,8 +573,7 @@ class FrameGraph:
         if overlays is not None:
             names: tuple[str, ...] = ()
             if overlays:
-                text = overlays if isinstance(overlays, str) else ",".join(overlays)
-                names = parse_overlays(text)
+                names = parse_overlays(overlays)
             if names != self.overlays and self._overlays is not None:
                 self._overlays.release()
                 self._overlays = None
