@@ -8,11 +8,14 @@ from __future__ import annotations
 
 import ast
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from skydome.core.services import AirService
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "src" / "skydome"
@@ -158,3 +161,27 @@ def test_the_package_root_forwards_exactly_the_public_face():
     subprocess.run([sys.executable, "-c", code], check=True)
     bare = "import sys, skydome; assert 'numpy' not in sys.modules, 'numpy imported'"
     subprocess.run([sys.executable, "-c", bare], check=True)
+
+
+SHADERS = PACKAGE / "shaders"
+_INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"', re.M)
+#: Shader folders of the base floor: any shader may include them.
+SHARED_SHADER_FOLDERS = {"common"}
+
+
+def test_shaders_include_only_their_own_folder_common_and_service_interfaces():
+    # The import rules hold for GLSL too: a layer's shader includes its own folder's files,
+    # `common/`, and, from another layer, only the GLSL interface a typed service declares
+    # (the air's lookups, AirService.GLSL): never another layer's internals.
+    allowed_across = set(AirService.GLSL)
+    wrong = []
+    for path in sorted(SHADERS.rglob("*.glsl")):
+        folder = path.relative_to(SHADERS).parts[0]
+        for target in _INCLUDE.findall(path.read_text()):
+            other = target.split("/")[0]
+            if other in (folder, *SHARED_SHADER_FOLDERS) or target in allowed_across:
+                continue
+            wrong.append(f"{path.relative_to(SHADERS)} includes {target}")
+    assert not wrong, wrong
+    for target in allowed_across:
+        assert (SHADERS / target).is_file(), target

@@ -90,7 +90,21 @@ class LookupTables:
 
 
 class AirService(ABC):
-    """The atmosphere as other layers see it."""
+    """The atmosphere as other layers see it.
+
+    Its GLSL side is :attr:`GLSL`: the files a consumer's shader includes to read the
+    lookups this service hands over (their uniforms and textures are :meth:`lookup`'s and
+    :meth:`aerial_perspective`'s inputs). They are the only shader files a layer may include
+    from another layer's folder (``tests/test_architecture.py``).
+    """
+
+    #: The service's GLSL interface (paths under ``skydome/shaders``).
+    GLSL: tuple[str, ...] = (
+        "atmosphere/precomputed_lookup.glsl",  # sky, transmittance, ground irradiance
+        "atmosphere/aerial_lookup.glsl",  # the aerial-perspective tables
+        "atmosphere/sky_view_mapping.glsl",  # the sky-view tables' directions
+        "atmosphere/surface_radiance.glsl",  # the ground's light
+    )
 
     #: Radii (m) of the ground and of the top of the air.
     bottom_radius_m: float
@@ -117,10 +131,10 @@ class AirService(ABC):
         ground."""
 
     @abstractmethod
-    def aerial_perspective(self, radius_km: float, lights: AirLights) -> tuple[dict, dict] | None:
-        """(uniforms, textures) of the aerial-perspective tables of ``lights`` seen from
-        ``radius_km`` (``atmosphere/aerial_lookup.glsl``), or None above the air (look the
-        4D tables up instead)."""
+    def aerial_perspective(self, radius_km: float, lights: AirLights) -> AerialInputs | None:
+        """The aerial-perspective tables of ``lights`` seen from ``radius_km``
+        (``atmosphere/aerial_lookup.glsl``), or None above the air or without sky-view tables
+        (look the 4D tables up instead)."""
 
 
 @dataclass
