@@ -119,7 +119,8 @@ class Sky:
             airglow).
         light_pollution: a Bortle class (1-9), a ``skydome.LightPollution``, or a
             ``LightPollutionLayer``.
-        clouds: a preset name ("fair", "overcast", "storm", "cirrus", "clear"), a
+        clouds: a preset name ("fair", "broken", "overcast", "nimbostratus", "storm",
+            "cirrus", "clear"), a
             ``skydome.Clouds`` or a ``CloudLayer``: drawn just after the atmosphere.
         night_vision: show the image as a dark-adapted eye sees it (display only).
         overlays: names of ``skydome.display.overlays.OVERLAYS`` ("lines", "labels",

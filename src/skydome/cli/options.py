@@ -84,8 +84,8 @@ FLAGS: dict[str, Flag] = {
                     "grid."),
     # the clouds
     "clouds": Flag(str, None, ("--clouds",),
-                   "Clouds of a preset: fair | overcast | storm | cirrus | clear (default: "
-                   "none)."),
+                   "Clouds of a preset: fair | broken | overcast | nimbostratus | storm | "
+                   "cirrus | clear (default: none)."),
     "coverage": Flag(float, None, ("--coverage",), "Cloud coverage 0..1 (with --clouds)."),
     "cloud_base": Flag(float, None, ("--cloud-base",), "Cloud base above the ground, metres."),
     "cloud_thickness": Flag(float, None, ("--cloud-thickness",), "Cloud layer depth, metres."),

@@ -156,3 +156,10 @@ def register(app: typer.Typer) -> None:
             f"{description.atmosphere.name}), exposure EV100 {scale_to_ev100(scale):.2f}"
             + (" (auto)" if ev is None else "")
         )
+        if frame.info.get("cloud_optical_depth_mean") is not None:
+            i = frame.info
+            console.print(
+                f"clouds: {i['clouds']}, coverage {i['coverage']:.2f}, optical depth "
+                f"{i['cloud_optical_depth']:.1f} per cloud; columns: mean "
+                f"{i['cloud_optical_depth_mean']:.1f}, {100 * i['cloud_fraction']:.0f} % cloudy"
+            )

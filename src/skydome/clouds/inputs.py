@@ -12,7 +12,7 @@ class CloudInputs(ShaderInputs):
     """The march's own uniforms (``clouds/cloud_*.glsl``): the key light (direction, scale
     per channel), the shells' radii (km), the noises' tiles (km) and the wind's offset,
     the extinctions per cloud type and of the cirrus (1/km, delta-M scaled), the detail's
-    erosion, the droplets' phase-function lobes and moments, the march's steps, the
+    erosion, the water's normalisation per type and coverage, the droplets' phase-function lobes and moments, the march's steps, the
     ground's albedo below, the frame's jitter, the multiple-scattering table's norms; for
     tests a fixed irradiance and a uniform extinction; for the light shafts their length
     (km)."""
@@ -25,6 +25,7 @@ class CloudInputs(ShaderInputs):
     u_type_extinction: tuple[float, float, float, float]
     u_cirrus_extinction: float
     u_detail_erosion: float
+    u_water_norm: list[float]
     u_cloud_lobe_g: list[float]
     u_cloud_lobe_weight: list[float]
     u_cloud_moments: tuple[float, float, float]
@@ -81,6 +82,13 @@ class UpsampleInputs(ShaderInputs):
 
     u_scale: tuple[float, float]
     u_source: object
+
+
+@dataclass(frozen=True)
+class ColumnInputs(ShaderInputs):
+    """``clouds/cloud_columns.glsl``: the census grid's spacing (km, east and north)."""
+
+    u_grid_km: tuple[float, float]
 
 
 @dataclass(frozen=True)

@@ -21,6 +21,7 @@ import numpy as np
 from skydome.clouds.inputs import (
     CloudInputs,
     CloudTextures,
+    ColumnInputs,
     CompositeInputs,
     QueryInputs,
     TemporalInputs,
@@ -28,7 +29,12 @@ from skydome.clouds.inputs import (
 )
 from skydome.clouds.ms_table import load_ms_table
 from skydome.clouds.noise import cloud_noise
-from skydome.clouds.params import CIRRUS_EXTINCTION_PER_M, Clouds
+from skydome.clouds.params import (
+    CIRRUS_EXTINCTION_PER_M,
+    CLOUD_TYPES,
+    WATER_NORMALIZATION,
+    Clouds,
+)
 from skydome.clouds.phase import CLOUD_PHASE
 from skydome.clouds.weather import AnimatedWeather, WeatherMap
 from skydome.core.cameras import CameraInputs
@@ -66,6 +72,10 @@ SHAFT_SCALE = 4
 SHAFT_KM = 12.0
 #: Still frames the interactive mode accumulates before a window may keep its image.
 SETTLE_FRAMES = 16
+#: The census behind frame.info's optical depths: columns a side, and a cloudy column's
+#: least optical depth as a fraction of the nominal.
+CENSUS_GRID = 64
+CLOUDY_FRACTION = 0.01
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
 MOON_KEY_BELOW_DEG = -8.0
 
@@ -113,6 +123,7 @@ class CloudLayer(Layer):
         self._settled = 0  # still frames blended into the interactive history
         self._history_key = self._history_camera = self._history_time = None
         self._state = None
+        self._census = None
         self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
         #: function of the time (0 in the abstract mode, which has none).
@@ -209,6 +220,7 @@ class CloudLayer(Layer):
             u_type_extinction=tuple(e * self.extinction_scale for e in c.type_extinctions_per_km()),
             u_cirrus_extinction=CIRRUS_EXTINCTION_PER_M * 1e3 * self.extinction_scale,
             u_detail_erosion=DETAIL_EROSION,
+            u_water_norm=[float(v) for t in CLOUD_TYPES for v in WATER_NORMALIZATION[t]],
             u_cloud_lobe_g=[float(v) for v in self.phase.g],
             u_cloud_lobe_weight=[float(v) for v in self.phase.weights],
             u_cloud_moments=(g, f, (g - f) / (1.0 - f)),
@@ -217,7 +229,11 @@ class CloudLayer(Layer):
             u_cloud_albedo_below=air.ground_albedo(),
             u_frame_jitter=0.0,
             u_ms_norm_g=[float(g) for g in _ms_table().norm_g],
-        )
+            u_uniform_extinction=(
+                c.nominal_optical_depth / (c.thickness_m / 1e3) * self.extinction_scale
+                if c.uniform else None
+            ),
+        )  # fmt: skip
         return replace(inputs, **changes) if changes else inputs
 
     def _aerial(self, lights: LightInputs) -> AerialInputs | None:
@@ -249,8 +265,18 @@ class CloudLayer(Layer):
         }
         if air.lights().has_moon:
             d["HAS_LIGHT2"] = 1
+        if self.clouds.uniform:
+            d["UNIFORM_CLOUD"] = 1
         for name in extra:
             d[name] = 1
+        return d
+
+    def _own_defines(self) -> dict:
+        """The defines of the passes that read only the clouds' density (no camera, no
+        light model): the tables' and a uniform deck's."""
+        d = dict(self._air().lookup().defines)
+        if self.clouds.uniform:
+            d["UNIFORM_CLOUD"] = 1
         return d
 
     def _ms_table_texture(self):
@@ -270,7 +296,7 @@ class CloudLayer(Layer):
     def texture_inputs(self, noise: bool = True) -> CloudTextures:
         """The clouds' textures: the multiple-scattering table and (with ``noise``) the
         weather map at the last update's time and the noises."""
-        if not noise:
+        if not noise or self.clouds.uniform:
             return CloudTextures(self._ms_table_texture())
         self._noise_and_weather()
         return CloudTextures(
@@ -390,7 +416,7 @@ class CloudLayer(Layer):
             key = ("query",)
             if key not in self._passes:
                 self._passes[key] = FullscreenPass(
-                    ctx, "clouds/cloud_shadow_query.glsl", dict(lookup.defines),
+                    ctx, "clouds/cloud_shadow_query.glsl", self._own_defines(),
                     inputs=tuple(type(i) for i in inputs),
                 )  # fmt: skip
             fbo.viewport = (0, 0, width, height)
@@ -400,6 +426,38 @@ class CloudLayer(Layer):
             for obj in (fbo, out, points):
                 release_unbound(obj)
         return t.astype(np.float64).reshape(p.shape[:-1])
+
+    def column_optical_depths(self, grid: int = 96) -> np.ndarray:
+        """The optical depth of vertical columns through the clouds at the last update's time:
+        (grid, grid, 2) for the main layer and the cirrus sheet, over a regular grid of the
+        weather map's tile (row 0 in the south; the droplets' optical depth, diffraction
+        peak included), from the same extinction field the march and the light see."""
+        if self.graph is None:
+            raise ParameterError("column_optical_depths needs the layer in a sky")
+        grid = int(grid)
+        if not 1 <= grid <= 1024:
+            raise ParameterError(f"the census grid must be 1-1024 columns a side, got {grid}")
+        ctx = self.graph.ctx
+        out = ctx.texture((grid, grid), 4, dtype="f4")
+        fbo = ctx.framebuffer(color_attachments=[out])
+        try:
+            lookup = self._air().lookup()
+            spacing = self.clouds.tile_km / grid
+            inputs = (lookup.inputs, self.cloud_inputs(), self.texture_inputs(),
+                      ColumnInputs((spacing, spacing)))  # fmt: skip
+            key = ("columns",)
+            if key not in self._passes:
+                self._passes[key] = FullscreenPass(
+                    ctx, "clouds/cloud_columns.glsl", self._own_defines(),
+                    inputs=tuple(type(i) for i in inputs),
+                )  # fmt: skip
+            fbo.viewport = (0, 0, grid, grid)
+            self._passes[key].draw(fbo, *inputs)
+            tau = np.frombuffer(out.read(), dtype=np.float32).reshape(grid, grid, 4)[..., :2]
+        finally:
+            release_unbound(fbo)
+            release_unbound(out)
+        return tau.astype(np.float64) / self.extinction_scale
 
     def draw(self, frame: DrawContext) -> None:
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is
@@ -555,15 +613,36 @@ class CloudLayer(Layer):
         copy = self.full_screen_pass(frame.ctx, "scene/copy_behind.glsl", (BehindInputs,))
         copy.draw(frame.fbo, self.behind_inputs(frame))
 
+    def deck_census(self) -> dict:
+        """What the main layer holds at the last update's time, from the column census
+        (:meth:`column_optical_depths`, 64 x 64 columns over the weather tile): the mean
+        optical depth of all columns, the cloudy fraction (columns above 1 % of the nominal
+        optical depth) and the mean of the cloudy columns."""
+        key = (self.time_s, self.clouds)
+        if self._census is None or self._census[0] != key:
+            tau = self.column_optical_depths(CENSUS_GRID)[..., 0]
+            cloudy = tau > CLOUDY_FRACTION * max(self.clouds.nominal_optical_depth, 1e-9)
+            self._census = key, {
+                "cloud_optical_depth_mean": float(tau.mean()),
+                "cloud_fraction": float(cloudy.mean()),
+                "cloud_optical_depth_cloudy": float(tau[cloudy].mean()) if cloudy.any() else 0.0,
+            }  # fmt: skip
+        return dict(self._census[1])
+
     def info(self) -> dict:
         c = self.clouds
-        return {
+        info = {
             "clouds": c.preset,
+            "cloud_type": c.type_value,
             "coverage": c.coverage,
             "cloud_base_m": c.base_m,
             "cloud_top_m": c.base_m + c.thickness_m,
             "cirrus": c.cirrus,
+            "cloud_optical_depth": c.nominal_optical_depth,
         }
+        if c.coverage > 0 and self.graph is not None:
+            info.update(self.deck_census())
+        return info
 
     def release(self) -> None:
         super().release()

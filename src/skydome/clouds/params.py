@@ -29,6 +29,22 @@ CLOUD_TYPES = {
 }
 #: Typical liquid water content (g/m^3) of each type (module docstring).
 LIQUID_WATER_G_M3 = {"stratus": 0.25, "stratocumulus": 0.3, "cumulus": 0.5, "cumulonimbus": 1.0}
+#: The map coverages at which WATER_NORMALIZATION is given.
+WATER_COVERAGE_NODES = (0.25, 0.5, 0.75, 1.0)
+#: The factor on each type's extinction at density 1 (rows: CLOUD_TYPES; columns: the map's
+#: coverage at WATER_COVERAGE_NODES) that makes the water what is asked for: the noise
+#: shapes where the water is, not how much there is. At coverage 1 the mean optical depth
+#: of the columns is the nominal one (extinction_per_m(LWC) x thickness); at a lower
+#: coverage the clouds' own columns (those above 1 % of the nominal) hold as much as at 1.
+#: Measured by tools/calibrate_cloud_water.py (the column census of CloudLayer through
+#: Sky, seeds 1-3, 160 samples per column); tests/test_cloud_water.py holds the user's path
+#: to it.
+WATER_NORMALIZATION: dict[str, tuple[float, float, float, float]] = {
+    "stratus": (12.321, 6.454, 3.689, 2.244),
+    "stratocumulus": (18.177, 11.642, 8.737, 6.415),
+    "cumulus": (26.062, 15.837, 11.328, 8.051),
+    "cumulonimbus": (33.350, 18.319, 8.141, 4.415),
+}
 #: Effective radius of cloud droplets (m).
 EFFECTIVE_RADIUS_M = 10e-6
 WATER_DENSITY_KG_M3 = 1000.0
@@ -46,8 +62,15 @@ def extinction_per_m(liquid_water_g_m3: float, radius_m: float = EFFECTIVE_RADIU
 PRESETS: dict[str, dict[str, Any]] = {
     # fair-weather cumulus (humilis / mediocris): bases near 1.5 km, about 1.5 km deep
     "fair": dict(coverage=0.4, cloud_type="cumulus", base_m=1500.0, thickness_m=1800.0),
-    # a closed stratocumulus deck
-    "overcast": dict(coverage=0.95, cloud_type="stratocumulus", base_m=800.0, thickness_m=1000.0),
+    # a closed stratus deck: 250 g/m^2 of water (0.25 g/m^3 over 1 km), optical depth 37.5
+    "overcast": dict(coverage=1.0, cloud_type="stratus", base_m=600.0, thickness_m=1000.0),
+    # a rainy nimbostratus day: a closed sheet 2.5 km deep on a low base, with rain (0.4
+    # g/m^3 with it: 1000 g/m^2, optical depth 150)
+    "nimbostratus": dict(
+        coverage=1.0, cloud_type="stratus", base_m=500.0, thickness_m=2500.0, precipitation=0.3
+    ),
+    # a stratocumulus deck with breaks
+    "broken": dict(coverage=0.95, cloud_type="stratocumulus", base_m=800.0, thickness_m=1000.0),
     # towering cumulonimbus with rain, on a low base, tops near the tropopause
     "storm": dict(
         coverage=0.7,
@@ -79,7 +102,7 @@ class Clouds:
     """A sky's clouds. Unset fields come from the preset.
 
     Args:
-        preset: "fair", "overcast", "storm", "cirrus" or "clear".
+        preset: "fair", "broken", "overcast", "nimbostratus", "storm", "cirrus" or "clear".
         coverage: fraction of the sky the main layer covers (0-1): 0 is no cloud, 1 the whole
             weather map's cloudiness.
         cloud_type: "stratus", "stratocumulus", "cumulus", "cumulonimbus" (or 0-1 between
@@ -94,6 +117,12 @@ class Clouds:
             precipitation, cirrus channels; see skydome.clouds.weather), or None to generate
             one from the seed.
         tile_km: the side of the weather map's repeating tile (km).
+        optical_depth: the main layer's optical depth (the droplets', at coverage 1 the mean
+            of its columns) instead of the one its type's water content gives (see
+            ``nominal_optical_depth``).
+        uniform: a plane-parallel deck: the main layer filled with a constant extinction (its
+            nominal optical depth over its thickness), no noise, no weather map, no cirrus;
+            coverage 1.
     """
 
     preset: str = "fair"
@@ -109,6 +138,8 @@ class Clouds:
     seed: int = 1
     weather: Any = field(default=None, compare=False)
     tile_km: float = 40.0
+    optical_depth: float | None = None
+    uniform: bool = False
 
     def __post_init__(self):
         if not isinstance(self.preset, str) or self.preset not in PRESETS:
@@ -118,6 +149,8 @@ class Clouds:
         base = {"coverage": 0.0, "cloud_type": "cumulus", "base_m": 1500.0,
                 "thickness_m": 1500.0, "precipitation": 0.0, "cirrus": 0.0}  # fmt: skip
         base.update(PRESETS[self.preset])
+        if self.uniform is True:  # a deck over the whole sky, alone (checked below)
+            base.update(coverage=1.0, cirrus=0.0)
         for key, value in base.items():
             if getattr(self, key) is None:
                 object.__setattr__(self, key, value)
@@ -150,6 +183,18 @@ class Clouds:
         object.__setattr__(self, "wind_m_s", wind)
         if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
             raise ParameterError(f"cloud seed must be a non-negative integer, got {self.seed!r}")
+        if self.optical_depth is not None:
+            tau = _number("optical depth", self.optical_depth, 0.0, 10000.0)
+            object.__setattr__(self, "optical_depth", tau)
+        if not isinstance(self.uniform, bool):
+            raise ParameterError(f"uniform must be True or False, got {self.uniform!r}")
+        if self.uniform:
+            if self.coverage != 1.0 or self.weather is not None or self.cirrus > 0:
+                raise ParameterError(
+                    "a uniform deck covers the whole sky alone: coverage 1, no weather map, "
+                    "no cirrus"
+                )
+            object.__setattr__(self, "coverage", 1.0)
 
     @property
     def type_value(self) -> float:
@@ -185,8 +230,33 @@ class Clouds:
                 f"atmosphere ({top_of_atmosphere_m:.0f} m)"
             )
 
+    @property
+    def water_g_m3(self) -> float:
+        """The main layer's nominal water content (g/m^3): its type's (interpolated between
+        the types of CLOUD_TYPES) with the rain's extra water (x (1 + 2 precipitation))."""
+        values = [LIQUID_WATER_G_M3[t] for t in CLOUD_TYPES]
+        x = self.type_value * (len(values) - 1)
+        i = min(int(x), len(values) - 2)
+        lwc = values[i] + (values[i + 1] - values[i]) * (x - i)
+        return lwc * (1.0 + 2.0 * self.precipitation)
+
+    @property
+    def nominal_optical_depth(self) -> float:
+        """The main layer's optical depth (droplets', dimensionless): ``optical_depth`` if
+        given, else extinction_per_m(water_g_m3) x thickness. At coverage 1 the mean of its
+        columns; at a lower coverage that of its clouds' columns (0 without the layer)."""
+        if self.coverage == 0.0:
+            return 0.0
+        if self.optical_depth is not None:
+            return self.optical_depth
+        return extinction_per_m(self.water_g_m3) * self.thickness_m
+
     def type_extinctions_per_km(self) -> tuple[float, float, float, float]:
-        """Extinction (1/km) at density 1 of each type of CLOUD_TYPES, in order."""
+        """Extinction (1/km) at density 1, before WATER_NORMALIZATION, of each type of
+        CLOUD_TYPES, in order (with ``optical_depth``: every type's gives it)."""
+        if self.optical_depth is not None:
+            tau = self.optical_depth / (1.0 + 2.0 * self.precipitation)  # the rain's added back
+            return (tau / (self.thickness_m / 1e3),) * len(CLOUD_TYPES)
         return tuple(extinction_per_m(LIQUID_WATER_G_M3[t]) * 1e3 for t in CLOUD_TYPES)
 
     def with_(self, **changes) -> Clouds:

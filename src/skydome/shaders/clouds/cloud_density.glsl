@@ -18,9 +18,13 @@ uniform vec3 u_cloud_offset_km;    // how far the wind has carried the clouds (e
 uniform vec4 u_type_extinction;    // 1/km at density 1: stratus, stratocumulus, cumulus, cumulonimbus
 uniform float u_cirrus_extinction; // 1/km at density 1
 uniform float u_detail_erosion;    // how much the detail noise eats into the edges (0-1)
+uniform float u_water_norm[16];    // skydome.clouds.params.WATER_NORMALIZATION: per cloud type
+                                   // (rows) and map coverage 0.25, 0.5, 0.75, 1 (columns)
 #endif
 
 const float CELL_FILL = 0.75;
+// The least density (of the peak's) left in a closed sheet (stratus at coverage 1).
+const float SHEET_FLOOR = 0.3;
 
 float remap(float v, float lo, float hi, float new_lo, float new_hi) {
     return new_lo + (v - lo) / max(hi - lo, 1e-6) * (new_hi - new_lo);
@@ -36,7 +40,7 @@ vec2 tile_position(vec3 p) { return p.xy; }
 // the four types' edges (fractions) interpolated.
 float height_profile(float h, float type) {
     // rise start, rise end, fall start, fall end
-    const vec4 STRATUS = vec4(0.0, 0.10, 0.45, 0.75);
+    const vec4 STRATUS = vec4(0.0, 0.08, 0.70, 1.0);
     const vec4 STRATOCUMULUS = vec4(0.0, 0.12, 0.40, 0.80);
     const vec4 CUMULUS = vec4(0.0, 0.08, 0.35, 0.95);
     const vec4 CUMULONIMBUS = vec4(0.0, 0.05, 0.75, 1.0);
@@ -52,11 +56,27 @@ float type_extinction(float type) {
          : t < 2.0 ? mix(u_type_extinction.y, u_type_extinction.z, t - 1.0)
                    : mix(u_type_extinction.z, u_type_extinction.w, t - 2.0);
 }
+
+// The factor that makes a column's water what the type asks for (skydome.clouds.params:
+// the mean column of a closed deck is the nominal optical depth, and a cloud's column at a
+// lower coverage holds as much), bilinear in type and coverage (held below 0.25).
+float water_norm(float type, float coverage) {
+    float t = clamp(type, 0.0, 1.0) * 3.0;
+    int i = min(int(t), 2);
+    float c = clamp(coverage * 4.0 - 1.0, 0.0, 3.0);
+    int j = min(int(c), 2);
+    float fc = c - float(j);
+    float lo = mix(u_water_norm[i * 4 + j], u_water_norm[i * 4 + j + 1], fc);
+    float hi = mix(u_water_norm[i * 4 + 4 + j], u_water_norm[i * 4 + 5 + j], fc);
+    return mix(lo, hi, t - float(i));
+}
 #endif
 
-// Extinction (1/km) of the main layer at planet-centred p (km), radius r; `cheap` skips the
-// detail noise (light marches).
-float layer_extinction(vec3 p, float r, bool cheap) {
+// Extinction (1/km) of the main layer at planet-centred p (km), radius r. `detail` false
+// skips the detail noise: an upper bound of the extinction (the detail only takes away),
+// for the march's test of empty air; every optical depth (the view's, the light's, the
+// shadows', the census's) is of the detailed field.
+float layer_extinction(vec3 p, float r, bool detail) {
     float h = (r - u_cloud_shell.x) / (u_cloud_shell.y - u_cloud_shell.x);
     if (h <= 0.0 || h >= 1.0) return 0.0;
 #ifdef UNIFORM_CLOUD
@@ -68,6 +88,8 @@ float layer_extinction(vec3 p, float r, bool cheap) {
     if (coverage <= 0.0) return 0.0;
     float profile = height_profile(h, weather.g);
     if (profile <= 0.0) return 0.0;
+    // how much of a sheet the type is: 1 for stratus, 0 from stratocumulus on
+    float sheet = clamp(1.0 - 3.0 * weather.g, 0.0, 1.0);
     vec3 q = vec3(xy - u_cloud_offset_km.xy, r - u_cloud_shell.x - u_cloud_offset_km.z);
     vec4 shape = textureLod(u_shape_noise, q / u_noise_tiles_km.y, 0.0);
     // the base shape: the Perlin-Worley channel and the Worley fBm, each stretched from its
@@ -75,23 +97,34 @@ float layer_extinction(vec3 p, float r, bool cheap) {
     // 0.25-0.72) to [0, 1], so that the coverage threshold below meets the whole range
     float low = shape.g * 0.625 + shape.b * 0.25 + shape.a * 0.125;
     float base = clamp(0.65 * remap(shape.r, 0.45, 0.97, 0.0, 1.0)
-                       + 0.35 * remap(low, 0.25, 0.72, 0.0, 1.0), 0.0, 1.0) * profile;
-    // the coverage keeps the top (1 - coverage) of the shape's range: 0 leaves nothing; a
-    // fully covered texel of the map still leaves the noise's lowest part clear in heaped
-    // clouds (cumulus cells, the breaks of a stratocumulus deck), none in a stratus sheet
-    coverage *= mix(1.0, CELL_FILL, clamp(1.5 * weather.g, 0.0, 1.0));
-    float density = clamp(remap(base, 1.0 - coverage, 1.0, 0.0, 1.0), 0.0, 1.0) * coverage;
+                       + 0.35 * remap(low, 0.25, 0.72, 0.0, 1.0), 0.0, 1.0);
+    // Heaped clouds take their height profile into the shape before the threshold (rounded
+    // tops, flat bases); a sheet is thresholded alone and follows the profile after.
+    base *= mix(profile, 1.0, sheet);
+    // The coverage keeps the top of the shape's range: 0 leaves nothing. A fully covered
+    // texel of the map leaves the shape's lowest part clear in heaped clouds (cumulus cells,
+    // the breaks of a stratocumulus deck); a sheet closes as the coverage nears 1 (the
+    // threshold falls below the shape's least value: SHEET_FLOOR of the density remains).
+    // The coverage sets where the cloud is, not how dense: the water per column is set by
+    // u_type_extinction (skydome.clouds.params.WATER_NORMALIZATION).
+    float fill = mix(1.0, CELL_FILL, clamp(1.5 * weather.g, 0.0, 1.0)) * coverage;
+    float closing = sheet * pow(coverage, 8.0) * SHEET_FLOOR / (1.0 - SHEET_FLOOR);
+    float density = clamp(remap(base, 1.0 - fill - closing, 1.0, 0.0, 1.0), 0.0, 1.0);
+    density *= mix(1.0, profile, sheet);
     if (density <= 0.0) return 0.0;
-    if (!cheap) {
+    if (detail) {
         // the detail's own fBm (its alpha), stretched as the shape's (0.3-0.66)
         float high = clamp(remap(textureLod(u_detail_noise, q / u_noise_tiles_km.z, 0.0).a,
                                  0.3, 0.66, 0.0, 1.0), 0.0, 1.0);
         // wispy at the base, billowy above (Schneider 2015)
         high = mix(high, 1.0 - high, clamp(h * 5.0, 0.0, 1.0));
-        density = clamp(remap(density, high * u_detail_erosion, 1.0, 0.0, 1.0), 0.0, 1.0);
+        // it erodes a heaped cloud's edges; in a sheet it only thins (never to a hole)
+        float eroded = clamp(remap(density, high * u_detail_erosion, 1.0, 0.0, 1.0), 0.0, 1.0);
+        density = mix(eroded, density * (1.0 - u_detail_erosion * high), sheet);
     }
     // rain-bearing cloud holds more water
-    return density * type_extinction(weather.g) * (1.0 + 2.0 * weather.b);
+    return density * type_extinction(weather.g) * water_norm(weather.g, coverage)
+         * (1.0 + 2.0 * weather.b);
 #endif
 }
 
@@ -116,8 +149,16 @@ float cirrus_extinction(vec3 p, float r) {
 #endif
 }
 
-float cloud_extinction(vec3 p, bool cheap) {
+// Extinction (1/km) of the clouds at planet-centred p (km).
+float cloud_extinction(vec3 p) {
     float r = length(p);
-    if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, cheap);
+    if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, true);
+    return cirrus_extinction(p, r);
+}
+
+// An upper bound of cloud_extinction (no detail noise): zero only where the clouds are.
+float cloud_extinction_bound(vec3 p) {
+    float r = length(p);
+    if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, false);
     return cirrus_extinction(p, r);
 }

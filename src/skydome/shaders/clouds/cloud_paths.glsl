@@ -27,7 +27,7 @@ float optical_depth_along(vec3 p, vec3 d, float length_km, int n, bool geometric
     float total = geometric ? float((1 << n) - 1) : float(n);
     for (int i = 0; i < n; ++i) {
         float dt = length_km * (geometric ? float(1 << i) : 1.0) / total;
-        tau += cloud_extinction(p + d * (t + 0.5 * dt), true) * dt;
+        tau += cloud_extinction(p + d * (t + 0.5 * dt)) * dt;
         t += dt;
     }
     return tau;

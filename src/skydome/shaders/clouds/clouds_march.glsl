@@ -54,6 +54,9 @@ layout(location = 1) out vec4 frag_cloud;
 #ifndef LIGHT_STEPS
 #define LIGHT_STEPS 6
 #endif
+#ifndef FAR_STEPS
+#define FAR_STEPS 4
+#endif
 #ifndef LIGHT_EVERY
 #define LIGHT_EVERY 2
 #endif
@@ -96,6 +99,10 @@ void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
 #define COARSE 4.0
 #endif
 const int EMPTY_STEPS = 3;
+const float STEP_TAU = 1.0;
+#ifndef STEP_SPLIT
+#define STEP_SPLIT 1.0
+#endif
 void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
                  inout vec4 radiance, inout float transmittance, inout vec2 depth) {
     float len = seg.y - seg.x;
@@ -106,6 +113,8 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     vec3 L = u_light_direction;
     float nu = dot(d, L);
     bool fine = false;
+    float sigma_near = 0.0;  // the extinction last met (a bound of it on a coarse hit)
+    float skipped = -1.0;    // where the last coarse step through empty air began
     int empty = 0;
     float stay_fine = 0.0;
     // Each step is the interval [edge, edge + dt] (dt grows with the distance), sampled at
@@ -117,20 +126,29 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         float dt = max(u_march.x * edge, u_march.z);
         if (!fine) {
             float coarse = min(COARSE * dt, seg.y - edge);
-            if (cloud_extinction(o + d * (edge + offset * coarse), true) <= 0.0) {
+            sigma_near = cloud_extinction_bound(o + d * (edge + offset * coarse));
+            if (sigma_near <= 0.0) {
+                skipped = edge;
                 edge += coarse;
                 continue;
             }
-            // a cloud: this coarse step again, finely, at least to its end
+            // a cloud: this coarse step again, finely, at least to its end, and the skipped
+            // one before it (its sample may have fallen short of the cloud's edge: without
+            // it the march would enter a jittered distance deep, seen as speckle)
             fine = true;
             empty = 0;
             stay_fine = edge + coarse;
+            if (skipped >= 0.0) edge = skipped;
+            skipped = -1.0;
         }
-        float step = min(dt, seg.y - edge);
+        // in dense cloud a step spans at most STEP_TAU of optical depth (down to an eighth
+        // of dt): the light is taken where the scattering happens, not up to a step deep
+        float step = min(min(dt, seg.y - edge), max(STEP_TAU / max(sigma_near, 1e-6), dt / STEP_SPLIT));
         float t = edge + offset * step;
         vec3 p = o + d * t;
-        float sigma = cloud_extinction(p, false);
+        float sigma = cloud_extinction(p);
         edge += step;
+        if (sigma > 0.0) sigma_near = sigma;
         if (sigma <= 0.0) {
             if (++empty >= EMPTY_STEPS && edge >= stay_fine) fine = false;
             continue;
@@ -153,9 +171,9 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             float mu0 = max(abs(mu_l), 0.03);
             float to_light = min(distance_in_shell(p, L, r_lo, r_hi), u_light_march_km.x);
             float tau_s = optical_depth_along(p, L, to_light, LIGHT_STEPS, true);
-            // across the slab to its far face: this sample's extinction all the way (exact in
-            // a uniform layer; a cloud is most often a column)
-            float tau_far = sigma * min(distance_in_shell(p, -n_slab, r_lo, r_hi), u_light_march_km.y);
+            // across the slab to its far face (equal steps: exact in a uniform layer)
+            float far_km = min(distance_in_shell(p, -n_slab, r_lo, r_hi), u_light_march_km.y);
+            float tau_far = optical_depth_along(p, -n_slab, far_km, FAR_STEPS, false);
             // the azimuth of the scattered light (travelling along -d) from the light's, about
             // the slab's normal
             vec3 across_out = -d - dot(-d, n_slab) * n_slab, across_light = L - mu_l * up;
