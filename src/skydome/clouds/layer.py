@@ -36,8 +36,9 @@ from skydome.clouds.params import (
     Clouds,
 )
 from skydome.clouds.phase import CLOUD_PHASE
+from skydome.clouds.probe import SkyProbe
 from skydome.clouds.weather import AnimatedWeather, WeatherMap
-from skydome.core.cameras import CameraInputs
+from skydome.core.cameras import CameraInputs, EquirectCamera
 from skydome.core.layer import BehindInputs, DrawContext, Layer, LayerHost
 from skydome.core.services import AerialInputs, AirLights, AirService, LightInputs, VolumeInputs
 from skydome.errors import ParameterError
@@ -76,6 +77,13 @@ SETTLE_FRAMES = 16
 #: least optical depth as a fraction of the nominal.
 CENSUS_GRID = 64
 CLOUDY_FRACTION = 0.01
+#: The census behind the seed's water correction: columns a side over the tile.
+SEED_CENSUS_GRID = 64
+#: The water correction of each seed measured so far (CloudLayer._seed_correction).
+_SEED_CORRECTION: dict[tuple[int, float], tuple[float, ...]] = {}
+#: The sky probe: its equirectangular map's size, and its height above the ground (m).
+PROBE_SIZE = (64, 32)
+PROBE_ALTITUDE_M = 2.0
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
 MOON_KEY_BELOW_DEG = -8.0
 
@@ -124,6 +132,7 @@ class CloudLayer(Layer):
         self._history_key = self._history_camera = self._history_time = None
         self._state = None
         self._census = None
+        self._probe = None
         self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
         #: function of the time (0 in the abstract mode, which has none).
@@ -220,7 +229,7 @@ class CloudLayer(Layer):
             u_type_extinction=tuple(e * self.extinction_scale for e in c.type_extinctions_per_km()),
             u_cirrus_extinction=CIRRUS_EXTINCTION_PER_M * 1e3 * self.extinction_scale,
             u_detail_erosion=DETAIL_EROSION,
-            u_water_norm=[float(v) for t in CLOUD_TYPES for v in WATER_NORMALIZATION[t]],
+            u_water_norm=changes.pop("u_water_norm", None) or self._water_norm(),
             u_cloud_lobe_g=[float(v) for v in self.phase.g],
             u_cloud_lobe_weight=[float(v) for v in self.phase.weights],
             u_cloud_moments=(g, f, (g - f) / (1.0 - f)),
@@ -235,6 +244,49 @@ class CloudLayer(Layer):
             ),
         )  # fmt: skip
         return replace(inputs, **changes) if changes else inputs
+
+    def _water_norm(self, corrected: bool = True) -> list[float]:
+        """WATER_NORMALIZATION flattened (type-major), each type's row times this seed's
+        correction (:meth:`_seed_correction`) when ``corrected``."""
+        factors = self._seed_correction() if corrected and not self.clouds.uniform else None
+        out = []
+        for i, t in enumerate(CLOUD_TYPES):
+            out += [v * (1.0 if factors is None else factors[i]) for v in WATER_NORMALIZATION[t]]
+        return out
+
+    def _seed_correction(self) -> tuple[float, ...]:
+        """Per cloud type, the factor that brings this seed's closed deck to its nominal
+        water: WATER_NORMALIZATION is the mean over seeds 1-3, and one seed's noise tile
+        holds a few per cent more or less (up to 13 % for cumulus). Measured once per seed
+        and layer thickness by a census of a closed deck of each type (SEED_CENSUS_GRID columns a side)."""
+        seed = (self.clouds.seed, self.clouds.thickness_m)  # the noise's height span too
+        if seed in _SEED_CORRECTION:
+            return _SEED_CORRECTION[seed]
+        ctx = self.graph.ctx
+        self._noise_and_weather()
+        table = self._water_norm(corrected=False)
+        c = self.clouds
+        factors = []
+        for i, value in enumerate(CLOUD_TYPES.values()):
+            texel = np.array([1.0, value, 0.0, 0.0], dtype=np.float32)
+            weather = ctx.texture((1, 1), 4, texel.tobytes(), dtype="f4")
+            try:
+                textures = CloudTextures(
+                    self._ms_table_texture(), weather, self.noise.shape, self.noise.detail,
+                    self.noise.curl,
+                )  # fmt: skip
+                inputs = self.cloud_inputs(
+                    u_water_norm=table, u_cloud_offset_km=(0.0, 0.0, 0.0),
+                    u_cloud_shell=self._shell_radii_km(self._air().bottom_radius_m / 1e3)[:2]
+                    + (0.0, 0.0),
+                )  # fmt: skip
+                tau = self._census_pass(inputs, textures, SEED_CENSUS_GRID)[..., 0]
+            finally:
+                release_unbound(weather)
+            nominal = c.type_extinctions_per_km()[i] * c.thickness_m / 1e3
+            factors.append(nominal / max(float(tau.mean()), 1e-9))
+        _SEED_CORRECTION[seed] = tuple(factors)
+        return _SEED_CORRECTION[seed]
 
     def _aerial(self, lights: LightInputs) -> AerialInputs | None:
         """The atmosphere's aerial-perspective tables for the air's lights seen from this
@@ -379,6 +431,30 @@ class CloudLayer(Layer):
             out.append(a[::-1].copy())
         return out[0], out[1]
 
+    def sky_probe(self) -> SkyProbe:
+        """The sky that is drawn, seen from the ground under the camera at the last update:
+        the clouds marched over the clear sky of the atmosphere's tables (no Sun's disk)
+        into a PROBE_SIZE equirectangular map (cd/m^2), and what it gives: the irradiance of
+        a horizontal surface, the clear sky's, and the radiance's spherical harmonics. Kept
+        until the time, the lights or the clouds change."""
+        air = self._air()
+        lights = air.lights()
+        key = (self.time_s, self.clouds, tuple(lights.sun_direction), lights.moon_direction)
+        if self._probe is not None and self._probe[0] == key:
+            return self._probe[1]
+        w, h = PROBE_SIZE
+        camera = EquirectCamera()
+        frame = DrawContext(
+            self.graph.ctx, camera, (w, h), (0, 0, w, h), None, camera.inputs(w, h),
+            PROBE_ALTITUDE_M, self.graph.basis,
+        )  # fmt: skip
+        rad, data = self.march(frame, self.cloud_inputs(), self.texture_inputs(), ("SKY_PROBE",))
+        radiance = np.frombuffer(rad.read(), dtype="f4").reshape(h, w, 4)[::-1].astype(np.float64)
+        clear = np.frombuffer(data.read(), dtype="f4").reshape(h, w, 4)[::-1, :, 1:4]
+        probe = SkyProbe.from_maps(radiance, clear.astype(np.float64))
+        self._probe = key, probe
+        return probe
+
     def light_transmittance(self, points_m) -> np.ndarray:
         """The clouds' transmittance towards the key light (the Sun, or the Moon at night) at
         points of a user's scene: ``points_m`` (..., 3) in metres, east, north and up from the
@@ -437,14 +513,17 @@ class CloudLayer(Layer):
         grid = int(grid)
         if not 1 <= grid <= 1024:
             raise ParameterError(f"the census grid must be 1-1024 columns a side, got {grid}")
+        return self._census_pass(self.cloud_inputs(), self.texture_inputs(), grid)
+
+    def _census_pass(self, cloud: CloudInputs, textures: CloudTextures, grid: int) -> np.ndarray:
+        """clouds/cloud_columns.glsl over a grid x grid census of the tile: (grid, grid, 2)."""
         ctx = self.graph.ctx
         out = ctx.texture((grid, grid), 4, dtype="f4")
         fbo = ctx.framebuffer(color_attachments=[out])
         try:
             lookup = self._air().lookup()
             spacing = self.clouds.tile_km / grid
-            inputs = (lookup.inputs, self.cloud_inputs(), self.texture_inputs(),
-                      ColumnInputs((spacing, spacing)))  # fmt: skip
+            inputs = (lookup.inputs, cloud, textures, ColumnInputs((spacing, spacing)))
             key = ("columns",)
             if key not in self._passes:
                 self._passes[key] = FullscreenPass(
@@ -463,7 +542,8 @@ class CloudLayer(Layer):
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is
             self._copy_behind(frame)
             return
-        cloud = self.cloud_inputs()
+        probe = self.sky_probe()
+        cloud = self.cloud_inputs(u_sky_light_ratio=probe.ratio)
         textures = self.texture_inputs()
         _, _, tw, th = frame.tile
         scale = QUALITY[self.quality]["scale"]

@@ -36,6 +36,8 @@ uniform vec3 u_march;             // (view steps per km, most view steps, shorte
 uniform vec2 u_light_march_km;    // lengths of the march towards the light and across the slab
 uniform float u_cloud_albedo_below; // the ground's albedo seen by the clouds' two-stream slab
 uniform float u_frame_jitter;     // added to the ordered offset (0 for still frames)
+uniform vec4 u_sky_light_ratio;   // the sky's irradiance on the ground with the clouds over
+                                  // the clear sky's (CloudLayer.sky_probe; 1 without it)
 uniform vec3 u_sun_direction;     // the air's lights (aerial perspective)
 uniform float u_sun_scale;
 #ifdef HAS_LIGHT2
@@ -193,6 +195,17 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     }
 }
 
+// The fraction of the key light that reaches the air along the ray from o over `length_km`
+// (the mean of the clouds' transmittance towards it at PATH_SAMPLES points).
+const int PATH_SAMPLES = 4;
+float path_lit_fraction(vec3 o, vec3 d, float length_km) {
+    float lit = 0.0;
+    for (int k = 0; k < PATH_SAMPLES; ++k)
+        lit += light_transmittance(o + d * ((float(k) + 0.5) / float(PATH_SAMPLES) * length_km),
+                                   u_light_direction, 4);
+    return lit / float(PATH_SAMPLES);
+}
+
 void main() {
     frag_radiance = vec4(0.0);
     frag_cloud = vec4(1.0, 0.0, 1.0, 1.0);
@@ -260,6 +273,14 @@ void main() {
             air += u_light2_scale * sky_radiance_to_point(o, point, 0.0, u_light2_direction);
 #endif
 #endif
+            // the air in front of the clouds: lit by the key light where the clouds let it
+            // through, elsewhere by the cloudy sky (the clear air's light scaled by it)
+            // (the sky's light over the clear sun and sky light, at the ground below)
+            vec4 beam, sky;
+            irradiance_at(o, beam, sky);
+            vec4 clear = beam * max(dot(normalize(o), u_light_direction), 0.0) + sky;
+            vec4 shaded = u_sky_light_ratio * sky / max(clear, vec4(1e-30));
+            air *= mix(shaded, vec4(1.0), path_lit_fraction(o, d, max(mean_km, 1e-3)));
             frag_radiance = (1.0 - transmittance) * air + t_air * radiance;
         }
         if (shadow < 1.0 && hits_ground) {
@@ -270,6 +291,27 @@ void main() {
                                                             column_along_ray(r, mu, d_ground, true), false);
             frag_radiance -= transmittance * (1.0 - shadow) * direct;
         }
+        if (hits_ground && u_sky_light_ratio != vec4(1.0)) {
+            // the ground lit by the sky that is drawn (the clouds' probe), not the clear one
+            float d_ground = distance_to_bottom(r, mu);
+            vec3 n = normalize(entry + d * d_ground);
+            vec3 column = column_along_ray(r, mu, d_ground, true);
+            vec4 sky_lit = lambertian_ground(n * u_bottom_radius, n, u_light_direction, column, true)
+                         - lambertian_ground(n * u_bottom_radius, n, u_light_direction, column, false);
+            frag_radiance += transmittance * (u_sky_light_ratio - 1.0) * u_light_scale * sky_lit;
+        }
+#ifdef SKY_PROBE
+        // the probe: the whole sky, the clear one behind the clouds (no Sun's disk: its light
+        // is the direct light, counted apart); the clear sky alone in frag_cloud.yzw
+        vec3 column;
+        vec4 behind = u_sun_scale * sky_radiance(o, d, 0.0, u_sun_direction, column);
+        if (hits_ground) behind += u_sun_scale * ground_radiance(entry, d, r, mu, u_sun_direction);
+#ifdef HAS_LIGHT2
+        behind += u_light2_scale * sky_radiance(o, d, 0.0, u_light2_direction, column);
+#endif
+        frag_radiance += transmittance * behind;
+        frag_cloud.yzw = behind.rgb;
+#endif
     }
 #endif
 }
