@@ -405,11 +405,7 @@ class CloudLayer(Layer):
         sky; ``uniform_extinction_per_m`` fills the main layer with a constant extinction (of the
         droplets, diffraction included: the march scales it by ``extinction_scale``);
         both march with the samples at the steps' middles (no jitter)."""
-        ctx = self.graph.ctx
-        frame = DrawContext(
-            ctx, camera, (width, height), (0, 0, width, height), None,
-            camera.inputs(width, height), altitude_m, self.graph.basis,
-        )  # fmt: skip
+        frame = self._whole_frame(camera, width, height, altitude_m)
         changes: dict = {}
         extra = []
         if test_irradiance is not None:
@@ -431,6 +427,13 @@ class CloudLayer(Layer):
             out.append(a[::-1].copy())
         return out[0], out[1]
 
+    def _whole_frame(self, camera, width: int, height: int, altitude_m: float) -> DrawContext:
+        """A frame of the layer's own (one tile, nothing behind) for ``camera``."""
+        return DrawContext(
+            self.graph.ctx, camera, (width, height), (0, 0, width, height), None,
+            camera.inputs(width, height), altitude_m, self.graph.basis,
+        )  # fmt: skip
+
     def sky_probe(self) -> SkyProbe:
         """The sky that is drawn, seen from the ground under the camera at the last update:
         the clouds marched over the clear sky of the atmosphere's tables (no Sun's disk)
@@ -444,10 +447,7 @@ class CloudLayer(Layer):
             return self._probe[1]
         w, h = PROBE_SIZE
         camera = EquirectCamera()
-        frame = DrawContext(
-            self.graph.ctx, camera, (w, h), (0, 0, w, h), None, camera.inputs(w, h),
-            PROBE_ALTITUDE_M, self.graph.basis,
-        )  # fmt: skip
+        frame = self._whole_frame(camera, w, h, PROBE_ALTITUDE_M)
         rad, data = self.march(frame, self.cloud_inputs(), self.texture_inputs(), ("SKY_PROBE",))
         radiance = np.frombuffer(rad.read(), dtype="f4").reshape(h, w, 4)[::-1].astype(np.float64)
         clear = np.frombuffer(data.read(), dtype="f4").reshape(h, w, 4)[::-1, :, 1:4]

@@ -11,5 +11,5 @@
 - :mod:`~skydome.core.cache`: the on-disk cache of tables.
 
 Nothing here knows a particular layer, the scene or a front end
-(``../shared/architecture.json``: the base knows no sky).
+(``docs/architecture.md``: the base knows no sky).
 """
