@@ -35,6 +35,7 @@ class CloudInputs(ShaderInputs):
     u_frame_jitter: float
     u_ms_norm_g: list[float]
     u_sky_light_ratio: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
+    u_ambient_radiance: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
     u_test_irradiance: tuple[float, float, float, float] | None = None
     u_uniform_extinction: float | None = None
     u_shaft_km: float | None = None

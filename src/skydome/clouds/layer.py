@@ -543,7 +543,10 @@ class CloudLayer(Layer):
             self._copy_behind(frame)
             return
         probe = self.sky_probe()
-        cloud = self.cloud_inputs(u_sky_light_ratio=probe.ratio)
+        cloud = self.cloud_inputs(
+            u_sky_light_ratio=probe.ratio,
+            u_ambient_radiance=probe.ambient_radiance(self._air().ground_albedo()),
+        )
         textures = self.texture_inputs()
         _, _, tw, th = frame.tile
         scale = QUALITY[self.quality]["scale"]

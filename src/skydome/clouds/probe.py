@@ -68,6 +68,12 @@ class SkyProbe:
             out.append(float(drawn / clear) if clear > 1e-30 else 1.0)
         return tuple(out)
 
+    def ambient_radiance(self, ground_albedo: float) -> tuple[float, float, float, float]:
+        """The mean radiance (cd/m^2 per channel) around a point near the ground: the sky's
+        hemisphere E / pi above, the Lambertian ground's A E / pi below."""
+        mean = (1.0 + ground_albedo) / 2.0 * self.irradiance / math.pi
+        return tuple(float(v) for v in mean)
+
     def irradiance_towards(self, normal) -> np.ndarray:
         """The irradiance (lx per channel, (..., 4)) of surfaces facing unit ``normal``
         (..., 3), from the spherical harmonics (Ramamoorthi & Hanrahan eq. 12)."""

@@ -36,6 +36,8 @@ uniform vec3 u_march;             // (view steps per km, most view steps, shorte
 uniform vec2 u_light_march_km;    // lengths of the march towards the light and across the slab
 uniform float u_cloud_albedo_below; // the ground's albedo seen by the clouds' two-stream slab
 uniform float u_frame_jitter;     // added to the ordered offset (0 for still frames)
+uniform vec4 u_ambient_radiance;  // the mean radiance of the cloudy sky and ground around
+                                  // the air in the clouds' shadow (CloudLayer.sky_probe)
 uniform vec4 u_sky_light_ratio;   // the sky's irradiance on the ground with the clouds over
                                   // the clear sky's (CloudLayer.sky_probe; 1 without it)
 uniform vec3 u_sun_direction;     // the air's lights (aerial perspective)
@@ -274,13 +276,11 @@ void main() {
 #endif
 #endif
             // the air in front of the clouds: lit by the key light where the clouds let it
-            // through, elsewhere by the cloudy sky (the clear air's light scaled by it)
-            // (the sky's light over the clear sun and sky light, at the ground below)
-            vec4 beam, sky;
-            irradiance_at(o, beam, sky);
-            vec4 clear = beam * max(dot(normalize(o), u_light_direction), 0.0) + sky;
-            vec4 shaded = u_sky_light_ratio * sky / max(clear, vec4(1e-30));
-            air *= mix(shaded, vec4(1.0), path_lit_fraction(o, d, max(mean_km, 1e-3)));
+            // through; in their shadow by the cloudy sky alone, a nearly isotropic field of
+            // radiance u_ambient_radiance, which a column of conservatively scattering air
+            // of transmittance t_air passes on as (1 - t_air) of it, whatever its phase
+            float lit = path_lit_fraction(o, d, max(mean_km, 1e-3));
+            air = lit * air + (1.0 - lit) * (vec4(1.0) - t_air) * u_ambient_radiance;
             frag_radiance = (1.0 - transmittance) * air + t_air * radiance;
         }
         if (shadow < 1.0 && hits_ground) {
