@@ -549,9 +549,10 @@ class CloudLayer(Layer):
         )
         textures = self.texture_inputs()
         _, _, tw, th = frame.tile
-        scale = QUALITY[self.quality]["scale"]
+        # a camera of given directions has no neighbours to share a march texel with
+        scale = QUALITY[self.quality]["scale"] if frame.camera.has_projection else 1
         whole = frame.tile == (0, 0, *frame.frame_size)
-        if self.quality == "interactive" and whole:
+        if self.quality == "interactive" and whole and scale > 1:
             rad, data = self._interactive(frame, cloud, textures)
         elif scale > 1:
             rad, data = self.march(self._reduced(frame, scale), cloud, textures)
