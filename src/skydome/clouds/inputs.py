@@ -55,12 +55,14 @@ class CloudTextures(ShaderInputs):
 
 @dataclass(frozen=True)
 class CompositeInputs(ShaderInputs):
-    """``clouds/clouds_composite.glsl``: the march's radiance and data at their resolution
-    and where a pixel falls in them."""
+    """``clouds/clouds_composite.glsl``: the march's radiance and data at their resolution,
+    where a pixel falls in them, and the camera (km, planet-centred) with the ground's
+    radius (km), to tell a pixel of the ground from one of the sky."""
 
     u_cloud_radiance: object
     u_cloud_data: object
     u_cloud_map: tuple[float, float, float, float]
+    u_ground_sphere: tuple[float, float, float, float]
 
 
 @dataclass(frozen=True)

@@ -562,11 +562,16 @@ class CloudLayer(Layer):
         # the march's texels cover scale x scale pixels (the last row and column may overhang)
         lw, lh = rad.size
         composite = self.full_screen_pass(
-            frame.ctx, "clouds/clouds_composite.glsl", (BehindInputs, CompositeInputs),
-            frame.camera, self.defines(frame),
+            frame.ctx, "clouds/clouds_composite.glsl",
+            (CameraInputs, BehindInputs, CompositeInputs), frame.camera, self.defines(frame),
         )  # fmt: skip
         cloud_map = (1.0 / (scale * lw), 1.0 / (scale * lh), 0.0, 0.0)
-        composite.draw(frame.fbo, self.behind_inputs(frame), CompositeInputs(rad, data, cloud_map))
+        air = self._air()
+        ground = (*air.camera_position_km(frame.altitude_m), air.bottom_radius_m / 1e3)
+        composite.draw(
+            frame.fbo, frame.view, self.behind_inputs(frame),
+            CompositeInputs(rad, data, cloud_map, ground),
+        )  # fmt: skip
 
     @staticmethod
     def _reduced(frame: DrawContext, scale: int) -> DrawContext:

@@ -244,7 +244,8 @@ void main() {
     float mean_km = depth.y > 0.0 ? depth.x / depth.y : 0.0;
     float shadow = t_ground < 1e29 ? light_transmittance(o + d * t_ground, u_light_direction, 4)
                                    : 1.0;
-    frag_cloud = vec4(transmittance, mean_km, shadow, 1.0);
+    // w: whether the ray misses the ground (the composite upsamples within each kind)
+    frag_cloud = vec4(transmittance, mean_km, shadow, t_ground < 1e29 ? 0.0 : 1.0);
 #ifdef CLOUDS_ALONE
     frag_radiance = radiance;
 #else
