@@ -92,7 +92,8 @@ class SkyDescription:
             light, airglow).
         light_pollution: a Bortle class (1-9), a ``LightPollution`` or None.
         clouds: the clouds, or None; ``cloud_quality``: "full", "best" or "interactive";
-            ``cloud_shafts``: light shafts in their shadows.
+            ``cloud_shafts``: the air in their shadows unlit by the Sun (light shafts;
+            None: on but in the interactive quality).
         night_vision, overlays: the display (the image only, never the frame's data).
     """
 
@@ -111,7 +112,7 @@ class SkyDescription:
     light_pollution: int | LightPollution | None = None
     clouds: Clouds | None = None
     cloud_quality: str = "full"
-    cloud_shafts: bool = False
+    cloud_shafts: bool | None = None
     night_vision: bool = False
     overlays: tuple[str, ...] = ()
 
@@ -180,7 +181,7 @@ class SkyDescription:
         light_pollution: Any = None,
         clouds: Clouds | str | None = None,
         cloud_quality: str = "full",
-        cloud_shafts: bool = False,
+        cloud_shafts: bool | None = None,
         night_vision: bool = False,
         overlays: Any = (),
     ) -> SkyDescription:
@@ -229,7 +230,7 @@ class SkyDescription:
             light_pollution=light_pollution_value(light_pollution),
             clouds=clouds,
             cloud_quality=cloud_quality,
-            cloud_shafts=bool(cloud_shafts),
+            cloud_shafts=None if cloud_shafts is None else bool(cloud_shafts),
             night_vision=bool(night_vision),
             overlays=tuple(overlays),
             **weather,

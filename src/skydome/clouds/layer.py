@@ -67,9 +67,11 @@ SHAPE_TILE_KM = 6.0
 DETAIL_TILE_KM = 0.8
 #: How far the detail noise erodes the shapes' edges (Schneider 2015's 0.2-0.4).
 DETAIL_EROSION = 0.35
-#: The light shafts' pass runs at 1/SHAFT_SCALE of the resolution over the first SHAFT_KM (km)
+#: The light shafts' pass runs at 1/SHAFT_SCALE of the resolution (1/INTERACTIVE_SHAFT_SCALE
+#: in the interactive mode: shadows in the air are smooth) over the first SHAFT_KM (km)
 #: of each ray.
 SHAFT_SCALE = 4
+INTERACTIVE_SHAFT_SCALE = 16
 SHAFT_KM = 12.0
 #: Still frames the interactive mode accumulates before a window may keep its image.
 SETTLE_FRAMES = 16
@@ -100,14 +102,15 @@ class CloudLayer(Layer):
         phase: the phase function (default: the Mie-fitted droplet lobes,
             skydome.clouds.phase.CLOUD_PHASE).
         shafts: light shafts: the air in the clouds' shadow scatters no sunlight (the
-            atmosphere's shadow-length input).
+            atmosphere's shadow-length input). None (the default): on, but in the
+            interactive mode (there it would double a CPU rasterizer's frame time).
     """
 
     name = "clouds"
     stage = "volume"
 
     def __init__(self, clouds: Clouds | str = "fair", *, quality: str = "full", phase=None,
-                 shafts: bool = False, enabled: bool = True):  # fmt: skip
+                 shafts: bool | None = None, enabled: bool = True):  # fmt: skip
         super().__init__(enabled=enabled)
         self.clouds = Clouds(clouds) if isinstance(clouds, str) else clouds
         if not isinstance(self.clouds, Clouds):
@@ -115,7 +118,7 @@ class CloudLayer(Layer):
         if quality not in QUALITY:
             raise ParameterError(f"cloud quality {quality!r} must be one of {', '.join(QUALITY)}")
         self.quality = quality
-        self.shafts = bool(shafts)
+        self.shafts = quality != "interactive" if shafts is None else bool(shafts)
         if phase is None:
             phase = CLOUD_PHASE
         #: The phase function the march uses and the factor on the extinction: the
@@ -600,12 +603,13 @@ class CloudLayer(Layer):
             return None
         x0, y0, tw, th = frame.tile
         w, h = frame.frame_size
-        lw, lh = max(1, math.ceil(tw / SHAFT_SCALE)), max(1, math.ceil(th / SHAFT_SCALE))
+        k = INTERACTIVE_SHAFT_SCALE if self.quality == "interactive" else SHAFT_SCALE
+        lw, lh = max(1, math.ceil(tw / k)), max(1, math.ceil(th / k))
         ctx = frame.ctx
         small, full = self._shaft_targets(lw, lh, tw, th)
         small[1].viewport = (0, 0, lw, lh)
         view = frame.camera.inputs(
-            w / SHAFT_SCALE, h / SHAFT_SCALE, (x0 / SHAFT_SCALE, y0 / SHAFT_SCALE),
+            w / k, h / k, (x0 / k, y0 / k),
             frame.view.u_direction_map,
         )  # fmt: skip
         inputs = (
