@@ -244,9 +244,10 @@ def mars_views(w: int, h: int) -> None:
 
 
 def cloud_views(w: int, h: int) -> None:
-    """Clouds (issue 12), full quality, auto exposure: fair-weather cumulus at noon, a sunset
-    under stratocumulus lit from below, overcast, a storm, cirrus alone, a moonlit cloudy
-    night, the view from 10 km above the clouds, and crepuscular rays (light shafts)."""
+    """Clouds (issues 12, 22), full quality, auto exposure: fair-weather cumulus at noon, a
+    sunset under stratocumulus lit from below, the overcast, a rainy nimbostratus day, a
+    storm, cirrus alone, a moonlit cloudy night, the view from 10 km above the clouds, and
+    crepuscular rays (light shafts)."""
     from skydome.clouds.layer import CloudLayer
     from skydome.clouds.params import Clouds
     from skydome.core.cameras import PerspectiveCamera as Cam
@@ -255,18 +256,20 @@ def cloud_views(w: int, h: int) -> None:
     # name: (time, clouds, look (yaw from the Sun's azimuth, pitch), fov, altitude m, shafts, note)
     views = {
         "clouds-fair-noon": ("2021-06-21T10:00Z", Clouds("fair", seed=3), (60, 20), 90, None,
-                             False, "fair-weather cumulus, Valletta 2021-06-21 10:00 UTC"),
+                             None, "fair-weather cumulus, Valletta 2021-06-21 10:00 UTC"),
         "clouds-sunset-stratocumulus": (
-            "2021-06-21T18:12Z", Clouds("overcast", coverage=0.75, base_m=1800, seed=4), (0, 6),
-            90, None, False, "sunset under stratocumulus lit from below"),
+            "2021-06-21T18:12Z", Clouds("broken", coverage=0.75, base_m=1800, seed=4), (0, 6),
+            90, None, None, "sunset under stratocumulus lit from below"),
         "clouds-overcast": ("2021-06-21T10:00Z", Clouds("overcast", seed=5), (90, 15), 90, None,
-                            False, "overcast stratocumulus deck"),
+                            None, "overcast: a closed stratus deck, optical depth 37.5"),
+        "clouds-nimbostratus": ("2021-06-21T10:00Z", Clouds("nimbostratus", seed=5), (90, 10),
+                                90, None, None, "a rainy day under nimbostratus"),
         "clouds-storm": ("2021-06-21T15:00Z", Clouds("storm", seed=6), (120, 15), 100, None,
-                         False, "cumulonimbus with rain"),
+                         None, "cumulonimbus with rain"),
         "clouds-cirrus": ("2021-06-21T08:00Z", Clouds("cirrus", seed=7), (40, 35), 90, None,
-                          False, "cirrus and cirrostratus alone"),
+                          None, "cirrus and cirrostratus alone"),
         "clouds-above-10km": ("2021-06-21T09:00Z", Clouds("fair", coverage=0.55, seed=3),
-                              (60, -20), 100, 10_000.0, False, "fair cumulus seen from 10 km"),
+                              (60, -20), 100, 10_000.0, None, "fair cumulus seen from 10 km"),
         "clouds-crepuscular-rays": (
             "2021-06-21T17:50Z", Clouds("fair", coverage=0.6, seed=8), (0, 8), 80, None, True,
             "light shafts through gaps: the shadowed air scatters no sunlight"),
