@@ -58,7 +58,7 @@ QUALITY = {
              "steps": (6, 1), "coarse": 4.0},
     # seed 000 (ch. 5.4) marches its clouds at half the resolution too
     "full": {"march": (0.008, 256.0, 0.03), "light_km": (6.0, 4.0), "scale": 2,
-             "steps": (6, 2), "coarse": 4.0},
+             "steps": (6, 1), "coarse": 4.0},
     "interactive": {"march": (0.025, 48.0, 0.08), "light_km": (4.0, 3.0), "scale": 8,
                     "steps": (4, 3), "coarse": 6.0},
 }  # fmt: skip
