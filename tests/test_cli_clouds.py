@@ -26,6 +26,20 @@ def test_render_with_clouds_writes_a_cloudy_frame(tmp_path):
     assert np.mean(sky_b[..., 2] / sky_b[..., 0]) < 1.15
 
 
+def test_render_reports_the_decks_optical_depth(tmp_path):
+    """The CLI says what the deck holds: its nominal optical depth (0.25 g/m^3 over 1 km of
+    stratus: 37.5) and the census of its columns (closed: 100 % cloudy, the mean within 10 %
+    of the nominal)."""
+    out = tmp_path / "overcast.png"
+    r = run_cli("render", "--sun-elevation", "45", "--size", "32x18", "--clouds", "overcast",
+                "-o", out)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    line = next(x for x in r.stdout.splitlines() if x.startswith("clouds:"))
+    assert "coverage 1.00, optical depth 37.5 per cloud" in line, line
+    mean = float(line.split("columns: mean ")[1].split(",")[0])
+    assert abs(mean / 37.5 - 1.0) < 0.10 and "100 % cloudy" in line, line
+
+
 def test_timelapse_moves_the_clouds_with_the_wind(tmp_path):
     out = tmp_path / "frames"
     r = run_cli(
