@@ -480,30 +480,14 @@ class CloudLayer(Layer):
         height = -(-n // width)
         texels = np.zeros((height * width, 4), dtype=np.float32)
         texels[:n, :3] = km
-        ctx = self.graph.ctx
-        points = ctx.texture((width, height), 4, texels.tobytes(), dtype="f4")
-        out = ctx.texture((width, height), 1, dtype="f4")
-        fbo = ctx.framebuffer(color_attachments=[out])
+        points = self.graph.ctx.texture((width, height), 4, texels.tobytes(), dtype="f4")
         try:
-            lookup = self._air().lookup()
-            inputs = (
-                lookup.inputs,
-                self.cloud_inputs(),
-                self.texture_inputs(),
-                QueryInputs(points),
-            )
-            key = ("query",)
-            if key not in self._passes:
-                self._passes[key] = FullscreenPass(
-                    ctx, "clouds/cloud_shadow_query.glsl", self._own_defines(),
-                    inputs=tuple(type(i) for i in inputs),
-                )  # fmt: skip
-            fbo.viewport = (0, 0, width, height)
-            self._passes[key].draw(fbo, *inputs)
-            t = np.frombuffer(out.read(), dtype=np.float32)[:n]
+            inputs = (self._air().lookup().inputs, self.cloud_inputs(), self.texture_inputs(),
+                      QueryInputs(points))  # fmt: skip
+            t = self._data_pass("clouds/cloud_shadow_query.glsl", inputs, (width, height), 1)
         finally:
-            for obj in (fbo, out, points):
-                release_unbound(obj)
+            release_unbound(points)
+        t = t.reshape(-1)[:n]
         return t.astype(np.float64).reshape(p.shape[:-1])
 
     def column_optical_depths(self, grid: int = 96) -> np.ndarray:
@@ -520,26 +504,30 @@ class CloudLayer(Layer):
 
     def _census_pass(self, cloud: CloudInputs, textures: CloudTextures, grid: int) -> np.ndarray:
         """clouds/cloud_columns.glsl over a grid x grid census of the tile: (grid, grid, 2)."""
+        spacing = self.clouds.tile_km / grid
+        inputs = (self._air().lookup().inputs, cloud, textures, ColumnInputs((spacing, spacing)))
+        tau = self._data_pass("clouds/cloud_columns.glsl", inputs, (grid, grid), 4)[..., :2]
+        return tau.astype(np.float64) / self.extinction_scale
+
+    def _data_pass(self, shader: str, inputs: tuple, size: tuple[int, int], components: int):
+        """Draw one of the layer's passes that read only the clouds' density (no camera)
+        into a float texture of ``size`` and read it back: (h, w, components), row 0 first
+        as GL stores it."""
         ctx = self.graph.ctx
-        out = ctx.texture((grid, grid), 4, dtype="f4")
+        out = ctx.texture(size, components, dtype="f4")
         fbo = ctx.framebuffer(color_attachments=[out])
         try:
-            lookup = self._air().lookup()
-            spacing = self.clouds.tile_km / grid
-            inputs = (lookup.inputs, cloud, textures, ColumnInputs((spacing, spacing)))
-            key = ("columns",)
-            if key not in self._passes:
-                self._passes[key] = FullscreenPass(
-                    ctx, "clouds/cloud_columns.glsl", self._own_defines(),
-                    inputs=tuple(type(i) for i in inputs),
-                )  # fmt: skip
-            fbo.viewport = (0, 0, grid, grid)
-            self._passes[key].draw(fbo, *inputs)
-            tau = np.frombuffer(out.read(), dtype=np.float32).reshape(grid, grid, 4)[..., :2]
+            if shader not in self._passes:
+                self._passes[shader] = FullscreenPass(
+                    ctx, shader, self._own_defines(), inputs=tuple(type(i) for i in inputs)
+                )
+            fbo.viewport = (0, 0, *size)
+            self._passes[shader].draw(fbo, *inputs)
+            data = np.frombuffer(out.read(), dtype=np.float32)
         finally:
             release_unbound(fbo)
             release_unbound(out)
-        return tau.astype(np.float64) / self.extinction_scale
+        return data.reshape(size[1], size[0], components)
 
     def draw(self, frame: DrawContext) -> None:
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is
