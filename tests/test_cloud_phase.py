@@ -1,5 +1,7 @@
-"""The cloud droplet phase function (skydome.clouds.phase): normalisation, sampling, the fit
-to Mie theory and its published asymmetry, and the tool that builds the packaged table."""
+"""The cloud droplet phase function (skydome.clouds.phase): the Mie table the renderer
+scatters with (its published features, its truncation), the tabulated form (normalisation,
+moments, sampling), the HG-lobe fit (normalisation, sampling, its published asymmetry), and
+the tool that builds both packaged tables."""
 
 from __future__ import annotations
 
@@ -11,7 +13,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skydome.clouds.phase import CLOUD_PHASE, PHASE_CSV, LobePhase
+from skydome.clouds.phase import (
+    CLOUD_PHASE,
+    MIE_PHASE,
+    MIE_PHASE_CSV,
+    PEAK_FRACTION,
+    PHASE_CSV,
+    RENDER_PHASE,
+    RENDER_PHASE_TEXELS,
+    TRUNCATION_DEG,
+    LobePhase,
+    TabulatedPhase,
+)
 from skydome.errors import ParameterError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -102,9 +115,95 @@ def test_fit_against_its_mie_phase_function():
     assert f_fit == pytest.approx(f_mie, rel=0.1)
 
 
-def test_tool_rebuilds_the_packaged_table():
+def test_tool_rebuilds_the_packaged_tables():
     packaged = resources.files("skydome.data").joinpath(PHASE_CSV).read_text()
     assert _tool().build_text() == packaged
+    packaged = resources.files("skydome.data").joinpath(MIE_PHASE_CSV).read_text()
+    assert _tool().build_mie_text() == packaged
+
+
+def test_mie_table_has_the_published_features():
+    # Hansen & Travis (1974, Space Sci. Rev. 16, 527), Figs. 8-9, water clouds of
+    # r_eff ~ 10 um at visible wavelengths: asymmetry 0.85-0.87, the deep side-scattering
+    # minimum near 100 deg, the cloudbow at 138-142 deg (the geometric primary bow of m = 1.333
+    # is at 137.9 deg; small drops move it outwards) and the glory rising steeply to 180 deg.
+    t, p = MIE_PHASE.theta_deg, MIE_PHASE.values
+    assert 0.85 <= MIE_PHASE.asymmetry <= 0.87
+    assert MIE_PHASE.asymmetry == pytest.approx(_mie()[2], abs=2e-4)
+    side = (t >= 60.0) & (t <= 130.0)
+    assert 95.0 <= t[side][np.argmin(p[side])] <= 110.0
+    bow = (t >= 120.0) & (t <= 160.0)
+    assert 138.0 <= t[bow][np.argmax(p[bow])] <= 143.0
+    assert p[-1] > 3.0 * np.interp(170.0, t, p)  # the glory
+    # the diffraction peak: half of the light within a few degrees (extinction efficiency 2)
+    inner = t <= 5.0
+    th = np.radians(t[inner])
+    assert 2 * np.pi * np.trapezoid(p[inner] * np.sin(th), th) == pytest.approx(0.5, abs=0.05)
+
+
+def test_render_phase_is_mie_beyond_the_cut():
+    # The flat cut keeps the Mie function beyond TRUNCATION_DEG (what single scattering sees),
+    # scaled by 1 / (1 - f); within 0.2 % (the 0.088 deg grid's linear interpolation of the
+    # 0.05 deg table). f is the peak's excess over its flat top: the direct integral of
+    # P - P(theta_c) over theta < theta_c agrees within 1e-3.
+    assert RENDER_PHASE.values.size == RENDER_PHASE_TEXELS
+    x = np.linspace(TRUNCATION_DEG + 1.0, 180.0, 2000)
+    mu = np.cos(np.radians(x))
+    assert np.allclose(RENDER_PHASE.value(mu) * (1.0 - PEAK_FRACTION), MIE_PHASE.value(mu),
+                       rtol=2e-3)  # fmt: skip
+    t, p = MIE_PHASE.theta_deg, MIE_PHASE.values
+    inner = t <= TRUNCATION_DEG
+    th = np.radians(t[inner])
+    excess = p[inner] - np.interp(TRUNCATION_DEG, t, p)
+    assert PEAK_FRACTION == pytest.approx(2 * np.pi * np.trapezoid(excess * np.sin(th), th),
+                                          abs=1e-3)  # fmt: skip
+    assert RENDER_PHASE.value(np.array([1.0]))[0] == pytest.approx(
+        RENDER_PHASE.value(np.array([np.cos(np.radians(TRUNCATION_DEG))]))[0], rel=5e-3
+    )
+
+
+def test_tabulated_hg_has_the_hg_moments_and_samples():
+    # An HG lobe (g = 0.6) tabulated on the renderer's grid: its moments are g and g^2 within
+    # 2e-4 (the grid resolves the lobe, 0.4 rad wide); its samples follow its CDF (the
+    # closed form of _hg_cdf) within 4 standard errors per bin.
+    hg = LobePhase.henyey_greenstein(0.6)
+    tab = TabulatedPhase.of(hg)
+    assert tab.asymmetry == pytest.approx(0.6, abs=2e-4)
+    assert tab.second_moment == pytest.approx(0.36, abs=2e-4)
+    mu = np.linspace(-1, 1, 9)
+    assert np.allclose(tab.value(mu), hg.value(mu), rtol=1e-3)
+    n = 200_000
+    sample = tab.sample(np.random.default_rng(4), n)
+    edges = np.linspace(-1.0, 1.0, 21)
+    counts = np.histogram(sample, edges)[0] / n
+    expect = np.diff(_hg_cdf(edges, 0.6))
+    assert np.all(np.abs(counts - expect) < 4.0 * np.sqrt(expect / n) + 1e-4)
+
+
+def test_render_phase_samples_follow_it():
+    # The renderer's phase function sampled (the Monte Carlo's table of the clouds' multiple
+    # scattering uses these): the mean cosine and the share beyond 90 deg match its
+    # quadrature within 4 standard errors.
+    n = 400_000
+    mu = RENDER_PHASE.sample(np.random.default_rng(5), n)
+    assert np.mean(mu) == pytest.approx(RENDER_PHASE.asymmetry, abs=4 * np.std(mu) / n**0.5)
+    x = np.linspace(-1.0, 0.0, 20001)
+    back = 2 * np.pi * np.trapezoid(RENDER_PHASE.value(x), x)
+    assert np.mean(mu < 0) == pytest.approx(back, abs=4 * np.sqrt(back / n))
+
+
+def test_tabulated_validation():
+    with pytest.raises(ParameterError, match="rise from 0 to 180"):
+        TabulatedPhase([0.0, 90.0], [1.0, 1.0])
+    with pytest.raises(ParameterError, match=">= 0"):
+        TabulatedPhase([0.0, 180.0], [1.0, -1.0])
+    with pytest.raises(ParameterError, match="as many"):
+        TabulatedPhase([0.0, 180.0], [1.0])
+    with pytest.raises(ParameterError, match="truncation"):
+        MIE_PHASE.delta_truncated(95.0)
+    # normalised on construction (the trapezoid rule on 181 x 16 intervals: 1e-5)
+    iso = TabulatedPhase(np.linspace(0.0, 180.0, 181), np.full(181, 7.0))
+    assert iso.value(np.array([0.2]))[0] == pytest.approx(1.0 / (4.0 * np.pi), rel=1e-5)
 
 
 def test_validation():

@@ -11,9 +11,9 @@ import pytest
 
 from skydome import Sky
 from skydome.atmosphere.layer import AtmosphereLayer
-from skydome.clouds.layer import CloudLayer, weather_map_for
+from skydome.clouds.layer import SETTLE_FRAMES, CloudLayer, weather_map_for
 from skydome.clouds.params import Clouds
-from skydome.clouds.phase import CLOUD_PHASE, RENDER_PHASE
+from skydome.clouds.phase import PEAK_FRACTION, RENDER_PHASE
 from skydome.core.cameras import EquirectCamera, FisheyeCamera, PerspectiveCamera
 from skydome.errors import ParameterError
 from skydome.reference import cloud_slab
@@ -104,11 +104,11 @@ def test_slab_radiance_matches_monte_carlo(slab, tau):
 
     el, layer = slab
     mu0 = math.sin(math.radians(el))
-    # the droplets' phase function, its diffraction peak delta-M scaled as the renderer's
-    # (the Monte Carlo's own test checks that scaling against the exact tracer)
+    # the droplets' Mie phase function with its diffraction peak cut as the renderer's (the
+    # scaled optical depth; test_clouds_disort.py checks the cut against DISORT's exact one)
     mc = slab_radiance(
-        tau, mu0, np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]), phase=CLOUD_PHASE,
-        photons=60_000, seed=7, delta_peak_g=0.98,
+        tau * (1.0 - PEAK_FRACTION), mu0, np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]),
+        phase=RENDER_PHASE, photons=60_000, seed=7,
     )  # fmt: skip
     rad_up, _ = probe_slab(layer, tau, straight(-90.0), ABOVE_M)
     rad_down, _ = probe_slab(layer, tau, straight(90.0), BELOW_M)
@@ -277,13 +277,32 @@ def test_interactive_mode_converges_to_the_full_quality_frame(cloudy):
     full = still.render(cam, 640, 360, exposure=None).data[..., 1]  # as the interactive: no shafts
     still.release()
     sky = Sky((35.9, 14.5), "2021-06-21T11:00Z", night=False,
-              clouds=CloudLayer(Clouds("fair", seed=3), quality="interactive"))  # fmt: skip
+              clouds=CloudLayer(Clouds("fair", seed=3), quality="interactive", refine=False))  # fmt: skip
     for _ in range(16):
         frame = sky.render(cam, 640, 360, exposure=None).data[..., 1]
     sky.graph.release()
     rel = np.abs(frame - full) / full
     assert np.median(rel) < 0.10
     assert abs(frame.mean() / full.mean() - 1.0) < 0.03
+    # refined (the default): once settled, the still view is the full-quality frame (the
+    # same probe, march, light shafts and composite: equal to float32 rounding), and it
+    # stops settling
+    still = Sky((35.9, 14.5), "2021-06-21T11:00Z", night=False,
+                clouds=CloudLayer(Clouds("fair", seed=3)))  # fmt: skip
+    full = still.render(cam, 640, 360, exposure=None).data[..., 1]
+    still.release()
+    sky = Sky((35.9, 14.5), "2021-06-21T11:00Z", night=False,
+              clouds=CloudLayer(Clouds("fair", seed=3), quality="interactive"))  # fmt: skip
+    layer = sky.layer("clouds")
+    frames = 0
+    while frames == 0 or layer.settling:
+        frame = sky.render(cam, 640, 360, exposure=None).data[..., 1]
+        frames += 1
+        assert frames <= SETTLE_FRAMES + 2
+    again = sky.render(cam, 640, 360, exposure=None).data[..., 1]  # kept, not marched again
+    sky.graph.release()
+    np.testing.assert_allclose(frame, full, rtol=1e-5)
+    np.testing.assert_array_equal(again, frame)
 
 
 # ---------------------------------------------------------------------- bad input

@@ -1,4 +1,7 @@
-"""Build skydome/data/cloud_droplet_phase.csv: the cloud droplet phase function as HG lobes.
+"""Build the cloud droplet phase function's two packaged tables: skydome/data/
+cloud_droplet_mie_phase.csv (the Mie phase function itself, tabulated in angle: what the
+renderer scatters with, skydome.clouds.phase.MIE_PHASE) and cloud_droplet_phase.csv (the same
+fitted by HG lobes: skydome.clouds.phase.CLOUD_PHASE, the Monte Carlo tests' analytic form).
 
 Usage::
 
@@ -42,7 +45,9 @@ import numpy as np
 from skydome.atmosphere.mie import bulk_optics, hg_lobes, nnls
 from skydome.physics.phase import henyey_greenstein
 
-OUT = Path(__file__).resolve().parents[1] / "src/skydome/data/cloud_droplet_phase.csv"
+DATA = Path(__file__).resolve().parents[1] / "src/skydome/data"
+OUT = DATA / "cloud_droplet_phase.csv"
+MIE_OUT = DATA / "cloud_droplet_mie_phase.csv"
 WAVELENGTH_UM, R_EFF_UM, V_EFF, M_WATER = 0.55, 10.0, 0.1, 1.333 + 0.0j
 RADII = 1000
 #: Scattering angles (deg): 0.025 deg steps over the diffraction peak, 0.05 deg beyond.
@@ -121,14 +126,37 @@ def build_text(radii: int = RADII) -> str:
     return "\n".join(lines) + "\n"
 
 
+def build_mie_text(radii: int = RADII) -> str:
+    """The Mie table's text: the phase function at :data:`THETA_DEG` (6 significant digits),
+    renormalised to 1 over the sphere (the trapezoid rule in cos theta on this grid)."""
+    theta, phase, g_mie = mie_phase(radii)
+    mu = np.cos(np.radians(theta))
+    norm = -np.trapezoid(phase * 2.0 * np.pi, mu)
+    header = [
+        "Cloud droplet phase function P(theta) (1/sr, normalised to 1 over the sphere): built",
+        "by tools/build_cloud_phase.py (see its docstring). Mie theory (skydome.atmosphere.mie)",
+        f"for liquid water m = {M_WATER.real} + 0i at {WAVELENGTH_UM * 1000:.0f} nm, a modified",
+        f"gamma distribution (Hansen & Travis 1974) of r_eff {R_EFF_UM} um, v_eff {V_EFF},",
+        f"{radii} radii; asymmetry parameter {g_mie:.5f}; the raw table integrated to",
+        f"{norm:.6f} (trapezoid rule in cos theta) and was divided by that. 0.025 deg steps to",
+        "10 deg (the diffraction peak), 0.05 deg beyond.",
+    ]
+    lines = [f"# {h}" for h in header] + ["theta_deg,phase"]
+    lines += [f"{t:.3f},{p / norm:.6g}" for t, p in zip(theta, phase, strict=True)]
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("-o", "--output", type=Path, default=OUT)
+    ap.add_argument("-o", "--output", type=Path, default=OUT, help="the lobes' CSV")
+    ap.add_argument("--mie-output", type=Path, default=MIE_OUT, help="the Mie table's CSV")
     args = ap.parse_args()
     text = build_text()
     args.output.write_text(text)
     print(text, end="")
     print(f"wrote {args.output}")
+    args.mie_output.write_text(build_mie_text())
+    print(f"wrote {args.mie_output}")
 
 
 if __name__ == "__main__":

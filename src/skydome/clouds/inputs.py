@@ -12,7 +12,7 @@ class CloudInputs(ShaderInputs):
     """The march's own uniforms (``clouds/cloud_*.glsl``): the key light (direction, scale
     per channel), the shells' radii (km), the noises' tiles (km) and the wind's offset,
     the extinctions per cloud type and of the cirrus (1/km, delta-M scaled), the detail's
-    erosion, the water's normalisation per type and coverage, the droplets' phase-function lobes and moments, the march's steps, the
+    erosion, the water's normalisation per type and coverage, the droplets' phase-function moments, the march's steps, the
     ground's albedo below, the frame's jitter, the multiple-scattering table's norms; for
     tests a fixed irradiance and a uniform extinction; for the light shafts their length
     (km)."""
@@ -26,8 +26,6 @@ class CloudInputs(ShaderInputs):
     u_cirrus_extinction: float
     u_detail_erosion: float
     u_water_norm: list[float]
-    u_cloud_lobe_g: list[float]
-    u_cloud_lobe_weight: list[float]
     u_cloud_moments: tuple[float, float, float]
     u_march: tuple[float, float, float]
     u_light_march_km: tuple[float, float]
@@ -43,10 +41,11 @@ class CloudInputs(ShaderInputs):
 
 @dataclass(frozen=True)
 class CloudTextures(ShaderInputs):
-    """The clouds' textures: the multiple-scattering table, the weather map and the noises
-    (None where a pass marches a uniform cloud)."""
+    """The clouds' textures: the multiple-scattering table, the phase function's table, the
+    weather map and the noises (None where a pass marches a uniform cloud)."""
 
     u_cloud_ms_table: object
+    u_cloud_phase_table: object
     u_weather: object = None
     u_shape_noise: object = None
     u_detail_noise: object = None

@@ -35,7 +35,7 @@ from skydome.clouds.params import (
     WATER_NORMALIZATION,
     Clouds,
 )
-from skydome.clouds.phase import CLOUD_PHASE
+from skydome.clouds.phase import MIE_PHASE, RENDER_PHASE_TEXELS, TabulatedPhase
 from skydome.clouds.probe import SkyProbe
 from skydome.clouds.weather import AnimatedWeather, WeatherMap
 from skydome.core.cameras import CameraInputs, EquirectCamera
@@ -52,15 +52,17 @@ from skydome.physics.geometry import elevation_deg
 #: march towards the light and across the local slab; ``scale``: the march's resolution is
 #: 1/scale of the frame's; ``steps`` = (samples of the light march, a sample's light
 #: computed afresh every n view steps); ``coarse``: view steps one step through clear air
-#: spans.
+#: spans; ``split``: in dense cloud a step shrinks to an optical depth of 1, down to 1/split
+#: of its length (the light is taken where the light is scattered: without it a dense
+#: cloud's shaded side shows the pixels' ordered offsets).
 QUALITY = {
     "best": {"march": (0.006, 256.0, 0.025), "light_km": (6.0, 4.0), "scale": 1,
-             "steps": (6, 1), "coarse": 4.0},
+             "steps": (6, 1), "coarse": 4.0, "split": 8.0},
     # seed 000 (ch. 5.4) marches its clouds at half the resolution too
     "full": {"march": (0.008, 256.0, 0.03), "light_km": (6.0, 4.0), "scale": 2,
-             "steps": (6, 1), "coarse": 4.0},
+             "steps": (6, 1), "coarse": 4.0, "split": 8.0},
     "interactive": {"march": (0.025, 48.0, 0.08), "light_km": (4.0, 3.0), "scale": 8,
-                    "steps": (4, 3), "coarse": 6.0},
+                    "steps": (4, 3), "coarse": 6.0, "split": 1.0},
 }  # fmt: skip
 #: Repeat lengths (km) of the shape and detail noises.
 SHAPE_TILE_KM = 6.0
@@ -97,20 +99,28 @@ class CloudLayer(Layer):
         clouds: a ``Clouds`` or a preset name.
         quality: "full" (still frames: the march at half the resolution, as seed 000 does,
             read bilinearly), "best" (every pixel marched, finer steps: about 4x the cost) or
-            "interactive" (a coarser march at a sixth of the resolution accumulated over
-            frames, for the viewer).
-        phase: the phase function (default: the Mie-fitted droplet lobes,
-            skydome.clouds.phase.CLOUD_PHASE).
+            "interactive" (a coarser march at an eighth of the resolution accumulated over
+            frames, for the viewer; once a still view has settled, ``refine`` draws it
+            once at full quality and keeps that).
+        phase: the droplets' phase function, a ``TabulatedPhase`` or ``LobePhase`` of
+            skydome.clouds.phase (default: their Mie phase function, MIE_PHASE); its
+            forward peak is taken out (``delta_truncated``) and the rest tabulated for the
+            march.
         shafts: light shafts: the air in the clouds' shadow scatters no sunlight (the
             atmosphere's shadow-length input). None (the default): on, but in the
-            interactive mode (there it would double a CPU rasterizer's frame time).
+            interactive mode's accumulating frames (there they would double a CPU
+            rasterizer's frame time).
+        refine: in the interactive mode, replace a still view's accumulated image by one
+            full-quality march once SETTLE_FRAMES frames have gone into it (no blocks in
+            a view that has settled; on a CPU rasterizer that frame takes about a second).
     """
 
     name = "clouds"
     stage = "volume"
 
     def __init__(self, clouds: Clouds | str = "fair", *, quality: str = "full", phase=None,
-                 shafts: bool | None = None, enabled: bool = True):  # fmt: skip
+                 shafts: bool | None = None, refine: bool = True,
+                 enabled: bool = True):  # fmt: skip
         super().__init__(enabled=enabled)
         self.clouds = Clouds(clouds) if isinstance(clouds, str) else clouds
         if not isinstance(self.clouds, Clouds):
@@ -118,18 +128,30 @@ class CloudLayer(Layer):
         if quality not in QUALITY:
             raise ParameterError(f"cloud quality {quality!r} must be one of {', '.join(QUALITY)}")
         self.quality = quality
+        self.refine = bool(refine)
+        #: The quality the passes being drawn use (the interactive mode's refined frame
+        #: marches at "full").
+        self._pass_quality = quality
+        #: What the refined frame kept in its march target was drawn for (None: none kept).
+        self._refined_key = None
         self.shafts = quality != "interactive" if shafts is None else bool(shafts)
+        #: The interactive mode's refined frame draws the shafts a still frame would.
+        self._refined_shafts = shafts is None
         if phase is None:
-            phase = CLOUD_PHASE
-        #: The phase function the march uses and the factor on the extinction: the
-        #: droplets' diffraction peak (lobes with g >= phase.PEAK_G) taken out by delta-M, its light
-        #: counted as unscattered (it leaves within about a degree of its direction).
+            phase = MIE_PHASE
+        #: The phase function the march uses (tabulated) and the factor on the extinction:
+        #: the droplets' diffraction peak taken out (``delta_truncated``), its light counted as
+        #: unscattered (it leaves within a few degrees of its direction).
         self.phase, peak = phase.delta_truncated()
+        if not isinstance(self.phase, TabulatedPhase) or self.phase.values.size != (
+            RENDER_PHASE_TEXELS
+        ):
+            self.phase = TabulatedPhase.of(self.phase)
         self.extinction_scale = 1.0 - peak
         self.noise = None
         self.weather = None
         self._targets: dict = {}
-        self._ms_texture = None
+        self._static = None  # (the multiple-scattering table, the phase table): textures
         self._frame_index = 0
         self._settled = 0  # still frames blended into the interactive history
         self._history_key = self._history_camera = self._history_time = None
@@ -216,7 +238,7 @@ class CloudLayer(Layer):
         solar = air.solar_scale
         c = self.clouds
         key_dir, key_scale = self.key_light(lights)
-        q = QUALITY[self.quality]
+        q = QUALITY[self._pass_quality]
         g = float(self.phase.asymmetry)
         f = float(self.phase.second_moment)
         # How far the wind has carried the noise, reduced (in float64) modulo a length over
@@ -233,8 +255,6 @@ class CloudLayer(Layer):
             u_cirrus_extinction=CIRRUS_EXTINCTION_PER_M * 1e3 * self.extinction_scale,
             u_detail_erosion=DETAIL_EROSION,
             u_water_norm=changes.pop("u_water_norm", None) or self._water_norm(),
-            u_cloud_lobe_g=[float(v) for v in self.phase.g],
-            u_cloud_lobe_weight=[float(v) for v in self.phase.weights],
             u_cloud_moments=(g, f, (g - f) / (1.0 - f)),
             u_march=q["march"],
             u_light_march_km=q["light_km"],
@@ -275,7 +295,7 @@ class CloudLayer(Layer):
             weather = ctx.texture((1, 1), 4, texel.tobytes(), dtype="f4")
             try:
                 textures = CloudTextures(
-                    self._ms_table_texture(), weather, self.noise.shape, self.noise.detail,
+                    *self._static_textures(), weather, self.noise.shape, self.noise.detail,
                     self.noise.curl,
                 )  # fmt: skip
                 inputs = self.cloud_inputs(
@@ -310,13 +330,15 @@ class CloudLayer(Layer):
 
     def defines(self, frame: DrawContext, extra: tuple[str, ...] = ()) -> dict:
         air = self._air()
-        light, every = QUALITY[self.quality]["steps"]
+        q = QUALITY[self._pass_quality]
+        light, every = q["steps"]
         d = {
             **air.lookup().defines,
-            "CLOUD_LOBES": len(self.phase.g),
+            "CLOUD_PHASE_TEXELS": RENDER_PHASE_TEXELS,
             "LIGHT_STEPS": light,
             "LIGHT_EVERY": every,
-            "COARSE": float(QUALITY[self.quality]["coarse"]),
+            "COARSE": float(q["coarse"]),
+            "STEP_SPLIT": float(q["split"]),
         }
         if air.lights().has_moon:
             d["HAS_LIGHT2"] = 1
@@ -334,28 +356,34 @@ class CloudLayer(Layer):
             d["UNIFORM_CLOUD"] = 1
         return d
 
-    def _ms_table_texture(self):
-        """The multiple-scattering table (skydome.clouds.ms_table) as a 3D texture:
-        x = 12 blocks (the scattered direction's cosine) of 24 depths, y = the optical
-        thickness, z = the light's cosine; RGB = the azimuth Fourier coefficients."""
-        if self._ms_texture is None:
+    def _static_textures(self) -> tuple:
+        """(the multiple-scattering table, skydome.clouds.ms_table, as a 3D texture: x = 12
+        blocks (the scattered direction's cosine) of 24 depths, y = the optical thickness,
+        z = the light's cosine, RGB = the azimuth Fourier coefficients; the phase function
+        the march uses, tabulated at RENDER_PHASE_TEXELS angles uniform from 0 to 180 deg,
+        linear filtering: the same function as its TabulatedPhase)."""
+        if self._static is None:
             j = np.asarray(_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
             nt, nm0, nd, nmu, _ = j.shape
             texels = np.zeros((nm0, nt, nmu * nd, 4), dtype=np.float32)
             texels[..., :3] = j.transpose(1, 0, 3, 2, 4).reshape(nm0, nt, nmu * nd, 3)
             ctx = self.graph.ctx
-            tex = ctx.texture3d((nmu * nd, nt, nm0), 4, texels.tobytes(), dtype="f4")
-            self._ms_texture = linear_clamped(tex, ctx)
-        return self._ms_texture
+            ms = ctx.texture3d((nmu * nd, nt, nm0), 4, texels.tobytes(), dtype="f4")
+            values = np.asarray(self.phase.values, dtype=np.float32)
+            phase = ctx.texture((values.size, 1), 1, values.tobytes(), dtype="f4")
+            self._static = (linear_clamped(ms, ctx), linear_clamped(phase, ctx))
+        return self._static
 
     def texture_inputs(self, noise: bool = True) -> CloudTextures:
-        """The clouds' textures: the multiple-scattering table and (with ``noise``) the
+        """The clouds' textures: the multiple-scattering and phase tables and (with ``noise``) the
         weather map at the last update's time and the noises."""
         if not noise or self.clouds.uniform:
-            return CloudTextures(self._ms_table_texture())
+            return CloudTextures(*self._static_textures())
         self._noise_and_weather()
+        ms, phase = self._static_textures()
         return CloudTextures(
-            u_cloud_ms_table=self._ms_table_texture(),
+            u_cloud_ms_table=ms,
+            u_cloud_phase_table=phase,
             u_weather=self.weather.texture_at(self.time_s),
             u_shape_noise=self.noise.shape,
             u_detail_noise=self.noise.detail,
@@ -437,15 +465,21 @@ class CloudLayer(Layer):
             camera.inputs(width, height), altitude_m, self.graph.basis,
         )  # fmt: skip
 
+    def _sky_key(self) -> tuple:
+        """What the clouds' look depends on besides the camera: the time, the clouds, the
+        lights' directions and the ground's albedo."""
+        air = self._air()
+        lights = air.lights()
+        return (self.time_s, self.clouds, tuple(lights.sun_direction), lights.moon_direction,
+                air.ground_albedo())  # fmt: skip
+
     def sky_probe(self) -> SkyProbe:
         """The sky that is drawn, seen from the ground under the camera at the last update:
         the clouds marched over the clear sky of the atmosphere's tables (no Sun's disk)
         into a PROBE_SIZE equirectangular map (cd/m^2), and what it gives: the irradiance of
         a horizontal surface, the clear sky's, and the radiance's spherical harmonics. Kept
-        until the time, the lights or the clouds change."""
-        air = self._air()
-        lights = air.lights()
-        key = (self.time_s, self.clouds, tuple(lights.sun_direction), lights.moon_direction)
+        until the time, the lights, the clouds or the march's quality change."""
+        key = (*self._sky_key(), self._pass_quality)
         if self._probe is not None and self._probe[0] == key:
             return self._probe[1]
         w, h = PROBE_SIZE
@@ -533,23 +567,24 @@ class CloudLayer(Layer):
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is
             self._copy_behind(frame)
             return
-        probe = self.sky_probe()
-        cloud = self.cloud_inputs(
-            u_sky_light_ratio=probe.ratio,
-            u_ambient_radiance=probe.ambient_radiance(self._air().ground_albedo()),
-        )
-        textures = self.texture_inputs()
-        _, _, tw, th = frame.tile
         # a camera of given directions has no neighbours to share a march texel with
         scale = QUALITY[self.quality]["scale"] if frame.camera.has_projection else 1
         whole = frame.tile == (0, 0, *frame.frame_size)
+        mode = None
         if self.quality == "interactive" and whole and scale > 1:
-            rad, data = self._interactive(frame, cloud, textures)
-        elif scale > 1:
-            rad, data = self.march(self._reduced(frame, scale), cloud, textures)
+            mode, key = self._interactive_mode(frame)
+        if mode == "kept":
+            scale = QUALITY["full"]["scale"]
+            w, h = frame.frame_size
+            (rad, data), _ = self._march_target(math.ceil(w / scale), math.ceil(h / scale))
         else:
-            scale = 1
-            rad, data = self.march(frame, cloud, textures)
+            if mode == "refine":
+                self._pass_quality = "full"
+            try:
+                rad, data, scale = self._march_frame(frame, mode, scale)
+            finally:
+                self._pass_quality = self.quality
+            self._refined_key = key if mode == "refine" else None
         # the march's texels cover scale x scale pixels (the last row and column may overhang)
         lw, lh = rad.size
         composite = self.full_screen_pass(
@@ -584,14 +619,21 @@ class CloudLayer(Layer):
         """The light shafts: the shadow length (km) of each pixel's air in the clouds' shadow
         (clouds/cloud_shafts.glsl at 1/SHAFT_SCALE of the resolution, upsampled), for the
         atmosphere's HAS_SHADOW_MAP input; none without a sunlit cloud layer."""
-        if not self.shafts or self.clouds.empty:
+        if self.clouds.empty:
+            return None
+        refined = self._refines(frame)
+        if not self.shafts and not (self._refined_shafts and refined):
             return None
         lights = self.light_inputs(frame)
         if elevation_deg(lights.u_sun_direction) < -2.0:
             return None
         x0, y0, tw, th = frame.tile
         w, h = frame.frame_size
-        k = INTERACTIVE_SHAFT_SCALE if self.quality == "interactive" else SHAFT_SCALE
+        k = (
+            INTERACTIVE_SHAFT_SCALE
+            if self.quality == "interactive" and not refined
+            else SHAFT_SCALE
+        )
         lw, lh = max(1, math.ceil(tw / k)), max(1, math.ceil(th / k))
         ctx = frame.ctx
         small, full = self._shaft_targets(lw, lh, tw, th)
@@ -627,6 +669,50 @@ class CloudLayer(Layer):
             self._targets[key] = pair
         (small_tex, small_fbo), (full_tex, full_fbo) = self._targets[key]
         return (small_tex[0], small_fbo), (full_tex[0], full_fbo)
+
+    def _interactive_mode(self, frame: DrawContext) -> tuple[str, tuple]:
+        """How the interactive mode draws this frame, and the view's key: "accumulate" (a
+        jittered low-resolution march into the history), "refine" (``refine``: the view has
+        settled, one full-quality march of it) or "kept" (that march, still the view's)."""
+        key = (frame.camera, frame.frame_size, round(frame.altitude_m, 1), self._sky_key())
+        if self._refined_key is not None and self._refined_key == key:
+            return "kept", key
+        if self.refine and self._settled >= SETTLE_FRAMES and self._same_history(frame):
+            return "refine", key
+        return "accumulate", key
+
+    def _refines(self, frame: DrawContext) -> bool:
+        """Whether this frame is the interactive mode's refined one (drawn or kept)."""
+        whole = frame.tile == (0, 0, *frame.frame_size)
+        if self.quality != "interactive" or not whole or not frame.camera.has_projection:
+            return False
+        return self._interactive_mode(frame)[0] != "accumulate"
+
+    def _march_frame(self, frame: DrawContext, mode: str | None, scale: int):
+        """The march of ``frame`` at the pass's quality: (radiance, data, the scale of its
+        texels in pixels)."""
+        probe = self.sky_probe()
+        cloud = self.cloud_inputs(
+            u_sky_light_ratio=probe.ratio,
+            u_ambient_radiance=probe.ambient_radiance(self._air().ground_albedo()),
+        )
+        textures = self.texture_inputs()
+        if mode == "accumulate":
+            return (*self._interactive(frame, cloud, textures), scale)
+        if mode == "refine":
+            scale = QUALITY["full"]["scale"]
+        if scale > 1:
+            return (*self.march(self._reduced(frame, scale), cloud, textures), scale)
+        return (*self.march(frame, cloud, textures), 1)
+
+    def _same_history(self, frame: DrawContext) -> bool:
+        """Whether the interactive history holds this view at this time."""
+        return (
+            self._history_camera == frame.camera
+            and self._history_time == self.time_s
+            and self._history_key is not None
+            and self._history_key[3] == round(frame.altitude_m, 1)
+        )
 
     def _interactive(self, frame: DrawContext, cloud: CloudInputs, textures: CloudTextures):
         """The interactive mode: the march at 1/scale of the resolution with a new sub-pixel
@@ -679,9 +765,12 @@ class CloudLayer(Layer):
 
     @property
     def settling(self) -> bool:
-        """The interactive mode's accumulation is still converging: a window redraws a still
-        view until SETTLE_FRAMES frames have gone into its history."""
-        return self.quality == "interactive" and self._settled < SETTLE_FRAMES
+        """The interactive mode's image of a still view is still changing: a window redraws
+        it until SETTLE_FRAMES frames have gone into its history and (``refine``) its
+        full-quality frame has been drawn."""
+        if self.quality != "interactive" or self.clouds.empty:
+            return False
+        return self._settled < SETTLE_FRAMES or (self.refine and self._refined_key is None)
 
     def _history_targets(self, w: int, h: int):
         """Two (textures, framebuffer) pairs of the interactive history, ping-ponged."""
@@ -734,9 +823,9 @@ class CloudLayer(Layer):
                     t.release()
         self._targets.clear()
         self._history_key = None
-        if self._ms_texture is not None:
-            self._ms_texture.release()
-            self._ms_texture = None
+        for tex in self._static or ():
+            tex.release()
+        self._static = None
         if self.weather is not None:
             self.weather.release()
             self.weather = None

@@ -11,8 +11,9 @@ ground, phase function :data:`~skydome.clouds.phase.RENDER_PHASE`, i.e. optical 
 the renderer's, scaled by 1 - :data:`~skydome.clouds.phase.PEAK_FRACTION`; the sibling
 ``cloud_ms_table.txt`` describes it and its errors).
 
-The table ``J`` (10, 8, 24, 12, 3) holds, on the axes ``tau_total`` (0.25 ... 128, powers of
-2), ``mu0`` (0.02 + 0.98 (k / 7)^1.5), ``depth_s`` (bin centres of s, the fraction of the
+The table ``J`` (19, 12, 24, 12, 3) holds, on the axes ``tau_total`` (0.25 ... 128, powers of
+sqrt 2), ``mu0`` (cosines of 12 zenith angles of the light uniform from acos 0.02 to 0),
+``depth_s`` (bin centres of s, the fraction of the
 thickness from the top being u = (1 - cos(pi s)) / 2) and ``mu`` (upward cosines of the
 direction the scattered light travels in), the Fourier cosine coefficients in the azimuth phi
 of that direction from the light's: J2(phi) = J0 + J1 cos(phi) + J2 cos(2 phi), in 1/sr per
@@ -25,6 +26,7 @@ unit irradiance normal to the beam (radiance emitted per unit optical path).
 from __future__ import annotations
 
 import io
+import math
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
@@ -42,17 +44,23 @@ __all__ = ["MS_TABLE_FILE", "MSTable", "load_ms_table", "ms_source", "table_axes
 MS_TABLE_FILE = "cloud_ms_table.npz"
 _TOOL = "tools/build_cloud_ms_table.py"
 #: Axis sizes: tau_total, mu0, depth bins, mu; Fourier coefficients.
-N_TAU, N_MU0, N_DEPTH, N_MU, N_FOURIER = 10, 8, 24, 12, 3
+N_TAU, N_MU0, N_DEPTH, N_MU, N_FOURIER = 19, 12, 24, 12, 3
+#: Thickness nodes per doubling of tau_total.
+TAU_NODES_PER_OCTAVE = 2
+#: The lowest cosine of the light of the table (its zenith angle acos 0.02 = 88.85 deg).
+MU0_MIN = 0.02
 #: The thinnest slab of the table; thinner ones scale its values by tau_total / TAU_MIN.
 TAU_MIN = 0.25
 
 
 def table_axes() -> dict[str, np.ndarray]:
-    """The table's axes as specified (float64): ``tau_total`` = 2^(-2 ... 7), ``mu0`` =
-    0.02 + 0.98 (k / 7)^1.5, ``depth_s`` = (k + 0.5) / 24, ``mu`` (12 upward cosines)."""
+    """The table's axes as specified (float64): ``tau_total`` = 2^(-2 + k / 2), k = 0 ... 18;
+    ``mu0`` = cos(acos(0.02) (1 - k / 11)), k = 0 ... 11 (uniform in the light's zenith angle:
+    the azimuth structure grows as its sine); ``depth_s`` = (k + 0.5) / 24; ``mu`` (12 upward
+    cosines)."""
     return {
-        "tau_total": 2.0 ** np.arange(-2, 8, dtype=float),
-        "mu0": 0.02 + 0.98 * (np.arange(N_MU0) / (N_MU0 - 1)) ** 1.5,
+        "tau_total": 2.0 ** (-2.0 + np.arange(N_TAU) / TAU_NODES_PER_OCTAVE),
+        "mu0": np.cos(math.acos(MU0_MIN) * (1.0 - np.arange(N_MU0) / (N_MU0 - 1))),
         "depth_s": (np.arange(N_DEPTH) + 0.5) / N_DEPTH,
         "mu": np.array(
             [-1.0, -0.85, -0.65, -0.45, -0.25, -0.08, 0.08, 0.25, 0.45, 0.65, 0.85, 1.0]
@@ -62,18 +70,18 @@ def table_axes() -> dict[str, np.ndarray]:
 
 @dataclass(frozen=True)
 class MSTable:
-    """The packaged table (see the module docstring): axes ``tau_total`` (10,), ``mu0`` (8,),
-    ``depth_s`` (24,), ``mu`` (12,); ``J`` (10, 8, 24, 12, 3) float32 Fourier coefficients
-    (1/sr); the phase function it is for (``phase_g``, ``phase_weights``: the lobes of
-    RENDER_PHASE); ``photons`` (10, 8) per run and the base ``seed`` of the runs."""
+    """The packaged table (see the module docstring): axes ``tau_total`` (19,), ``mu0``
+    (12,), ``depth_s`` (24,), ``mu`` (12,); ``J`` (19, 12, 24, 12, 3) float32 Fourier
+    coefficients (1/sr); the phase function it is for (``phase_values``: RENDER_PHASE's
+    table); ``photons`` (19, 12) per run and the base ``seed`` of the runs; ``norm_g`` (19,)
+    the peak shape's asymmetry per thickness."""
 
     tau_total: np.ndarray
     mu0: np.ndarray
     depth_s: np.ndarray
     mu: np.ndarray
     J: np.ndarray
-    phase_g: np.ndarray
-    phase_weights: np.ndarray
+    phase_values: np.ndarray
     photons: np.ndarray
     seed: int
     norm_g: np.ndarray
@@ -97,9 +105,9 @@ def _read(raw: bytes) -> MSTable:
         raise SkydomeError("norm_g (the peak normalisation per thickness) is missing")
     if not np.all(np.isfinite(d["J"])):
         raise SkydomeError("J is not finite")
-    if not (
-        np.allclose(d["phase_g"], RENDER_PHASE.g, rtol=0, atol=1e-12)
-        and np.allclose(d["phase_weights"], RENDER_PHASE.weights, rtol=0, atol=1e-12)
+    values = d.get("phase_values", np.zeros(0))
+    if values.shape != RENDER_PHASE.values.shape or not np.allclose(
+        values, RENDER_PHASE.values, rtol=1e-9, atol=0
     ):
         raise SkydomeError(
             "it was built for another phase function than skydome.clouds.phase.RENDER_PHASE"
@@ -110,8 +118,7 @@ def _read(raw: bytes) -> MSTable:
         depth_s=d["depth_s"],
         mu=d["mu"],
         J=d["J"],
-        phase_g=d["phase_g"],
-        phase_weights=d["phase_weights"],
+        phase_values=d["phase_values"],
         photons=d["photons"],
         seed=int(d["seed"]),
         norm_g=np.asarray(d["norm_g"], dtype=np.float64),
@@ -156,9 +163,9 @@ def ms_source(
 
     - depth: u = clamp(tau_top / tau_total, 0, 1), s = acos(1 - 2 u) / pi, index
       x = clamp(24 s - 0.5, 0, 23), linear;
-    - thickness: y = clamp(log2(tau_total) + 2, 0, 9), linear; below 0.25 the value is
-      scaled by tau_total / 0.25 (orders >= 2 vanish linearly in thin slabs);
-    - light: z = clamp(7 ((mu0 - 0.02) / 0.98)^(2/3), 0, 7), linear;
+    - thickness: y = clamp(2 (log2(tau_total) + 2), 0, 18), linear; below 0.25 the value
+      is scaled by tau_total / 0.25 (orders >= 2 vanish linearly in thin slabs);
+    - light: z = 11 (1 - acos(clamp(mu0, 0.02, 1)) / acos(0.02)), linear;
     - direction: linear between the two ``mu`` entries around mu_up (clamped);
     - per thickness node: J2 = h (c0 + c1 cos_phi + c2 (2 cos_phi^2 - 1)) of the
       coefficients interpolated in the other three indices, h = HG(cos theta, norm_g) of
@@ -176,9 +183,10 @@ def ms_source(
     u = np.clip(tau_top / safe_total, 0.0, 1.0)
     s = np.arccos(1.0 - 2.0 * u) / np.pi
     ix, fx = _linear(np.clip(s * N_DEPTH - 0.5, 0.0, N_DEPTH - 1.0), N_DEPTH)
-    iy, fy = _linear(np.clip(np.log2(safe_total) + 2.0, 0.0, N_TAU - 1.0), N_TAU)
-    mu0 = np.clip(mu0, t.mu0[0], 1.0)  # the table's range (the peak shape's too)
-    z = 7.0 * (np.maximum(mu0 - 0.02, 0.0) / 0.98) ** (2.0 / 3.0)
+    y = TAU_NODES_PER_OCTAVE * (np.log2(safe_total) + 2.0)
+    iy, fy = _linear(np.clip(y, 0.0, N_TAU - 1.0), N_TAU)
+    mu0 = np.clip(mu0, MU0_MIN, 1.0)  # the table's range (the peak shape's too)
+    z = (N_MU0 - 1) * (1.0 - np.arccos(mu0) / math.acos(MU0_MIN))
     iz, fz = _linear(np.clip(z, 0.0, N_MU0 - 1.0), N_MU0)
     m = np.clip(mu_up, t.mu[0], t.mu[-1])
     iw = np.clip(np.searchsorted(t.mu, m, side="right") - 1, 0, N_MU - 2)

@@ -1,27 +1,30 @@
-"""The phase function of cloud droplets, as a mixture of Henyey-Greenstein lobes.
+"""The phase function of cloud droplets: the Mie table itself, and a mixture of HG lobes.
 
 A water cloud's phase function (Mie theory for droplets of r_eff ~ 10 um in the visible) has a
 diffraction peak a degree wide that holds about half of the scattered light, a broad forward
-lobe, a minimum near 100 deg, the cloudbow at ~140 deg and the glory at 180 deg. The renderer
-and the Monte Carlo reference (:mod:`skydome.reference.clouds_mc`) both use it as
+lobe, a minimum near 100 deg, the cloudbow at ~140 deg and the glory at 180 deg. Two forms:
 
-    P(cos theta) = sum_j w_j HG(cos theta, g_j),   w_j >= 0,  sum_j w_j = 1,
+* :class:`TabulatedPhase`: P tabulated in the scattering angle, linear between the nodes.
+  :data:`MIE_PHASE` is the Mie phase function of a gamma distribution of water droplets
+  (r_eff 10 um, v_eff 0.1, m = 1.333, 550 nm; the packaged ``cloud_droplet_mie_phase.csv``).
+  :data:`RENDER_PHASE` is what the renderer scatters with (a texture of
+  :data:`RENDER_PHASE_TEXELS` nodes uniform in angle, linear filtering: the same function):
+  the Mie table with its diffraction peak cut flat at :data:`TRUNCATION_DEG` (the peak's light,
+  :data:`PEAK_FRACTION` of all, counted as unscattered: extinction scales by 1 - f), so that
+  single scattering keeps the forward lobe, the side minimum, the cloudbow and the glory.
+* :class:`LobePhase`: sum_j w_j HG(g_j), cheap and exactly sampled. :data:`CLOUD_PHASE` is the
+  mixture fitted to the same Mie function (``cloud_droplet_phase.csv``): monotone lobes keep
+  the peak and the first moment but neither the cloudbow nor the glory, and are 0.6 of Mie at
+  30-45 deg (``tools/build_cloud_phase.py``); the Monte Carlo tests use it as an analytic form.
 
-(1/sr, normalised to 1 over the sphere), a form that is cheap in GLSL (weights and asymmetries
-as uniforms) and exactly sampled by choosing a lobe by weight and inverting its CDF. The HG
-lobes are monotone in angle: they keep the peak, the forward lobe and the first moment of the
-Mie phase function but not the cloudbow nor the glory (see ``tools/build_cloud_phase.py``).
-
-:data:`CLOUD_PHASE` is the mixture fitted to the Mie phase function of a gamma distribution of
-water droplets (r_eff 10 um, v_eff 0.1, m = 1.333, 550 nm), read from the packaged
-``cloud_droplet_phase.csv``. :data:`RENDER_PHASE` is what the renderer marches with: that
-mixture with its diffraction peak (the lobes of g >= 0.98) taken out as a forward delta
-(:meth:`LobePhase.delta_truncated`), the extinction scaled by 1 - :data:`PEAK_FRACTION`.
+Both are normalised to 1 over the sphere (1/sr) and offer ``value``, ``sample``,
+``asymmetry``, ``second_moment`` and ``delta_truncated``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -32,15 +35,31 @@ from skydome.physics.phase import MAX_LOBES, henyey_greenstein, sample_hg
 __all__ = [
     "CLOUD_PHASE",
     "LobePhase",
+    "MIE_PHASE",
+    "MIE_PHASE_CSV",
     "PEAK_FRACTION",
     "PHASE_CSV",
     "RENDER_PHASE",
+    "RENDER_PHASE_TEXELS",
+    "TRUNCATION_DEG",
+    "TabulatedPhase",
     "load_cloud_phase",
+    "load_mie_phase",
+    "render_grid_deg",
     "sample_hg",
 ]
 
-#: The packaged table of :data:`CLOUD_PHASE` (built by ``tools/build_cloud_phase.py``).
+#: The packaged tables of :data:`CLOUD_PHASE` and :data:`MIE_PHASE` (built by
+#: ``tools/build_cloud_phase.py``).
 PHASE_CSV = "cloud_droplet_phase.csv"
+MIE_PHASE_CSV = "cloud_droplet_mie_phase.csv"
+#: The renderer's phase texture: nodes uniform in the scattering angle from 0 to 180 deg.
+RENDER_PHASE_TEXELS = 2048
+#: Where the Mie phase function's diffraction peak is cut flat (deg): inside it the light is
+#: counted as unscattered (it leaves within a few degrees of its direction).
+TRUNCATION_DEG = 5.0
+#: Sub-intervals per table interval of the quadrature (moments, normalisation, sampling).
+_REFINE = 16
 
 
 #: Lobes at least this forward are the droplets' diffraction peak (delta-M takes them out).
@@ -122,6 +141,115 @@ class LobePhase:
         return sample_hg(np.asarray(self.g)[lobe], rng.random(n))
 
 
+def render_grid_deg() -> np.ndarray:
+    """The renderer's phase-texture nodes (deg): :data:`RENDER_PHASE_TEXELS` from 0 to 180."""
+    return np.linspace(0.0, 180.0, RENDER_PHASE_TEXELS)
+
+
+@dataclass(frozen=True)
+class TabulatedPhase:
+    """A phase function tabulated at scattering angles ``theta_deg`` (increasing, from 0 to
+    180 deg, at least 2 nodes), linear in the angle between them; ``values`` (1/sr, >= 0) are
+    stored normalised to 1 over the sphere (the integral by the trapezoid rule on the table
+    refined 16-fold, which also gives the moments and the sampling CDF)."""
+
+    theta_deg: np.ndarray
+    values: np.ndarray
+
+    def __post_init__(self):
+        t = np.array(self.theta_deg, dtype=float).ravel()
+        v = np.array(self.values, dtype=float).ravel()
+        if t.size != v.size or t.size < 2:
+            raise ParameterError(
+                f"a tabulated phase function needs as many angles as values (>= 2), got "
+                f"{t.size} and {v.size}"
+            )
+        if t[0] != 0.0 or t[-1] != 180.0 or np.any(np.diff(t) <= 0.0):
+            raise ParameterError("the phase table's angles must rise from 0 to 180 deg")
+        if not np.all(np.isfinite(v)) or np.any(v < 0.0) or not np.any(v > 0.0):
+            raise ParameterError("the phase table's values must be finite, >= 0, not all 0")
+        theta, weight = self._quadrature(t, v)
+        norm = float(np.trapezoid(weight, theta))
+        t.flags.writeable = False
+        v = v / norm
+        v.flags.writeable = False
+        object.__setattr__(self, "theta_deg", t)
+        object.__setattr__(self, "values", v)
+
+    @staticmethod
+    def _quadrature(theta_deg, values) -> tuple[np.ndarray, np.ndarray]:
+        """(angles in rad refined :data:`_REFINE`-fold, P 2 pi sin theta there)."""
+        sub = np.linspace(0.0, 1.0, _REFINE, endpoint=False)
+        t = theta_deg[:-1, None] + sub[None, :] * np.diff(theta_deg)[:, None]
+        t = np.append(t.ravel(), theta_deg[-1])
+        p = np.interp(t, theta_deg, values)
+        rad = np.radians(t)
+        return rad, p * 2.0 * np.pi * np.sin(rad)
+
+    @classmethod
+    def of(cls, phase, theta_deg: np.ndarray | None = None) -> TabulatedPhase:
+        """Any phase function with ``value(cos theta)`` tabulated at ``theta_deg`` (default:
+        the renderer's grid, :func:`render_grid_deg`)."""
+        t = render_grid_deg() if theta_deg is None else np.asarray(theta_deg, float)
+        return cls(t, phase.value(np.cos(np.radians(t))))
+
+    def value(self, cos_theta) -> np.ndarray:
+        """P(cos theta) in 1/sr, the shape of ``cos_theta`` (linear in the angle)."""
+        mu = np.clip(np.asarray(cos_theta, float), -1.0, 1.0)
+        return np.interp(np.degrees(np.arccos(mu)), self.theta_deg, self.values)
+
+    def _moment(self, fn) -> float:
+        rad, weight = self._quadrature(self.theta_deg, self.values)
+        return float(np.trapezoid(weight * fn(np.cos(rad)), rad))
+
+    @property
+    def asymmetry(self) -> float:
+        """First moment <cos theta>."""
+        return self._moment(lambda mu: mu)
+
+    @property
+    def second_moment(self) -> float:
+        """Second Legendre moment <P2(cos theta)> = <(3 cos^2 - 1) / 2>: delta-M's fraction f
+        at its lowest (Eddington) order (for an HG lobe it is g^2, as :class:`LobePhase`)."""
+        return self._moment(lambda mu: 1.5 * mu * mu - 0.5)
+
+    @cached_property
+    def _cdf(self) -> tuple[np.ndarray, np.ndarray]:
+        """(angles in rad of the refined table, the CDF there): the trapezoid rule."""
+        rad, weight = self._quadrature(self.theta_deg, self.values)
+        cdf = np.concatenate([[0.0], np.cumsum(0.5 * (weight[1:] + weight[:-1]) * np.diff(rad))])
+        return rad, cdf / cdf[-1]
+
+    def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
+        """``n`` cosines of scattering angles drawn from P: the CDF in angle (the trapezoid
+        rule on the refined table) inverted linearly."""
+        rad, cdf = self._cdf
+        return np.cos(np.interp(rng.random(n), cdf, rad))
+
+    def delta_truncated(self, truncation_deg: float | None = None) -> tuple[TabulatedPhase, float]:
+        """The phase function with its forward peak cut flat at ``truncation_deg`` (default
+        :data:`TRUNCATION_DEG`): P(theta < theta_c) = P(theta_c), tabulated on the renderer's
+        grid. Returns (that, renormalised; f = 1 - its integral before renormalising, the
+        fraction of scattering counted as going straight on: extinction scales by 1 - f at
+        albedo 1). A flat cut keeps the function exact beyond theta_c (what single
+        scattering sees) where delta-M's lobe split would change it (Potter 1970, J. Atmos.
+        Sci. 27, 943, cuts the peak the same way, extrapolating in log P)."""
+        tc = TRUNCATION_DEG if truncation_deg is None else float(truncation_deg)
+        if not 0.0 <= tc < 90.0:
+            raise ParameterError(f"the truncation angle must be in [0, 90) deg, got {tc}")
+        t = render_grid_deg()
+        p = np.interp(np.maximum(t, tc), self.theta_deg, self.values)
+        rad, weight = self._quadrature(t, p)
+        f = 1.0 - float(np.trapezoid(weight, rad))
+        return TabulatedPhase(t, p), max(f, 0.0)
+
+
+def load_mie_phase() -> TabulatedPhase:
+    """The droplets' Mie phase function from the packaged ``cloud_droplet_mie_phase.csv``."""
+    t = read_packaged_csv(MIE_PHASE_CSV, ("theta_deg", "phase"))
+    return TabulatedPhase(t["theta_deg"], t["phase"])
+
+
 def load_cloud_phase() -> LobePhase:
     """The cloud droplet phase function from the packaged ``cloud_droplet_phase.csv``."""
     t = read_packaged_csv(PHASE_CSV, ("weight", "g"))
@@ -132,8 +260,12 @@ def load_cloud_phase() -> LobePhase:
 #: fitted to Mie theory by ``tools/build_cloud_phase.py``.
 CLOUD_PHASE: LobePhase = load_cloud_phase()
 
+#: The Mie phase function of the same droplets, tabulated (0.025 deg steps over the peak).
+MIE_PHASE: TabulatedPhase = load_mie_phase()
+
 #: The phase function the renderer marches with (and the clouds' multiple-scattering table of
-#: skydome.clouds.ms_table is computed for): :data:`CLOUD_PHASE` without its diffraction peak,
-#: ``CLOUD_PHASE.delta_truncated(0.98)``; :data:`PEAK_FRACTION` is the fraction f of scattering
-#: the peak sends straight on (extinction and optical depths scale by 1 - f, ssa stays 1).
-RENDER_PHASE, PEAK_FRACTION = CLOUD_PHASE.delta_truncated(PEAK_G)
+#: skydome.clouds.ms_table is computed for): :data:`MIE_PHASE` with its diffraction peak cut
+#: flat at :data:`TRUNCATION_DEG`, on the renderer's grid; :data:`PEAK_FRACTION` is the
+#: fraction f of scattering the peak sends straight on (extinction and optical depths scale
+#: by 1 - f, ssa stays 1).
+RENDER_PHASE, PEAK_FRACTION = MIE_PHASE.delta_truncated()

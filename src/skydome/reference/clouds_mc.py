@@ -1,8 +1,9 @@
 """Float64 Monte Carlo reference for light in clouds: all scattering orders, exact in the phase
 function (DESIGN rule 2: a slow, obvious check of the GLSL clouds, never the production path).
 
-Two geometries of constant density, single-scattering albedo ``ssa`` and any
-:class:`~skydome.clouds.phase.LobePhase`:
+Two geometries of constant density, single-scattering albedo ``ssa`` and any phase function
+of :mod:`skydome.clouds.phase` (:class:`~skydome.clouds.phase.LobePhase` or
+:class:`~skydome.clouds.phase.TabulatedPhase`):
 
 * :func:`slab_radiance` - a plane-parallel slab of optical thickness ``tau`` over a black
   ground, lit at its top by a collimated beam: a *forward* tracer (photons from the Sun) with the
@@ -59,7 +60,7 @@ from functools import cache
 import numpy as np
 from numpy.typing import ArrayLike
 
-from skydome.clouds.phase import CLOUD_PHASE, LobePhase, sample_hg
+from skydome.clouds.phase import CLOUD_PHASE, LobePhase, TabulatedPhase, sample_hg
 from skydome.errors import ParameterError, check_range
 
 __all__ = [
@@ -93,8 +94,10 @@ def _unit_rows(directions: ArrayLike, what: str) -> np.ndarray:
     return d / n[:, None]
 
 
-def _phase_value(phase: LobePhase, mu: np.ndarray) -> np.ndarray:
-    """P(mu) (1/sr), x sqrt(x) instead of x**1.5 (the hot loop)."""
+def _phase_value(phase: LobePhase | TabulatedPhase, mu: np.ndarray) -> np.ndarray:
+    """P(mu) (1/sr); for lobes x sqrt(x) instead of x**1.5 (the hot loop)."""
+    if not isinstance(phase, LobePhase):
+        return phase.value(mu)
     out = np.zeros_like(mu)
     for w, g in zip(phase.weights, phase.g, strict=True):
         if w == 0.0:
@@ -107,11 +110,13 @@ def _phase_value(phase: LobePhase, mu: np.ndarray) -> np.ndarray:
     return out
 
 
-def _scatter(rng: np.random.Generator, phase: LobePhase, u: np.ndarray) -> np.ndarray:
+def _scatter(
+    rng: np.random.Generator, phase: LobePhase | TabulatedPhase, u: np.ndarray
+) -> np.ndarray:
     """New unit directions (n, 3) after scattering directions ``u`` (n, 3) with ``phase``:
     the cosine from P, the azimuth uniform, rotated into the frame of u."""
     n = u.shape[0]
-    if len(phase.g) == 1:
+    if isinstance(phase, LobePhase) and len(phase.g) == 1:
         cos_t = sample_hg(phase.g[0], rng.random(n))
     else:
         cos_t = phase.sample(rng, n)
@@ -170,7 +175,7 @@ class _SlabWalk:
 
 def _slab_collisions(
     rng: np.random.Generator,
-    phase: LobePhase,
+    phase: LobePhase | TabulatedPhase,
     tau: float,
     mu0: float,
     ssa: float,
@@ -284,7 +289,7 @@ def slab_radiance(
     mu0: float,
     directions: ArrayLike,
     *,
-    phase: LobePhase = CLOUD_PHASE,
+    phase: LobePhase | TabulatedPhase = CLOUD_PHASE,
     ssa: float = 1.0,
     photons: int = 100_000,
     seed: int = 0,
@@ -377,7 +382,7 @@ def slab_source_function(
     depth_edges: ArrayLike,
     directions: ArrayLike,
     *,
-    phase: LobePhase,
+    phase: LobePhase | TabulatedPhase,
     photons: int = 100_000,
     seed: int = 0,
     min_order: int = 2,
@@ -514,7 +519,7 @@ def sphere_radiance(
     directions: ArrayLike,
     sun_direction: ArrayLike,
     *,
-    phase: LobePhase = CLOUD_PHASE,
+    phase: LobePhase | TabulatedPhase = CLOUD_PHASE,
     ssa: float = 1.0,
     paths: int = 20_000,
     seed: int = 0,

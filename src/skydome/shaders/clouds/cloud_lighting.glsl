@@ -5,16 +5,15 @@
 // Optical depths are dimensionless; results are per unit irradiance (1/sr).
 #include "common/phase_functions.glsl"
 
-// The cloud phase function: CLOUD_LOBES Henyey-Greenstein lobes (skydome.clouds.phase).
-uniform float u_cloud_lobe_g[CLOUD_LOBES];
-uniform float u_cloud_lobe_weight[CLOUD_LOBES];
+// The cloud phase function (1/sr; skydome.clouds.phase.RENDER_PHASE: the droplets' Mie phase
+// function, its diffraction peak cut), tabulated at CLOUD_PHASE_TEXELS angles uniform from 0
+// to 180 deg, linear in the angle (the texture's filtering; its twin TabulatedPhase.value).
+uniform sampler2D u_cloud_phase_table;
 uniform vec3 u_cloud_moments;  // (g, f = second moment, g' = (g - f) / (1 - f))
 
 float cloud_phase(float nu) {
-    float p = 0.0;
-    for (int j = 0; j < CLOUD_LOBES; ++j)
-        p += u_cloud_lobe_weight[j] * henyey_greenstein_phase(nu, u_cloud_lobe_g[j]);
-    return p;
+    float x = acos(clamp(nu, -1.0, 1.0)) / PI * float(CLOUD_PHASE_TEXELS - 1);
+    return texture(u_cloud_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5)).r;
 }
 
 // (I0, I1) of the diffuse field at scaled depth tau below the top of a slab of scaled
@@ -49,23 +48,24 @@ vec2 diffuse_field(float tau, float tau_total, float g_scaled, float albedo) {
 // thickness node, RGB = the cosine Fourier coefficients in the azimuth from the light's of
 // J2 / h, h = HG(cos theta, u_ms_norm_g[node]) the orders' peak around the beam's direction;
 // the two thickness nodes' J2 interpolated linearly.
-uniform sampler3D u_cloud_ms_table;  // (12 x 24, 10, 8)
-uniform float u_ms_norm_g[10];
+uniform sampler3D u_cloud_ms_table;  // (12 x 24, 19, 12)
+uniform float u_ms_norm_g[19];
 const float MS_MU[12] = float[12](-1.0, -0.85, -0.65, -0.45, -0.25, -0.08, 0.08, 0.25, 0.45,
                                   0.65, 0.85, 1.0);
 
 vec3 ms_coefficients(int mu_index, float x, int tau_index, float z) {
     return texture(u_cloud_ms_table, vec3((float(mu_index) * 24.0 + x + 0.5) / 288.0,
-                                          (float(tau_index) + 0.5) / 10.0, (z + 0.5) / 8.0)).rgb;
+                                          (float(tau_index) + 0.5) / 19.0, (z + 0.5) / 12.0)).rgb;
 }
 
 float ms_source(float tau_top, float tau_total, float mu0, float mu_up, float cos_phi) {
     mu0 = clamp(mu0, 0.02, 1.0);  // the table's range (the peak shape's too)
     float u = clamp(tau_top / max(tau_total, 1e-6), 0.0, 1.0);
     float x = clamp(acos(1.0 - 2.0 * u) / PI * 24.0 - 0.5, 0.0, 23.0);
-    float y = clamp(log2(max(tau_total, 1e-6)) + 2.0, 0.0, 9.0);
-    float z = clamp(7.0 * pow(max((mu0 - 0.02) / 0.98, 0.0), 2.0 / 3.0), 0.0, 7.0);
-    int iy = min(int(y), 8);
+    // thickness: 2 nodes per doubling from 0.25; light: uniform in its zenith angle
+    float y = clamp(2.0 * (log2(max(tau_total, 1e-6)) + 2.0), 0.0, 18.0);
+    float z = clamp(11.0 * (1.0 - acos(mu0) / acos(0.02)), 0.0, 11.0);
+    int iy = min(int(y), 17);
     float fy = y - float(iy);
     float m = clamp(mu_up, -1.0, 1.0);
     int i = 0;

@@ -208,6 +208,26 @@ float path_lit_fraction(vec3 o, vec3 d, float length_km) {
     return lit / float(PATH_SAMPLES);
 }
 
+// The clouds' shadow on the ground over the pixel's footprint: the key light's transmittance
+// at four points, where rays through a rotated grid of sub-pixel offsets meet the ground (the
+// centre's point where one misses it), averaged: an edge drawn at the march's resolution is
+// antialiased to a quarter of its pixel, not stair-stepped.
+const vec2 FOOTPRINT[4] = vec2[4](vec2(0.125, 0.375), vec2(0.375, -0.125),
+                                  vec2(-0.125, -0.375), vec2(-0.375, 0.125));
+float ground_shadow(vec3 o, vec3 d, float t_ground) {
+    float lit = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        vec3 dk;
+        vec3 p = o + d * t_ground;
+        if (camera_ray(gl_FragCoord.xy + FOOTPRINT[k], dk)) {
+            vec2 hit = ray_sphere(o, dk, u_bottom_radius);
+            if (hit.x > 0.0) p = o + dk * hit.x;
+        }
+        lit += light_transmittance(p, u_light_direction, 4);
+    }
+    return 0.25 * lit;
+}
+
 void main() {
     frag_radiance = vec4(0.0);
     frag_cloud = vec4(1.0, 0.0, 1.0, 1.0);
@@ -242,8 +262,7 @@ void main() {
                         transmittance, depth);
     }
     float mean_km = depth.y > 0.0 ? depth.x / depth.y : 0.0;
-    float shadow = t_ground < 1e29 ? light_transmittance(o + d * t_ground, u_light_direction, 4)
-                                   : 1.0;
+    float shadow = t_ground < 1e29 ? ground_shadow(o, d, t_ground) : 1.0;
     // w: whether the ray misses the ground (the composite upsamples within each kind)
     frag_cloud = vec4(transmittance, mean_km, shadow, t_ground < 1e29 ? 0.0 : 1.0);
 #ifdef CLOUDS_ALONE
