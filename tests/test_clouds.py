@@ -98,8 +98,10 @@ def test_opaque_slab_stops_the_march(slab):
 @pytest.mark.parametrize("tau", [1.0, 5.0, 20.0, 50.0])
 def test_slab_radiance_matches_monte_carlo(slab, tau):
     """Reflected (looking straight down from above) and transmitted (straight up from below)
-    radiance of a uniform conservative slab within 15 % of the Monte Carlo path tracer
-    (the issue's bound; the MC's own standard error, <= 1.5 %, is added)."""
+    radiance of a uniform conservative slab within 6 % of the Monte Carlo path tracer (the
+    first issue's bound was 15 %; measured -4.3 ... +1.3 % since the multiple-scattering
+    table samples the light's zenith angle uniformly; the MC's own standard error, <= 1.5 %,
+    is added)."""
     from skydome.reference.clouds_mc import slab_radiance
 
     el, layer = slab
@@ -114,7 +116,7 @@ def test_slab_radiance_matches_monte_carlo(slab, tau):
     rad_down, _ = probe_slab(layer, tau, straight(90.0), BELOW_M)
     for k, got in enumerate((rad_up[2, 2, 1], rad_down[2, 2, 1])):
         ref, err = mc.radiance[k], mc.radiance_se[k]
-        assert abs(got / ref - 1.0) < 0.15 + 2.0 * err / ref, (k, got, ref)
+        assert abs(got / ref - 1.0) < 0.06 + 2.0 * err / ref, (k, got, ref)
 
 
 @pytest.mark.parametrize("tau", [1.0, 5.0, 20.0, 50.0])

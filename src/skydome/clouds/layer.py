@@ -60,7 +60,7 @@ QUALITY = {
              "steps": (6, 1), "coarse": 4.0, "split": 8.0},
     # seed 000 (ch. 5.4) marches its clouds at half the resolution too
     "full": {"march": (0.008, 256.0, 0.03), "light_km": (6.0, 4.0), "scale": 2,
-             "steps": (6, 1), "coarse": 4.0, "split": 8.0},
+             "steps": (6, 1), "coarse": 4.0, "split": 3.0},
     "interactive": {"march": (0.025, 48.0, 0.08), "light_km": (4.0, 3.0), "scale": 8,
                     "steps": (4, 3), "coarse": 6.0, "split": 1.0},
 }  # fmt: skip
@@ -72,7 +72,7 @@ DETAIL_EROSION = 0.35
 #: The light shafts' pass runs at 1/SHAFT_SCALE of the resolution (1/INTERACTIVE_SHAFT_SCALE
 #: in the interactive mode: shadows in the air are smooth) over the first SHAFT_KM (km)
 #: of each ray.
-SHAFT_SCALE = 4
+SHAFT_SCALE = 8
 INTERACTIVE_SHAFT_SCALE = 16
 SHAFT_KM = 12.0
 #: Still frames the interactive mode accumulates before a window may keep its image.
