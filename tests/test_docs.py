@@ -39,6 +39,7 @@ EXPECTED = {
     "aerial_perspective.py": ["aerial-composite.png", "aerial-composite.exr", "aerial-without.png"],
     "night_sky.py": ["night-allsky.png", "night-allsky.exr", "night-bortle8.png", "night-eye.png"],
     "atmospheres.py": ["atmosphere-earth-hazy-smoky.png"],
+    "cie_sky.py": ["cie-sky-types.csv", "cie-sky-types.png"],
     "clouds.py": [
         "clouds-fair.png",
         "clouds-fair.exr",
