@@ -22,6 +22,7 @@ __all__ = [  # noqa: F405  (the names of skydome.api)
     "AtmosphereLayer",
     "AtmosphereParams",
     "CacheError",
+    "CieSkyLayer",
     "CloudLayer",
     "Clouds",
     "CubemapCamera",

@@ -17,7 +17,7 @@ shows how they stand on one another):
   :class:`CubemapCamera`, :class:`DirectionsCamera`; frames: :class:`Frame` (cd/m^2);
 - places and times: :class:`Observer`, :func:`find_place`, :func:`to_time`;
 - layers for a sky of your own: :class:`Layer`, :class:`AtmosphereLayer`,
-  :class:`CloudLayer`;
+  :class:`CloudLayer`, :class:`CieSkyLayer` (a CIE standard general sky);
 - output: :func:`tonemap`, :func:`write_outputs`;
 - errors: :class:`SkydomeError` and its kinds.
 """
@@ -26,6 +26,7 @@ from skydome.astro import Observer, to_time
 from skydome.astro.places import find_place
 from skydome.atmosphere import PRESETS as ATMOSPHERES
 from skydome.atmosphere import AtmosphereParams, preset
+from skydome.atmosphere.cie_layer import CieSkyLayer
 from skydome.atmosphere.layer import AtmosphereLayer
 from skydome.clouds import CloudLayer, Clouds, WeatherMap
 from skydome.core.cameras import (
@@ -52,6 +53,7 @@ __all__ = [
     "AtmosphereLayer",
     "AtmosphereParams",
     "CacheError",
+    "CieSkyLayer",
     "CloudLayer",
     "Clouds",
     "CubemapCamera",

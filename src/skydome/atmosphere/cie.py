@@ -35,6 +35,7 @@ __all__ = [
     "horizontal_illuminance_factor",
     "relative_luminance",
     "sky_luminance",
+    "zenith_term",
 ]
 
 
@@ -124,6 +125,13 @@ def _check_sun(sun_zenith_deg: float) -> float:
     return z
 
 
+def zenith_term(sky_type: int | CIESkyType, sun_zenith_deg: float) -> float:
+    """f(Z_s) phi(0): the product the zenith's luminance has (L / L_z divides by it)."""
+    t = cie_sky_type(sky_type)
+    zs = math.radians(_check_sun(sun_zenith_deg))
+    return float(_indicatrix(t, np.asarray(zs)) * _gradation(t, np.asarray(0.0)))
+
+
 def relative_luminance(
     sky_type: int | CIESkyType,
     zenith_deg: ArrayLike,
@@ -143,8 +151,7 @@ def relative_luminance(
     da = np.radians(np.asarray(azimuth_deg, dtype=np.float64) - float(sun_azimuth_deg))
     cos_chi = math.cos(zs) * np.cos(z) + math.sin(zs) * np.sin(z) * np.cos(da)
     chi = np.arccos(np.clip(cos_chi, -1.0, 1.0))
-    zenith = _indicatrix(t, np.asarray(zs)) * _gradation(t, np.asarray(0.0))
-    return _indicatrix(t, chi) * _gradation(t, z) / zenith
+    return _indicatrix(t, chi) * _gradation(t, z) / zenith_term(t, math.degrees(zs))
 
 
 @cache
