@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from skydome import DirectionsCamera, EquirectCamera, Sky
+from skydome import DirectionsCamera, EquirectCamera, Sky, SkyDescription
 from skydome.atmosphere.cie import (
     CIE_SKY_TYPES,
     cie_sky_type,
@@ -19,6 +19,7 @@ from skydome.atmosphere.cie import (
 )
 from skydome.atmosphere.cie_layer import CieSkyLayer
 from skydome.errors import ParameterError
+from tests.cli_helpers import run_cli
 
 
 def scanner_directions() -> tuple[np.ndarray, np.ndarray]:
@@ -209,3 +210,53 @@ def test_no_cie_sky_without_the_sun():
 def test_bad_layer_parameters_are_refused(kwargs, words):
     with pytest.raises(ParameterError, match=words):
         CieSkyLayer(**kwargs)
+
+
+# ------------------------------------------------------------------ the CLI and the description
+
+
+def test_cli_renders_a_cie_sky(tmp_path):
+    # `skydome render --model cie`: the zenith pixel of an upward fisheye is the zenith
+    # luminance the sky was scaled to (by its diffuse illuminance), and the CLI says both
+    out = tmp_path / "cie.npy"
+    r = run_cli("render", "--sun-elevation", "35", "--model", "cie", "--cie-type", "8",
+                "--cie-illuminance", "15000", "--camera", "fisheye", "--size", "65x65",
+                "-o", out)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    line = next(x for x in r.stdout.splitlines() if x.startswith("CIE sky type 8"))
+    assert "diffuse horizontal 15000 lx" in line, line
+    zenith = 15000.0 / horizontal_illuminance_factor(8, 55.0)
+    assert f"zenith {zenith:.0f} cd/m^2" in line, line
+    data = np.load(out)
+    y = data[32, 32, :3] @ np.array([0.2126, 0.7152, 0.0722])
+    assert y == pytest.approx(zenith, rel=0.01)  # the pixel's 3 deg from the zenith
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["--model", "cie"], "--cie-illuminance LX"),
+        (["--model", "cie", "--cie-illuminance", "1", "--cie-zenith", "1"], "one of them"),
+        (["--cie-zenith", "3000"], "need --model cie"),
+        (["--model", "cie", "--cie-type", "16", "--cie-zenith", "1"], "--cie-type 16"),
+        (["--model", "cie", "--cie-illuminance", "-5"], "--cie-illuminance"),
+        (["--model", "cie", "--cie-zenith", "1", "--clouds", "fair"], "no --clouds"),
+    ],
+)
+def test_cli_refuses_bad_cie_flags(tmp_path, args, words):
+    out = tmp_path / "x.png"
+    r = run_cli("render", "--sun-elevation", "35", "--size", "16x16", *args, "-o", out)
+    assert r.returncode == 2 and words in r.stderr, (r.returncode, r.stderr)
+    assert len(r.stderr.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_description_of_a_cie_sky():
+    d = SkyDescription.of(sun_elevation_deg=35, model="cie", cie_type=3, cie_zenith_luminance=2e3)
+    (layer,) = d.layers()
+    assert isinstance(layer, CieSkyLayer) and layer.sky_type.number == 3
+    with pytest.raises(ParameterError, match="exactly one scale"):
+        SkyDescription.of(sun_elevation_deg=35, model="cie")
+    with pytest.raises(ParameterError, match="needs model='cie'"):
+        SkyDescription.of(sun_elevation_deg=35, cie_illuminance=1e4)
+    with pytest.raises(ParameterError, match="no clouds"):
+        SkyDescription.of(sun_elevation_deg=35, model="cie", cie_illuminance=1e4, clouds="fair")

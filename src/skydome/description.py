@@ -21,6 +21,7 @@ import numpy as np
 
 from skydome.astro import Observer, Time, to_time
 from skydome.astro.places import parse_place
+from skydome.atmosphere.cie_layer import CieSkyLayer
 from skydome.atmosphere.layer import MODELS, AtmosphereLayer, atmosphere_params
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
@@ -41,6 +42,10 @@ from skydome.night.glow_layer import AirglowLayer, LightPollutionLayer, Zodiacal
 from skydome.night.light_pollution import LightPollution
 from skydome.physics.constants import STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C
 from skydome.scene.state import abstract_state, state_at
+
+#: The sky models: the atmosphere's ("precomputed", "single") and the CIE standard general
+#: sky ("cie": the standard's luminance distribution in place of the air).
+SKY_MODELS = (*MODELS, "cie")
 
 #: The layers of the night sky a sky with a place has (in this order, before the air).
 NIGHT_LAYERS = ("stars", "planets", "milky_way", "zodiacal_light", "airglow")
@@ -84,7 +89,11 @@ class SkyDescription:
         pressure_hPa, temperature_C: the abstract mode's weather (refraction; pressure 0
             bends no light). With a place, the observer's.
         atmosphere: the air.
-        model: "precomputed" (every order, tables) or "single" (single scattering).
+        model: "precomputed" (every order, tables), "single" (single scattering) or "cie"
+            (a CIE standard general sky in place of the air: ``CieSkyLayer``).
+        cie_type, cie_zenith_luminance, cie_illuminance: the "cie" model's type (1-15) and
+            its scale, exactly one: the zenith luminance (cd/m^2) or the diffuse
+            horizontal illuminance (lx).
         config: the precomputed model's tables.
         samples: the single model's samples per view ray.
         sky_view_size: the sky-view tables' texels (None: 256 x 256).
@@ -105,6 +114,9 @@ class SkyDescription:
     temperature_C: float = STANDARD_TEMPERATURE_C
     atmosphere: AtmosphereParams = field(default_factory=lambda: preset("earth"))
     model: str = "precomputed"
+    cie_type: int = 12
+    cie_zenith_luminance: float | None = None
+    cie_illuminance: float | None = None
     config: PrecomputeConfig = field(default_factory=PrecomputeConfig)
     samples: int = 16
     sky_view_size: tuple[int, int] | None = None
@@ -141,7 +153,16 @@ class SkyDescription:
             object.__setattr__(self, name, check_range(name, getattr(self, name), lo, hi, unit))
         if not isinstance(self.atmosphere, AtmosphereParams):
             raise ParameterError(f"atmosphere must be AtmosphereParams, got {self.atmosphere!r}")
-        check_choice("model", self.model, MODELS, "model")
+        check_choice("model", self.model, SKY_MODELS, "model")
+        if self.model == "cie":
+            self.cie_layer()  # checks the type and the scale
+            if self.clouds is not None or self.light_pollution is not None:
+                raise ParameterError(
+                    "the cie model is the standard's sky alone: no clouds or light pollution "
+                    "(they need the physical air: the default model)"
+                )
+        elif self.cie_zenith_luminance is not None or self.cie_illuminance is not None:
+            raise ParameterError("a CIE sky's scale needs model='cie'")
         if not isinstance(self.config, PrecomputeConfig):
             raise ParameterError(f"config must be a PrecomputeConfig, got {self.config!r}")
         SingleScatteringSky.check_samples(self.samples)
@@ -174,6 +195,9 @@ class SkyDescription:
         pressure_hPa: float | None = None,
         temperature_C: float | None = None,
         model: str = "precomputed",
+        cie_type: int = 12,
+        cie_zenith_luminance: float | None = None,
+        cie_illuminance: float | None = None,
         config: PrecomputeConfig | None = None,
         samples: int = 16,
         sky_view_size: tuple[int, int] | None = None,
@@ -223,6 +247,9 @@ class SkyDescription:
             sun_azimuth_deg=sun_azimuth_deg,
             atmosphere=atmosphere_params(atmosphere),
             model=model,
+            cie_type=cie_type,
+            cie_zenith_luminance=cie_zenith_luminance,
+            cie_illuminance=cie_illuminance,
             config=config or PrecomputeConfig(),
             samples=samples,
             sky_view_size=sky_view_size,
@@ -294,11 +321,23 @@ class SkyDescription:
             **extra,
         )
 
+    def cie_layer(self) -> CieSkyLayer:
+        """The "cie" model's layer (checked: the type, exactly one scale)."""
+        return CieSkyLayer(
+            self.cie_type,
+            zenith_luminance=self.cie_zenith_luminance,
+            horizontal_illuminance=self.cie_illuminance,
+            ground_albedo=float(np.mean(self.atmosphere.ground_albedo.values)),
+        )
+
     def layers(self, progress=None) -> list[Layer]:
         """The layers of this sky in drawing order: the Sun and (with a place) the Moon;
         with a place and ``night``, the stars, the planets, the Milky Way, the zodiacal
         light and the airglow; the atmosphere; the clouds; the light pollution. The single
-        model is the atmosphere alone (it draws its own Sun)."""
+        model is the atmosphere alone (it draws its own Sun); the cie model the CIE sky
+        alone."""
+        if self.model == "cie":
+            return [self.cie_layer()]
         air = self.atmosphere_layer(progress)
         if self.model == "single":
             return [air]

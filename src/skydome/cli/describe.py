@@ -209,9 +209,11 @@ def sky_description(
     night: bool = True,
     sky_view_size: tuple[int, int] | None = None,
     cloud_quality: str = "full",
+    **cie,
 ):
     """The SkyDescription of the shared flags (the groups a command has: place, sun, air,
-    tables, night, clouds), checked with errors that name the flag."""
+    tables, night, clouds), checked with errors that name the flag; ``cie``: the cie
+    model's settings (``cie_type``, ``cie_illuminance``, ``cie_zenith_luminance``)."""
     from skydome.description import SkyDescription
 
     has = lambda name: hasattr(flags, name)  # noqa: E731
@@ -247,6 +249,7 @@ def sky_description(
         "night_vision": night_vision,
         "overlays": overlays,
         "sky_view_size": sky_view_size,
+        **cie,
     }
     if config is not None:
         settings["config"] = config

@@ -18,6 +18,30 @@ from skydome.errors import ParameterError, check_choice, check_range
 MAX_VIEW_SAMPLES = 4096
 
 
+def cie_settings(
+    model: str, cie_type: int, illuminance: float | None, zenith: float | None, flags
+) -> dict:
+    """The --cie-* flags as SkyDescription settings, checked: only with --model cie, which
+    needs exactly one scale and takes no clouds or light pollution."""
+    if model != "cie":
+        if illuminance is not None or zenith is not None or cie_type != 12:
+            raise ParameterError("--cie-type, --cie-illuminance and --cie-zenith need --model cie")
+        return {}
+    check_int("--cie-type", cie_type, 1, 15)
+    if (illuminance is None) == (zenith is None):
+        raise ParameterError(
+            "--model cie needs its scale: --cie-illuminance LX (the sky's diffuse horizontal "
+            "illuminance) or --cie-zenith CD_M2, one of them"
+        )
+    if illuminance is not None:
+        check_range("--cie-illuminance", illuminance, 0.0, 1e6, "lx")
+    if zenith is not None:
+        check_range("--cie-zenith", zenith, 0.0, 1e6, "cd/m^2")
+    if getattr(flags, "clouds", None) is not None or getattr(flags, "bortle", None) is not None:
+        raise ParameterError("--model cie is the standard's sky alone: no --clouds or --bortle")
+    return {"cie_type": cie_type, "cie_illuminance": illuminance, "cie_zenith_luminance": zenith}
+
+
 def register(app: typer.Typer) -> None:
     @app.command()
     @with_flags("place", "sun", "camera", "air", "tables", "night", "display", "clouds")
@@ -35,7 +59,21 @@ def register(app: typer.Typer) -> None:
             0.0, "--roll", help="Camera roll about the view direction, degrees."
         ),
         model: str = typer.Option(
-            "precomputed", "--model", help="precomputed (every scattering order) | single."
+            "precomputed",
+            "--model",
+            help="precomputed (every scattering order) | single | cie (a CIE standard general "
+            "sky, ISO 15469, in place of the air: give --cie-illuminance or --cie-zenith).",
+        ),
+        cie_type: int = typer.Option(
+            12, "--cie-type", help="--model cie: the CIE sky type, 1 (overcast) to 15."
+        ),
+        cie_illuminance: float = typer.Option(
+            None,
+            "--cie-illuminance",
+            help="--model cie: the sky's diffuse horizontal illuminance, lx (or --cie-zenith).",
+        ),
+        cie_zenith: float = typer.Option(
+            None, "--cie-zenith", help="--model cie: the zenith luminance, cd/m^2."
         ),
         samples: int = typer.Option(
             None,
@@ -59,7 +97,6 @@ def register(app: typer.Typer) -> None:
         (tone mapped)."""
         from rich.console import Console
 
-        from skydome.atmosphere.layer import MODELS
         from skydome.core.cameras import (
             CAMERAS,
             FOV_RANGE_DEG,
@@ -69,6 +106,7 @@ def register(app: typer.Typer) -> None:
             YAW_RANGE_DEG,
             make_camera,
         )
+        from skydome.description import SKY_MODELS
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
         from skydome.io import WRITERS, check_output_path, write_outputs
         from skydome.sky import Sky, default_look
@@ -82,7 +120,8 @@ def register(app: typer.Typer) -> None:
         if flags.altitude is not None:
             check_range("--altitude", flags.altitude, 0.0, MAX_ALTITUDE_M, "m")
         check_choice("--tonemap", flags.tonemap, TONEMAPS, "tone map")
-        check_choice("--model", model, MODELS, "model")
+        check_choice("--model", model, SKY_MODELS, "model")
+        cie = cie_settings(model, cie_type, cie_illuminance, cie_zenith, flags)
         check_choice("--camera", flags.camera, CAMERAS, "camera")
         if samples is not None:
             if model != "single":
@@ -98,7 +137,7 @@ def register(app: typer.Typer) -> None:
         if flags.yaw is not None:
             check_range("--yaw", flags.yaw, *YAW_RANGE_DEG, "deg")
         description = sky_description(
-            flags, pts, model=model, samples=16 if samples is None else samples
+            flags, pts, model=model, samples=16 if samples is None else samples, **cie
         )
         paths = [check_output_path(p) for p in output]
         if len({str(p.resolve()) for p in paths}) != len(paths):
@@ -153,9 +192,15 @@ def register(app: typer.Typer) -> None:
             console.print(f"wrote [bold]{p}[/bold] ({w}x{h})")
         console.print(
             f"frame {frame.info['render_ms']:.1f} ms ({model}, {flags.camera}, "
-            f"{description.atmosphere.name}), exposure EV100 {scale_to_ev100(scale):.2f}"
+            + (f"type {cie_type}" if model == "cie" else description.atmosphere.name)
+            + f"), exposure EV100 {scale_to_ev100(scale):.2f}"
             + (" (auto)" if ev is None else "")
         )
+        if model == "cie":
+            console.print(
+                f"CIE sky type {cie_type}: zenith {frame.info['cie_zenith_luminance']:.0f} "
+                f"cd/m^2, diffuse horizontal {frame.info['cie_diffuse_horizontal_lux']:.0f} lx"
+            )
         if frame.info.get("cloud_optical_depth_mean") is not None:
             i = frame.info
             console.print(
