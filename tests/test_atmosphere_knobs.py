@@ -347,3 +347,45 @@ def test_more_aerosol_dims_the_sun_and_whitens_the_sky(ctx, name, aureole_gain):
     # Aerosol scattering, grey or nearly so (Ångström 0 or 1.39 against Rayleigh's 4), whitens
     # the blue zenith; bound: blue/red at least 25 % lower (measured 46 % and 57 % lower).
     assert turbid[1, 2] / turbid[1, 0] < 0.75 * (clean[1, 2] / clean[1, 0])
+
+
+# ------------------------------------------------------------------ visibility (Koschmieder)
+
+
+def test_visibility_of_air_without_aerosol_is_rayleighs():
+    # Air without aerosol at sea level (288.15 K, 101325 Pa): beta = 24 pi^3 (n^2 - 1)^2 /
+    # (lambda^4 N^2 (n^2 + 2)^2) F_K (Rayleigh; Bodhaine et al. 1999 eq. 2), n - 1 at 550 nm
+    # from Edlen (1966) for standard air, 2.7783e-4; N = p / (k T); King factor 1.049 (Bates
+    # 1984 for air at 550 nm). The params' ground extinction less the ozone's within 0.5 %,
+    # and a visibility of about 340 km.
+    clean = preset("earth").with_aerosol(aod_550=0.0)
+    sigma2 = (1.0 / 0.55) ** 2
+    n1 = (8342.13 + 2406030.0 / (130.0 - sigma2) + 15997.0 / (38.9 - sigma2)) * 1e-8
+    n2 = (1.0 + n1) ** 2
+    number = 101325.0 / (1.380649e-23 * 288.15)
+    lam = 550e-9
+    beta = 24 * math.pi**3 * (n2 - 1) ** 2 / (lam**4 * number**2 * (n2 + 2) ** 2) * number * 1.049
+    ozone = float(clean.absorption_extinction.at(550.0) * clean.absorption_density.density(0.0))
+    assert clean.ground_extinction_550_per_m - ozone == pytest.approx(beta, rel=0.005)
+    assert 330.0 < clean.visibility_km < 345.0
+
+
+@pytest.mark.parametrize("km", [2.0, 10.0, 23.0, 100.0])
+def test_with_visibility_is_koschmieder(km):
+    # V = 3.912 / beta_ext(550 nm) at the ground (WMO-No. 8): the aerosol column scaled, its
+    # profile and spectrum kept
+    earth = preset("earth")
+    p = earth.with_visibility(km)
+    assert p.visibility_km == pytest.approx(km, rel=1e-9)
+    assert p.ground_extinction_550_per_m == pytest.approx(3.912 / (km * 1e3), rel=1e-9)
+    assert p.angstrom_exponent == pytest.approx(earth.angstrom_exponent, abs=1e-9)
+    assert p.mie_density == earth.mie_density
+
+
+def test_with_visibility_refuses_what_it_cannot_make():
+    with pytest.raises(ParameterError, match="1.9 km is the least"):
+        preset("earth").with_visibility(1.0)
+    with pytest.raises(ParameterError, match="less than no aerosol"):
+        preset("earth").with_visibility(400.0)
+    with pytest.raises(ParameterError, match="visibility"):
+        preset("earth").with_visibility(0.0)

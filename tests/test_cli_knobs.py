@@ -162,3 +162,34 @@ def test_precompute_knobs_key_the_tables(tmp_path):
     other = run(*args, "--ozone", "250", "--aod", "0.1")
     assert other.returncode == 0, other.stderr
     assert "computed" in other.stdout and cache_file(other) != cache_file(first)
+
+
+def test_visibility_sets_the_aerosol_and_the_json_reports_it(tmp_path):
+    # --visibility (Koschmieder at the ground, 550 nm) on illuminance: the JSON's
+    # visibility_km is the one asked for, and the hazier air (AOD 0.1 -> 0.27) passes less
+    # light at a Sun 30 deg up; earth's own is 3.912 / its ground extinction, 74.4 km
+    import json
+
+    default = run("illuminance", "--sun-elevation", "30", "--json", cwd=tmp_path)
+    hazy = run("illuminance", "--sun-elevation", "30", "--visibility", "20", "--json",
+               cwd=tmp_path)  # fmt: skip
+    assert default.returncode == 0 and hazy.returncode == 0, (default.stderr, hazy.stderr)
+    a, b = json.loads(default.stdout), json.loads(hazy.stdout)
+    assert a["visibility_km"] == pytest.approx(74.36, abs=0.01)
+    assert b["visibility_km"] == pytest.approx(20.0, rel=1e-9)
+    assert b["total_horizontal_lux"] < a["total_horizontal_lux"]
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["--visibility", "1"], "1.9 km is the least"),
+        (["--visibility", "500"], "less than no aerosol"),
+        (["--visibility", "10", "--aod", "0.2"], "give one of them"),
+    ],
+)
+def test_bad_visibility_is_one_line(tmp_path, args, words):
+    out = tmp_path / "sky.png"
+    res = run("render", "--size", "8x8", *args, "-o", str(out), cwd=tmp_path)
+    assert res.returncode == 2 and words in res.stderr, (res.returncode, res.stderr)
+    assert len(res.stderr.strip().splitlines()) == 1 and not out.exists()

@@ -53,6 +53,9 @@ SSA_RANGE = (0.0, 1.0)
 AEROSOL_GRID_NM = np.arange(360.0, 1001.0, 5.0)
 #: The two wavelengths (nm) of the Ångström exponent read back by ``angstrom_exponent``.
 ANGSTROM_PAIR_NM = (440.0, 870.0)
+#: Koschmieder's constant: -ln(0.02), the contrast threshold of the meteorological optical
+#: range (WMO-No. 8: visibility V = 3.912 / beta_ext at 550 nm).
+KOSCHMIEDER = 3.912
 #: Wavelengths (nm) at which ozone spectra are sampled (where the cross-sections are tabulated).
 OZONE_GRID_NM = np.arange(360.0, 831.0, 5.0)
 
@@ -484,6 +487,52 @@ class AtmosphereParams:
                 OZONE_GRID_NM, peak * ozone_cross_section(OZONE_GRID_NM)
             )
         )
+
+    @property
+    def ground_extinction_550_per_m(self) -> float:
+        """The extinction coefficient (1/m) at 550 nm at the ground: Rayleigh scattering,
+        aerosol extinction and the absorber's, each its coefficient times its density there."""
+        h = 0.0
+        return float(
+            self.rayleigh_scattering.at(550.0) * self.rayleigh_density.density(h)
+            + self.mie_extinction.at(550.0) * self.mie_density.density(h)
+            + self.absorption_extinction.at(550.0) * self.absorption_density.density(h)
+        )
+
+    @property
+    def visibility_km(self) -> float:
+        """The meteorological visibility at the ground (km): Koschmieder's 3.912 / beta_ext at
+        550 nm, the distance at which a black object's contrast against the horizon sky falls
+        to 2 % (WMO-No. 8). About 340 km in air without aerosol."""
+        return KOSCHMIEDER / self.ground_extinction_550_per_m / 1e3
+
+    def with_visibility(self, km: float) -> AtmosphereParams:
+        """A copy whose visibility at the ground is ``km`` (Koschmieder): the aerosol column
+        scaled, its profile and spectrum kept, so that the extinction at 550 nm at the ground
+        is 3.912 / V. Refused where that needs no aerosol at all (beyond the aerosol-free air's
+        visibility) or an optical depth beyond the knob's range (a visibility of a few km in
+        a deep aerosol profile: mist and fog are not layers of this kind)."""
+        v = check_range("visibility", km, 1e-3, 1e4, "km")
+        target = KOSCHMIEDER / (v * 1e3)
+        mie_ground = float(self.mie_extinction.at(550.0) * self.mie_density.density(0.0))
+        clear = self.ground_extinction_550_per_m - mie_ground
+        if target <= clear:
+            raise ParameterError(
+                f"visibility {v:g} km needs less than no aerosol: this air without aerosol "
+                f"sees {KOSCHMIEDER / clear / 1e3:.0f} km"
+            )
+        density0 = float(self.mie_density.density(0.0))
+        if density0 <= 0.0:
+            raise ParameterError("visibility needs an aerosol at the ground: this one has none")
+        aod = (target - clear) / density0 * self.mie_column_m
+        if aod > AOD_550_RANGE[1]:
+            least = KOSCHMIEDER / (clear + AOD_550_RANGE[1] * density0 / self.mie_column_m)
+            raise ParameterError(
+                f"visibility {v:g} km needs an aerosol optical depth of {aod:.1f} in this "
+                f"profile (at most {AOD_550_RANGE[1]:g}): {least / 1e3:.1f} km is the least; "
+                "mist and fog are not modelled yet"
+            )
+        return self.with_aerosol(aod_550=aod)
 
     def with_aerosol(
         self,

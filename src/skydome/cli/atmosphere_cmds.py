@@ -41,10 +41,12 @@ def register(app: typer.Typer) -> None:
             load_tables(shared_context(), params, progress=report)
         (res,) = horizontal_illuminance(sun_elevation, altitude_m=altitude, atmosphere=params)
         if as_json:
-            typer.echo(json.dumps({"atmosphere": params.name, **res.to_dict()}, indent=2))
+            out = {"atmosphere": params.name, "visibility_km": params.visibility_km}
+            typer.echo(json.dumps({**out, **res.to_dict()}, indent=2))
             return
         console.print(
-            f"atmosphere {params.name}, Sun at {sun_elevation:g} deg, altitude {altitude:g} m"
+            f"atmosphere {params.name} (visibility {params.visibility_km:.3g} km), Sun at "
+            f"{sun_elevation:g} deg, altitude {altitude:g} m"
         )
         console.print(f"direct horizontal illuminance (Sun):  {res.direct_horizontal_lux:12.5g} lx")
         console.print(

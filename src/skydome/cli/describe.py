@@ -114,7 +114,8 @@ def place_time_sun(flags: SimpleNamespace, when: str | None, *, default_now: boo
 
 def atmosphere_from_flags(flags: SimpleNamespace):
     """The ``--atmosphere`` preset with the knob flags given (None keeps the preset's
-    value); a bad value raises ParameterError naming its flag and range."""
+    value; ``--visibility`` scales its aerosol column after the others); a bad value raises
+    ParameterError naming its flag and range."""
     from skydome.atmosphere import (
         ALBEDO_RANGE,
         ANGSTROM_RANGE,
@@ -133,13 +134,22 @@ def atmosphere_from_flags(flags: SimpleNamespace):
     ):
         if value is not None:
             check_range(flag, value, *valid, unit)
-    return preset(
+    visibility = getattr(flags, "visibility", None)
+    if visibility is not None and flags.aod is not None:
+        raise ParameterError("--visibility and --aod both set the aerosol: give one of them")
+    params = preset(
         flags.atmosphere,
         albedo=flags.albedo,
         aod_550=flags.aod,
         angstrom=flags.angstrom,
         ozone_du=flags.ozone,
     )
+    if visibility is None:
+        return params
+    try:
+        return params.with_visibility(visibility)
+    except ParameterError as exc:
+        raise ParameterError(f"--visibility: {exc}") from None
 
 
 def config_from_flags(flags: SimpleNamespace):

@@ -61,6 +61,10 @@ FLAGS: dict[str, Flag] = {
     "aod": Flag(float, None, ("--aod",),
                 "Aerosol optical depth at 550 nm, 0..5, on top of --atmosphere (default: the "
                 "preset's, earth 0.1, typical 0.151, hazy 0.27, earth_bruneton 0.0053)."),
+    "visibility": Flag(float, None, ("--visibility",),
+                       "Meteorological visibility at the ground, km (Koschmieder, 550 nm): the "
+                       "aerosol column of --atmosphere scaled to it (earth: 1.9..335 km); "
+                       "instead of --aod."),
     "angstrom": Flag(float, None, ("--angstrom",),
                      "Angstrom exponent of the aerosol optical depth, -0.5..3 (0 grey, 1.3 "
                      "continental haze, 2+ smoke), on top of --atmosphere (default: the "
@@ -123,7 +127,7 @@ FLAGS: dict[str, Flag] = {
 GROUPS: dict[str, tuple[str, ...]] = {
     "place": ("place", "lat", "lon", "elevation"),
     "sun": ("sun_elevation", "sun_azimuth"),
-    "air": ("atmosphere", "albedo", "aod", "angstrom", "ozone"),
+    "air": ("atmosphere", "albedo", "aod", "visibility", "angstrom", "ozone"),
     "tables": ("orders", "spectral"),
     "night": ("bortle", "night_vision", "overlay"),
     "clouds": (
