@@ -62,7 +62,7 @@ def test_timelapse_moves_the_clouds_with_the_wind(tmp_path):
         (["--clouds", "fair", "--coverage", "1.5"], "coverage must be within [0, 1]"),
         (["--clouds", "fair", "--cloud-thickness", "-5"], "thickness must be positive"),
         (["--clouds", "fair", "--wind", "fast"], "--wind must be SPEED,FROM"),
-        (["--clouds", "fair", "--weather", "missing.png"], "weather map"),
+        (["--clouds", "fair", "--weather-map", "missing.png"], "weather map"),
         (["--clouds", "fair", "--cloud-base", "150000"], "above the top of the atmosphere"),
         (["--clouds", "fair", "--cloud-type", "nimbus"], "--cloud-type nimbus"),
     ],

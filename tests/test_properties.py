@@ -772,7 +772,7 @@ def cli_flags():
         "--cirrus": cli_number(0, 1),
         "--cloud-seed": value("0", "7", "-1", "x"),
         "--wind": value("5,90", "300,0", "5", "a,b", "nan,0"),
-        "--weather": value("/nonexistent.png", ""),
+        "--weather-map": value("/nonexistent.png", ""),
         "--look": value("sun", "moon", "zenith", "up"),
         "--camera": value("perspective", "fisheye", "equirect", "cubemap", "pinhole"),
         "--fov": cli_number(0.01, 179),

@@ -1,4 +1,4 @@
-"""A user's image files (``--weather IMAGE``) are opened safely: a decompression bomb, a huge
+"""A user's image files (``--weather-map IMAGE``) are opened safely: a decompression bomb, a huge
 image, a FIFO, a directory, a text file or a truncated image is refused with one line, exit
 status 2, quickly and in little memory, and nothing is written."""
 
@@ -74,7 +74,7 @@ def test_bad_weather_images_are_refused_quickly_through_the_cli(
 ):
     image = bad_images / name
     r = run_process(
-        "render", "--clouds", "fair", "--weather", image, "--size", "32x18", "-o", "sky.png",
+        "render", "--clouds", "fair", "--weather-map", image, "--size", "32x18", "-o", "sky.png",
         cwd=tmp_path, timeout=30,
     )  # fmt: skip
     lines = r.stderr.splitlines()
@@ -91,7 +91,7 @@ def test_bad_weather_images_are_refused_quickly_through_the_cli(
 
 @pytest.mark.parametrize("command", ["timelapse", "view"])
 def test_every_command_with_weather_refuses_a_fifo(bad_images, tmp_path, command):
-    """--weather is read by one helper for render, timelapse and view (view needs no window
+    """--weather-map is read by one helper for render, timelapse and view (view needs no window
     to refuse it: the flags are checked first)."""
     where = ["--lat", "35.9", "--lon", "14.5"]
     args = {
@@ -100,7 +100,7 @@ def test_every_command_with_weather_refuses_a_fifo(bad_images, tmp_path, command
         "view": [*where, "--time", "2021-06-21T10:00Z"],
     }[command]  # fmt: skip
     r = run_process(
-        command, *args, "--clouds", "fair", "--weather", bad_images / "fifo.png", cwd=tmp_path
+        command, *args, "--clouds", "fair", "--weather-map", bad_images / "fifo.png", cwd=tmp_path
     )
     assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
     assert "a FIFO" in r.stderr and r.seconds < MAX_SECONDS

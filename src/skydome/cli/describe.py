@@ -195,10 +195,10 @@ def clouds_from_flags(flags: SimpleNamespace):
         kwargs["wind_m_s"] = parse_wind(flags.wind)
     if flags.cloud_seed is not None:
         kwargs["seed"] = flags.cloud_seed
-    if flags.weather is not None:
+    if flags.weather_map is not None:
         from skydome.clouds.weather import WeatherMap
 
-        kwargs["weather"] = WeatherMap.from_image(flags.weather, tile_km=40.0)
+        kwargs["weather"] = WeatherMap.from_image(flags.weather_map, tile_km=40.0)
     return Clouds(flags.clouds, **kwargs)
 
 

@@ -100,7 +100,7 @@ FLAGS: dict[str, Flag] = {
                  "SPEED,FROM: wind speed (m/s) and the direction it blows from (degrees, 90 = "
                  "from the east), carrying the clouds (time-lapses animate them)."),
     "cloud_seed": Flag(int, None, ("--cloud-seed",), "Seed of the cloud noise and weather map."),
-    "weather": Flag(str, None, ("--weather",),
+    "weather_map": Flag(str, None, ("--weather-map",),
                     "A weather-map image (PNG/JPEG/TIFF: R coverage, G type, B rain, A "
                     "cirrus; or grey = coverage) instead of a generated one."),
     # the camera
@@ -132,7 +132,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "night": ("bortle", "night_vision", "overlay"),
     "clouds": (
         "clouds", "coverage", "cloud_base", "cloud_thickness", "cloud_type", "cirrus", "wind",
-        "cloud_seed", "weather",
+        "cloud_seed", "weather_map",
     ),
     "camera": ("look", "camera", "fov", "yaw", "pitch", "altitude"),
     "display": ("compensation", "tonemap"),

@@ -1,4 +1,4 @@
-"""Opening a user's image file safely (a weather map given with ``--weather``, ...).
+"""Opening a user's image file safely (a weather map given with ``--weather-map``, ...).
 
 A file named on a command line may be anything: a FIFO or a device that blocks or never
 ends, a directory, a text file, a truncated download, or a "decompression bomb" (a small
