@@ -198,16 +198,22 @@ class TabulatedPhase:
         mu = np.clip(np.asarray(cos_theta, float), -1.0, 1.0)
         return np.interp(np.degrees(np.arccos(mu)), self.theta_deg, self.values)
 
+    @cached_property
+    def _nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The refined quadrature of the stored table (computed once: the moments and the CDF
+        are read every frame and every scattering)."""
+        return self._quadrature(self.theta_deg, self.values)
+
     def _moment(self, fn) -> float:
-        rad, weight = self._quadrature(self.theta_deg, self.values)
+        rad, weight = self._nodes
         return float(np.trapezoid(weight * fn(np.cos(rad)), rad))
 
-    @property
+    @cached_property
     def asymmetry(self) -> float:
         """First moment <cos theta>."""
         return self._moment(lambda mu: mu)
 
-    @property
+    @cached_property
     def second_moment(self) -> float:
         """Second Legendre moment <P2(cos theta)> = <(3 cos^2 - 1) / 2>: delta-M's fraction f
         at its lowest (Eddington) order (for an HG lobe it is g^2, as :class:`LobePhase`)."""
@@ -216,7 +222,7 @@ class TabulatedPhase:
     @cached_property
     def _cdf(self) -> tuple[np.ndarray, np.ndarray]:
         """(angles in rad of the refined table, the CDF there): the trapezoid rule."""
-        rad, weight = self._quadrature(self.theta_deg, self.values)
+        rad, weight = self._nodes
         cdf = np.concatenate([[0.0], np.cumsum(0.5 * (weight[1:] + weight[:-1]) * np.diff(rad))])
         return rad, cdf / cdf[-1]
 
