@@ -184,7 +184,7 @@ def test_visibility_sets_the_aerosol_and_the_json_reports_it(tmp_path):
     "args, words",
     [
         (["--visibility", "1"], "1.9 km is the least"),
-        (["--visibility", "500"], "less than no aerosol"),
+        (["--visibility", "500"], "outside the valid range 0.02 to 335 km"),
         (["--visibility", "10", "--aod", "0.2"], "give one of them"),
     ],
 )

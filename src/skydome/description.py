@@ -15,6 +15,7 @@ the layers it describes, in drawing order.
 from __future__ import annotations
 
 from dataclasses import astuple, dataclass, field, fields, replace
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -42,6 +43,8 @@ from skydome.night.glow_layer import AirglowLayer, LightPollutionLayer, Zodiacal
 from skydome.night.light_pollution import LightPollution
 from skydome.physics.constants import STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C
 from skydome.scene.state import abstract_state, state_at
+from skydome.weather import Weather
+from skydome.weather_effects import ground_visibility_km, weathered
 
 #: The sky models: the atmosphere's ("precomputed", "single") and the CIE standard general
 #: sky ("cie": the standard's luminance distribution in place of the air).
@@ -103,6 +106,9 @@ class SkyDescription:
         clouds: the clouds, or None; ``cloud_quality``: "full", "best" or "interactive";
             ``cloud_shafts``: the air in their shadows unlit by the Sun (light shafts;
             None: on but in the interactive quality).
+        weather: a ``Weather`` (fog, mist, rain, snow, visibility, humidity) or None: it
+            changes the air and the clouds the sky is drawn with (``effective``;
+            ``skydome.weather_effects``), brings its preset's clouds where the sky has none.
         night_vision, overlays: the display (the image only, never the frame's data).
     """
 
@@ -125,6 +131,7 @@ class SkyDescription:
     clouds: Clouds | None = None
     cloud_quality: str = "full"
     cloud_shafts: bool | None = None
+    weather: Weather | None = None
     night_vision: bool = False
     overlays: tuple[str, ...] = ()
 
@@ -172,6 +179,12 @@ class SkyDescription:
         if self.clouds is not None and not isinstance(self.clouds, Clouds):
             raise ParameterError(f"clouds must be a Clouds or None, got {self.clouds!r}")
         check_choice("cloud_quality", self.cloud_quality, QUALITY, "cloud quality")
+        if self.weather is not None:
+            if not isinstance(self.weather, Weather):
+                raise ParameterError(f"weather must be a Weather or None, got {self.weather!r}")
+            if self.model != "precomputed":
+                raise ParameterError(f"a weather needs the default model, not {self.model!r}")
+            _ = self.effective  # checks that the weather fits the air and the clouds
         object.__setattr__(self, "overlays", parse_overlays(self.overlays))
         if self.model == "single" and (
             self.clouds is not None or self.night_vision or self.overlays or self.observer
@@ -206,6 +219,7 @@ class SkyDescription:
         clouds: Clouds | str | None = None,
         cloud_quality: str = "full",
         cloud_shafts: bool | None = None,
+        weather: Weather | str | None = None,
         night_vision: bool = False,
         overlays: Any = (),
     ) -> SkyDescription:
@@ -213,7 +227,8 @@ class SkyDescription:
         name, a ``Place`` or ``(lat_deg, lon_deg[, elevation_m])`` (None: a Sun alone at
         ``sun_elevation_deg``); ``time`` anything ``skydome.astro.to_time`` accepts (ISO
         8601; naive is UTC); ``atmosphere`` a preset name or ``AtmosphereParams``;
-        ``clouds`` a preset name or a ``Clouds``; ``overlays`` names or a comma list."""
+        ``clouds`` a preset name or a ``Clouds``; ``weather`` a preset name ("fog", "rain",
+        ...) or a ``Weather``; ``overlays`` names or a comma list."""
         abstract = place is None
         if abstract and time is not None:
             raise ParameterError("a time needs a place: give place=(lat, lon) or a place name")
@@ -225,13 +240,13 @@ class SkyDescription:
             )
         if not abstract and time is None:
             raise ParameterError("a place needs a time (ISO 8601, e.g. 2018-03-01T19:00Z)")
-        weather = {}
+        refraction = {}
         observer = instant = None
         if abstract:
             if pressure_hPa is not None:
-                weather["pressure_hPa"] = pressure_hPa
+                refraction["pressure_hPa"] = pressure_hPa
             if temperature_C is not None:
-                weather["temperature_C"] = temperature_C
+                refraction["temperature_C"] = temperature_C
         else:
             observer = observer_for(place, pressure_hPa, temperature_C)
             instant = to_time(time)
@@ -239,6 +254,8 @@ class SkyDescription:
                 raise ParameterError(f"a sky is for one instant; got {instant.shape} times")
         if isinstance(clouds, str):
             clouds = Clouds(clouds)
+        if isinstance(weather, str):
+            weather = Weather(weather)
         overlays = () if overlays is None else parse_overlays(overlays)
         return cls(
             observer=observer,
@@ -258,9 +275,10 @@ class SkyDescription:
             clouds=clouds,
             cloud_quality=cloud_quality,
             cloud_shafts=None if cloud_shafts is None else bool(cloud_shafts),
+            weather=weather,
             night_vision=bool(night_vision),
             overlays=tuple(overlays),
-            **weather,
+            **refraction,
         )
 
     def with_(self, **changes) -> SkyDescription:
@@ -287,6 +305,8 @@ class SkyDescription:
             changes["atmosphere"] = preset(changes["atmosphere"])
         if isinstance(changes.get("clouds"), str):
             changes["clouds"] = Clouds(changes["clouds"])
+        if isinstance(changes.get("weather"), str):
+            changes["weather"] = Weather(changes["weather"])
         if isinstance(changes.get("overlays"), str):
             changes["overlays"] = parse_overlays(changes["overlays"])
         return replace(self, **changes)
@@ -309,14 +329,27 @@ class SkyDescription:
             )
         return state_at(self.observer, self.time)
 
+    @cached_property
+    def effective(self) -> tuple[AtmosphereParams, Clouds | None, PrecomputeConfig]:
+        """The air, the clouds and the tables the sky is drawn with: the description's, with
+        its weather (``skydome.weather_effects.weathered``)."""
+        return weathered(self.weather, self.atmosphere, self.clouds, self.config)
+
+    @property
+    def visibility_km(self) -> float:
+        """The visibility at the ground (km, Koschmieder, 550 nm) of the air and the weather."""
+        air, clouds, _ = self.effective
+        return ground_visibility_km(air, clouds)
+
     def atmosphere_layer(self, progress=None) -> AtmosphereLayer:
         extra = {} if self.sky_view_size is None else {"sky_view_size": self.sky_view_size}
+        air, _, config = self.effective
         return AtmosphereLayer(
-            self.atmosphere,
+            air,
             model=self.model,
-            config=self.config,
+            config=config,
             samples=self.samples,
-            spectral=self.config.wavelengths,
+            spectral=config.wavelengths,
             progress=progress,
             **extra,
         )
@@ -353,10 +386,9 @@ class SkyDescription:
                     AirglowLayer(),
                 ]
         layers.append(air)
-        if self.clouds is not None:
-            layers.append(
-                CloudLayer(self.clouds, quality=self.cloud_quality, shafts=self.cloud_shafts)
-            )
+        clouds = self.effective[1]
+        if clouds is not None:
+            layers.append(CloudLayer(clouds, quality=self.cloud_quality, shafts=self.cloud_shafts))
         glow = self.light_pollution_layer()
         if glow is not None:
             layers.append(glow)

@@ -27,6 +27,7 @@ import numpy as np
 
 from skydome.atmosphere.phase import MiePhaseLobes
 from skydome.errors import ParameterError, check_range
+from skydome.physics.droplets import KOSCHMIEDER
 from skydome.physics.phase import cornette_shanks
 from skydome.spectra import photopic_efficiency
 from skydome.spectra import solar_irradiance as tabulated
@@ -53,9 +54,6 @@ SSA_RANGE = (0.0, 1.0)
 AEROSOL_GRID_NM = np.arange(360.0, 1001.0, 5.0)
 #: The two wavelengths (nm) of the Ångström exponent read back by ``angstrom_exponent``.
 ANGSTROM_PAIR_NM = (440.0, 870.0)
-#: Koschmieder's constant: -ln(0.02), the contrast threshold of the meteorological optical
-#: range (WMO-No. 8: visibility V = 3.912 / beta_ext at 550 nm).
-KOSCHMIEDER = 3.912
 #: Wavelengths (nm) at which ozone spectra are sampled (where the cross-sections are tabulated).
 OZONE_GRID_NM = np.arange(360.0, 831.0, 5.0)
 

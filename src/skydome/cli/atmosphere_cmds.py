@@ -4,17 +4,24 @@ from __future__ import annotations
 
 import json
 import time
+from types import SimpleNamespace
 
 import typer
 
-from skydome.cli.describe import atmosphere_from_flags, config_from_flags, precompute_progress
+from skydome.cli.describe import (
+    atmosphere_from_flags,
+    config_from_flags,
+    precompute_progress,
+    weather_from_flags,
+    weathered_air_from_flags,
+)
 from skydome.cli.options import with_flags
 from skydome.errors import check_range
 
 
 def register(app: typer.Typer) -> None:
     @app.command()
-    @with_flags("air")
+    @with_flags("air", "weather")
     def illuminance(
         sun_elevation: float = typer.Option(
             ..., "--sun-elevation", help="Sun elevation, degrees (-90..90)."
@@ -25,29 +32,47 @@ def register(app: typer.Typer) -> None:
         as_json: bool = typer.Option(False, "--json", help="Print a JSON object."),
         flags=None,
     ) -> None:
-        """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance (cd/m^2)."""
+        """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance
+        (cd/m^2); with a weather, under its clouds, fog, rain or snow."""
         from rich.console import Console
 
         from skydome.atmosphere.illuminance import horizontal_illuminance
+        from skydome.weather_effects import ground_visibility_km
 
         check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
-        params = atmosphere_from_flags(flags)
+        params, clouds, config = weathered_air_from_flags(flags)
+        weather = weather_from_flags(flags)
         check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
         console = Console(soft_wrap=True)
         with precompute_progress(console) as report:
             from skydome.atmosphere.tables import load_tables
             from skydome.gpu import shared_context
 
-            load_tables(shared_context(), params, progress=report)
-        (res,) = horizontal_illuminance(sun_elevation, altitude_m=altitude, atmosphere=params)
+            load_tables(shared_context(), params, config, progress=report)
+        if clouds is None:
+            (res,) = horizontal_illuminance(
+                sun_elevation, altitude_m=altitude, atmosphere=params, config=config
+            )
+            res = res.to_dict()
+        else:
+            from skydome.weather_illuminance import weather_illuminance
+
+            res = weather_illuminance(
+                sun_elevation, altitude, weather, atmosphere_from_flags(flags)
+            )
+        visibility = ground_visibility_km(params, clouds)
         if as_json:
-            out = {"atmosphere": params.name, "visibility_km": params.visibility_km}
-            typer.echo(json.dumps({**out, **res.to_dict()}, indent=2))
+            out = {"atmosphere": params.name, "visibility_km": visibility}
+            if weather is not None:
+                out.update(weather.summary())
+            typer.echo(json.dumps({**out, **res}, indent=2))
             return
+        what = "" if weather is None else f", weather {weather.preset}"
         console.print(
-            f"atmosphere {params.name} (visibility {params.visibility_km:.3g} km), Sun at "
+            f"atmosphere {params.name}{what} (visibility {visibility:.3g} km), Sun at "
             f"{sun_elevation:g} deg, altitude {altitude:g} m"
         )
+        res = SimpleNamespace(**res)
         console.print(f"direct horizontal illuminance (Sun):  {res.direct_horizontal_lux:12.5g} lx")
         console.print(
             f"diffuse horizontal illuminance (sky): {res.diffuse_horizontal_lux:12.5g} lx"
@@ -58,7 +83,7 @@ def register(app: typer.Typer) -> None:
         )
 
     @app.command()
-    @with_flags("air", "tables")
+    @with_flags("air", "weather", "tables")
     def precompute(
         output: str = typer.Option(
             None, "-o", "--output", help="Also write the tables to this .lut file."
@@ -77,8 +102,7 @@ def register(app: typer.Typer) -> None:
         from skydome.io.lutfile import write_lut_file
         from skydome.io.outputs import check_output_path
 
-        params = atmosphere_from_flags(flags)
-        config = config_from_flags(flags)
+        params, _, config = weathered_air_from_flags(flags, config_from_flags(flags))
         orders = config.orders
         # The output is checked before the tables are computed (minutes for fine ones): a
         # .lut file in a writable folder, not a directory or a FIFO.

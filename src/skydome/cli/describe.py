@@ -137,19 +137,57 @@ def atmosphere_from_flags(flags: SimpleNamespace):
     visibility = getattr(flags, "visibility", None)
     if visibility is not None and flags.aod is not None:
         raise ParameterError("--visibility and --aod both set the aerosol: give one of them")
-    params = preset(
+    return preset(
         flags.atmosphere,
         albedo=flags.albedo,
         aod_550=flags.aod,
         angstrom=flags.angstrom,
         ozone_du=flags.ozone,
     )
-    if visibility is None:
-        return params
-    try:
-        return params.with_visibility(visibility)
-    except ParameterError as exc:
-        raise ParameterError(f"--visibility: {exc}") from None
+
+
+#: The weather flags that set a ``Weather``'s knobs, by the flag's parameter name.
+_WEATHER_FIELDS = {
+    "visibility": "visibility_km", "humidity": "humidity_pct", "fog_top": "fog_top_m",
+    "fog_droplet": "fog_droplet_um", "rain": "rain_mm_h", "snow": "snow_mm_h",
+    "snow_cover": "snow_cover",
+}  # fmt: skip
+
+
+def weather_from_flags(flags: SimpleNamespace):
+    """The ``Weather`` of ``--weather`` and its knobs (``--visibility`` among them), or None
+    when none is given; a bad value raises ParameterError naming its flag."""
+    from skydome.weather.params import KNOB_RANGES, PRESETS, Weather
+
+    knobs = {
+        field: getattr(flags, name)
+        for name, field in _WEATHER_FIELDS.items()
+        if getattr(flags, name, None) is not None
+    }
+    name = getattr(flags, "weather", None)
+    if name is None and not knobs:
+        return None
+    if name is not None:
+        check_choice("--weather", name, PRESETS, "weather")
+    for flag, field in _WEATHER_FIELDS.items():
+        if field in knobs:
+            lo, hi, unit = KNOB_RANGES[field]
+            check_range("--" + flag.replace("_", "-"), knobs[field], lo, hi, unit)
+    wind = getattr(flags, "wind", None)
+    if wind is not None:
+        knobs["wind_m_s"] = parse_wind(wind)
+    return Weather(name or "sunny", **knobs)
+
+
+def weathered_air_from_flags(flags: SimpleNamespace, config=None):
+    """(air, clouds, tables) of the air and weather flags (no cloud flags: the weather's
+    own clouds), as a sky with them is drawn."""
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+    from skydome.weather_effects import weathered
+
+    return weathered(
+        weather_from_flags(flags), atmosphere_from_flags(flags), None, config or PrecomputeConfig()
+    )
 
 
 def config_from_flags(flags: SimpleNamespace):
@@ -176,6 +214,8 @@ def clouds_from_flags(flags: SimpleNamespace):
 
     if flags.clouds is None:
         given = [name for name in GROUPS["clouds"][1:] if getattr(flags, name) is not None]
+        if given == ["wind"] and weather_from_flags(flags) is not None:
+            return None  # the wind of the weather's own clouds
         if given:
             raise ParameterError(
                 f"{flag_name(given[0])} needs --clouds PRESET (e.g. --clouds fair)"
@@ -248,6 +288,9 @@ def sky_description(
         )
     config = config_from_flags(flags) if has("orders") else None
     params = atmosphere_from_flags(flags)
+    weather = weather_from_flags(flags)
+    if weather is not None and model != "precomputed":
+        raise ParameterError(f"--weather and --visibility need the default model, not {model}")
     settings = {
         "atmosphere": params,
         "model": model,
@@ -255,6 +298,7 @@ def sky_description(
         "night": night,
         "light_pollution": bortle,
         "clouds": clouds,
+        "weather": weather,
         "cloud_quality": cloud_quality,
         "night_vision": night_vision,
         "overlays": overlays,

@@ -62,9 +62,10 @@ FLAGS: dict[str, Flag] = {
                 "Aerosol optical depth at 550 nm, 0..5, on top of --atmosphere (default: the "
                 "preset's, earth 0.1, typical 0.151, hazy 0.27, earth_bruneton 0.0053)."),
     "visibility": Flag(float, None, ("--visibility",),
-                       "Meteorological visibility at the ground, km (Koschmieder, 550 nm): the "
-                       "aerosol column of --atmosphere scaled to it (earth: 1.9..335 km); "
-                       "instead of --aod."),
+                       "Meteorological visibility at the ground, km (Koschmieder, 550 nm; "
+                       "0.02..335): made by the --weather's fog or mist droplets when it has "
+                       "them, else by the aerosol of --atmosphere (earth: from 1.9 km); instead "
+                       "of --aod."),
     "angstrom": Flag(float, None, ("--angstrom",),
                      "Angstrom exponent of the aerosol optical depth, -0.5..3 (0 grey, 1.3 "
                      "continental haze, 2+ smoke), on top of --atmosphere (default: the "
@@ -103,6 +104,21 @@ FLAGS: dict[str, Flag] = {
     "weather_map": Flag(str, None, ("--weather-map",),
                     "A weather-map image (PNG/JPEG/TIFF: R coverage, G type, B rain, A "
                     "cirrus; or grey = coverage) instead of a generated one."),
+    # the weather
+    "weather": Flag(str, None, ("--weather",),
+                    "Weather preset: sunny | hazy | mist | fog | drizzle | rain | heavy-rain | "
+                    "snow | thunderstorm (brings its clouds unless --clouds is given)."),
+    "humidity": Flag(float, None, ("--humidity",),
+                     "Relative humidity, % (0..100): the aerosol swells with it."),
+    "fog_top": Flag(float, None, ("--fog-top",),
+                    "Top of the fog or mist layer above the ground, metres (5..2000)."),
+    "fog_droplet": Flag(float, None, ("--fog-droplet",),
+                        "Effective radius of the fog's droplets, micrometres (1..50; default "
+                        "10)."),
+    "rain": Flag(float, None, ("--rain",), "Rain rate, mm/h (0..300)."),
+    "snow": Flag(float, None, ("--snow",), "Snowfall rate, mm/h of melted water (0..50)."),
+    "snow_cover": Flag(float, None, ("--snow-cover",),
+                       "Fraction of the ground under snow, 0..1 (its albedo goes to snow's)."),
     # the camera
     "look": Flag(str, None, ("--look",),
                  "Aim the camera: sun | moon | zenith | north | east | south | west (default: "
@@ -134,6 +150,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "clouds", "coverage", "cloud_base", "cloud_thickness", "cloud_type", "cirrus", "wind",
         "cloud_seed", "weather_map",
     ),
+    "weather": ("weather", "humidity", "fog_top", "fog_droplet", "rain", "snow", "snow_cover"),
     "camera": ("look", "camera", "fov", "yaw", "pitch", "altitude"),
     "display": ("compensation", "tonemap"),
 }  # fmt: skip

@@ -44,7 +44,7 @@ def cie_settings(
 
 def register(app: typer.Typer) -> None:
     @app.command()
-    @with_flags("place", "sun", "camera", "air", "tables", "night", "display", "clouds")
+    @with_flags("place", "sun", "camera", "air", "tables", "night", "display", "clouds", "weather")
     def render(
         when: str = typer.Option(
             None,

@@ -47,7 +47,7 @@ def show_night_sky(graph, state) -> None:
 
 def register(app: typer.Typer) -> None:
     @app.command()
-    @with_flags("place", "camera", "air", "display", "clouds")
+    @with_flags("place", "camera", "air", "display", "clouds", "weather")
     def timelapse(
         start: str = typer.Option(..., "--start", help="First frame's time, ISO 8601."),
         end: str = typer.Option(..., "--end", help="Last frame's time (at most), ISO 8601."),

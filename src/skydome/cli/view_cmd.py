@@ -15,7 +15,7 @@ MAX_FRAMES = 1_000_000
 
 def register(app: typer.Typer) -> None:
     @app.command()
-    @with_flags("place", "sun", "camera", "air", "tables", "night", "display", "clouds")
+    @with_flags("place", "sun", "camera", "air", "tables", "night", "display", "clouds", "weather")
     def view(
         when: str = typer.Option(
             None,

@@ -10,7 +10,8 @@ from skydome.gpu.inputs import ShaderInputs
 @dataclass(frozen=True)
 class CloudInputs(ShaderInputs):
     """The march's own uniforms (``clouds/cloud_*.glsl``): the key light (direction, scale
-    per channel), the shells' radii (km), the noises' tiles (km) and the wind's offset,
+    per channel), the shells' radii (km), the fog's and the precipitation's under the
+    clouds (radii km, extinctions 1/km), the noises' tiles (km) and the wind's offset,
     the extinctions per cloud type and of the cirrus (1/km, delta-M scaled), the detail's
     erosion, the water's normalisation per type and coverage, the droplets' phase-function moments, the march's steps, the
     ground's albedo below, the frame's jitter, the multiple-scattering table's norms; for
@@ -20,6 +21,8 @@ class CloudInputs(ShaderInputs):
     u_light_direction: tuple[float, float, float]
     u_light_scale: tuple[float, float, float, float]
     u_cloud_shell: tuple[float, float, float, float]
+    u_ground_layer: tuple[float, float, float, float]
+    u_ground_extinction: tuple[float, float, float]
     u_noise_tiles_km: tuple[float, float, float]
     u_cloud_offset_km: tuple[float, float, float]
     u_type_extinction: tuple[float, float, float, float]
@@ -34,6 +37,7 @@ class CloudInputs(ShaderInputs):
     u_ms_norm_g: list[float]
     u_sky_light_ratio: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
     u_ambient_radiance: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    u_under_sky_ratio: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
     u_test_irradiance: tuple[float, float, float, float] | None = None
     u_uniform_extinction: float | None = None
     u_shaft_km: float | None = None

@@ -77,6 +77,9 @@ INTERACTIVE_SHAFT_SCALE = 16
 SHAFT_KM = 12.0
 #: Still frames the interactive mode accumulates before a window may keep its image.
 SETTLE_FRAMES = 16
+#: The fraction of a fog's depth over which its top thins to nothing (a fog's top is not a
+#: plane: its droplets thin over tens of metres).
+FOG_TOP_FADE = 0.2
 #: The census behind frame.info's optical depths: columns a side, and a cloudy column's
 #: least optical depth as a fraction of the nominal.
 CENSUS_GRID = 64
@@ -158,6 +161,7 @@ class CloudLayer(Layer):
         self._state = None
         self._census = None
         self._probe = None
+        self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
         self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
         #: function of the time (0 in the abstract mode, which has none).
@@ -215,6 +219,15 @@ class CloudLayer(Layer):
         return (ground_km + c.base_m / 1e3, ground_km + top / 1e3,
                 ground_km + c.cirrus_base_m / 1e3, ground_km + cirrus_top / 1e3)  # fmt: skip
 
+    def _ground_layer_km(self, bottom_km: float) -> tuple[float, float, float, float]:
+        """Radii (km) of the ground and of the tops of the fog and of the precipitation (the
+        main layer's base; the ground without any), and the depth (km) over which the fog's
+        top thins (FOG_TOP_FADE of its depth)."""
+        c, ground_km = self.clouds, bottom_km + self.ground_m / 1e3
+        rain_top = c.base_m / 1e3 if c.precipitation_extinction_per_m > 0 else 0.0
+        return (ground_km, ground_km + c.fog_top_m / 1e3, ground_km + rain_top,
+                FOG_TOP_FADE * c.fog_top_m / 1e3)  # fmt: skip
+
     def key_light(self, lights: AirLights) -> tuple[tuple, tuple]:
         """(direction, per-channel scale relative to the tables' Sun) of the light that lights
         the clouds: the Sun, or the Moon when the Sun is below MOON_KEY_BELOW_DEG and the
@@ -249,6 +262,12 @@ class CloudLayer(Layer):
             u_light_direction=key_dir,
             u_light_scale=tuple(s * solar for s in key_scale),
             u_cloud_shell=self._shell_radii_km(air.bottom_radius_m / 1e3),
+            u_ground_layer=self._ground_layer_km(air.bottom_radius_m / 1e3),
+            u_ground_extinction=(
+                c.fog_extinction_per_m * 1e3 * self.extinction_scale,
+                c.precipitation_extinction_per_m * 1e3 * self.extinction_scale,
+                1.0 / c.precipitation if c.precipitation > 0 else 0.0,
+            ),
             u_noise_tiles_km=(c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
             u_cloud_offset_km=offset_km,
             u_type_extinction=tuple(e * self.extinction_scale for e in c.type_extinctions_per_km()),
@@ -485,12 +504,26 @@ class CloudLayer(Layer):
         w, h = PROBE_SIZE
         camera = EquirectCamera()
         frame = self._whole_frame(camera, w, h, PROBE_ALTITUDE_M)
-        rad, data = self.march(frame, self.cloud_inputs(), self.texture_inputs(), ("SKY_PROBE",))
-        radiance = np.frombuffer(rad.read(), dtype="f4").reshape(h, w, 4)[::-1].astype(np.float64)
-        clear = np.frombuffer(data.read(), dtype="f4").reshape(h, w, 4)[::-1, :, 1:4]
-        probe = SkyProbe.from_maps(radiance, clear.astype(np.float64))
+        # The fog and the precipitation under the clouds are lit by the sky the clouds leave:
+        # a first probe of the clouds alone measures it (their irradiance over the clear
+        # sky's), and the probe is marched again with it on them.
+        under = (1.0, 1.0, 1.0, 1.0)
+        c = self.clouds
+        if c.ground_layer_top_m > 0 and (c.coverage > 0 or c.cirrus > 0):
+            inputs = self.cloud_inputs(u_ground_extinction=(0.0, 0.0, 0.0))
+            under = self._probe_pass(frame, inputs).ratio
+        self._under_ratio = under
+        probe = self._probe_pass(frame, self.cloud_inputs(u_under_sky_ratio=under))
         self._probe = key, probe
         return probe
+
+    def _probe_pass(self, frame, inputs: CloudInputs) -> SkyProbe:
+        """One march of the probe's map with ``inputs``."""
+        w, h = PROBE_SIZE
+        rad, data = self.march(frame, inputs, self.texture_inputs(), ("SKY_PROBE",))
+        radiance = np.frombuffer(rad.read(), dtype="f4").reshape(h, w, 4)[::-1]
+        clear = np.frombuffer(data.read(), dtype="f4").reshape(h, w, 4)[::-1, :, 1:4]
+        return SkyProbe.from_maps(radiance.astype(np.float64), clear.astype(np.float64))
 
     def light_transmittance(self, points_m) -> np.ndarray:
         """The clouds' transmittance towards the key light (the Sun, or the Moon at night) at
@@ -694,6 +727,7 @@ class CloudLayer(Layer):
         probe = self.sky_probe()
         cloud = self.cloud_inputs(
             u_sky_light_ratio=probe.ratio,
+            u_under_sky_ratio=self._under_ratio,
             u_ambient_radiance=probe.ambient_radiance(self._air().ground_albedo()),
         )
         textures = self.texture_inputs()

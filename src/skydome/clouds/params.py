@@ -19,6 +19,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from skydome.errors import ParameterError
+from skydome.physics.droplets import droplet_extinction_per_m
 
 #: The cloud types of the height profiles and where each sits on the weather map's type axis.
 CLOUD_TYPES = {
@@ -47,7 +48,6 @@ WATER_NORMALIZATION: dict[str, tuple[float, float, float, float]] = {
 }
 #: Effective radius of cloud droplets (m).
 EFFECTIVE_RADIUS_M = 10e-6
-WATER_DENSITY_KG_M3 = 1000.0
 #: Ice clouds: a cirrus with an ice water content of 0.02 g/m^3 and effective radius 30 um
 #: has about 1 /km (Heymsfield & McFarquhar 2002 give 0.1-2 /km for midlatitude cirrus).
 CIRRUS_EXTINCTION_PER_M = 1.0e-3
@@ -55,7 +55,7 @@ CIRRUS_EXTINCTION_PER_M = 1.0e-3
 
 def extinction_per_m(liquid_water_g_m3: float, radius_m: float = EFFECTIVE_RADIUS_M) -> float:
     """Extinction coefficient (1/m) of a cloud of droplets: 3 LWC / (2 rho_w r_eff)."""
-    return 3.0 * liquid_water_g_m3 * 1e-3 / (2.0 * WATER_DENSITY_KG_M3 * radius_m)
+    return float(droplet_extinction_per_m(liquid_water_g_m3, radius_m))
 
 
 #: The presets: what a sky of each looks like (fields of Clouds).
@@ -123,6 +123,14 @@ class Clouds:
         uniform: a plane-parallel deck: the main layer filled with a constant extinction (its
             nominal optical depth over its thickness), no noise, no weather map, no cirrus;
             coverage 1.
+        fog_top_m, fog_extinction_per_m: a layer of droplets from the ground to ``fog_top_m``
+            (m; 0: none) of extinction ``fog_extinction_per_m`` (1/m, the droplets', as
+            ``extinction_per_m``): fog or mist (``skydome.weather`` sets them). Below the main
+            layer's base.
+        precipitation_extinction_per_m: rain or snow (1/m, extinction efficiency 2) from the
+            main layer's base to the ground, where the weather map's precipitation is (the
+            value under a cell of the map's full precipitation; its coverage where the layer
+            has no precipitation).
     """
 
     preset: str = "fair"
@@ -140,6 +148,9 @@ class Clouds:
     tile_km: float = 40.0
     optical_depth: float | None = None
     uniform: bool = False
+    fog_top_m: float = 0.0
+    fog_extinction_per_m: float = 0.0
+    precipitation_extinction_per_m: float = 0.0
 
     def __post_init__(self):
         if not isinstance(self.preset, str) or self.preset not in PRESETS:
@@ -195,6 +206,35 @@ class Clouds:
                     "no cirrus"
                 )
             object.__setattr__(self, "coverage", 1.0)
+        self._check_ground_layer()
+
+    def _check_ground_layer(self) -> None:
+        """The fog and the precipitation under the main layer: numbers in range, the fog
+        below the base, precipitation only from a layer."""
+        top = _number("fog top", self.fog_top_m, 0.0, 5000.0, "m")
+        fog = _number("fog extinction", self.fog_extinction_per_m, 0.0, 1.0, "1/m")
+        precip = _number(
+            "precipitation extinction", self.precipitation_extinction_per_m, 0.0, 0.1, "1/m"
+        )
+        object.__setattr__(self, "fog_top_m", top)
+        object.__setattr__(self, "fog_extinction_per_m", fog)
+        object.__setattr__(self, "precipitation_extinction_per_m", precip)
+        if (top > 0) != (fog > 0):
+            raise ParameterError("a fog needs both a top above the ground and an extinction")
+        if top > 0 and self.coverage > 0 and top > self.base_m:
+            raise ParameterError(
+                f"the fog's top ({top:.0f} m) is above the clouds' base ({self.base_m:.0f} m): "
+                "lower it or raise the clouds"
+            )
+        if precip > 0 and self.coverage == 0:
+            raise ParameterError("rain and snow fall from clouds: this sky has no cloud layer")
+
+    @property
+    def ground_layer_top_m(self) -> float:
+        """The top (m above the ground) of the fog and the precipitation under the clouds (0:
+        neither)."""
+        rain_top = self.base_m if self.precipitation_extinction_per_m > 0 else 0.0
+        return max(self.fog_top_m, rain_top)
 
     @property
     def type_value(self) -> float:
@@ -218,8 +258,8 @@ class Clouds:
 
     @property
     def empty(self) -> bool:
-        """No cloud at all: the layer draws nothing."""
-        return self.coverage == 0.0 and self.cirrus == 0.0
+        """No cloud, fog or precipitation at all: the layer draws nothing."""
+        return self.coverage == 0.0 and self.cirrus == 0.0 and self.fog_top_m == 0.0
 
     def check_atmosphere(self, top_of_atmosphere_m: float) -> None:
         """A ParameterError when the clouds reach above the top of the atmosphere

@@ -5,6 +5,10 @@
 // erodes its edges). With UNIFORM_CLOUD (tests: the Monte Carlo slab) the main layer has the
 // constant extinction u_uniform_extinction and no cirrus.
 uniform vec4 u_cloud_shell;   // radii (km) from the planet's centre: layer bottom, top; cirrus bottom, top
+uniform vec4 u_ground_layer;  // under the clouds: radii (km) of the ground, the fog's top, the
+                              // precipitation's top (the layer's base); the fog top's fade (km)
+uniform vec3 u_ground_extinction;  // 1/km: the fog's, the precipitation's at the map's full
+                                   // precipitation; 1 / the layer's precipitation (0: none)
 #ifdef UNIFORM_CLOUD
 uniform float u_uniform_extinction;  // 1/km
 #else
@@ -149,9 +153,29 @@ float cirrus_extinction(vec3 p, float r) {
 #endif
 }
 
+// Extinction (1/km) under the clouds (the weather: skydome.weather): the fog, thinning over
+// its top's fade, and the rain or snow falling from the layer's base where the weather map
+// has precipitation (its coverage where the layer has none: rain where the clouds are).
+float ground_layer_extinction(vec3 p, float r) {
+    float sigma = 0.0;
+    if (r < u_ground_layer.y)
+        sigma += u_ground_extinction.x * clamp((u_ground_layer.y - r) / max(u_ground_layer.w, 1e-6), 0.0, 1.0);
+    if (r < u_ground_layer.z) {
+#ifdef UNIFORM_CLOUD
+        sigma += u_ground_extinction.y;
+#else
+        vec4 weather = texture(u_weather, tile_position(p) / u_noise_tiles_km.x);
+        float rain = u_ground_extinction.z > 0.0 ? weather.b * u_ground_extinction.z : weather.r;
+        sigma += u_ground_extinction.y * clamp(rain, 0.0, 1.0);
+#endif
+    }
+    return sigma;
+}
+
 // Extinction (1/km) of the clouds at planet-centred p (km).
 float cloud_extinction(vec3 p) {
     float r = length(p);
+    if (r < u_ground_layer.y || r < u_ground_layer.z) return ground_layer_extinction(p, r);
     if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, true);
     return cirrus_extinction(p, r);
 }
@@ -159,6 +183,7 @@ float cloud_extinction(vec3 p) {
 // An upper bound of cloud_extinction (no detail noise): zero only where the clouds are.
 float cloud_extinction_bound(vec3 p) {
     float r = length(p);
+    if (r < u_ground_layer.y || r < u_ground_layer.z) return ground_layer_extinction(p, r);
     if (r < u_cloud_shell.y + 1e-4) return layer_extinction(p, r, false);
     return cirrus_extinction(p, r);
 }

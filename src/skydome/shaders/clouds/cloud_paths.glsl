@@ -41,18 +41,24 @@ float distance_in_shell(vec3 p, vec3 d, float r_lo, float r_hi) {
     return max(t, 0.0);
 }
 
-// Transmittance towards the light L from a point p through both shells (its cloud shadow):
-// `steps` samples of the shapes (no detail) along each crossing (seed 000 ch. 5.4.3's soft
-// shadows, from the whole crossing rather than one sample).
-float light_transmittance(vec3 p, vec3 L, int steps) {
-    float tau = 0.0;
-    for (int s = 0; s < 2; ++s) {
-        float r_lo = s == 0 ? u_cloud_shell.x : u_cloud_shell.z;
-        float r_hi = s == 0 ? u_cloud_shell.y : u_cloud_shell.w;
-        vec2 seg;
-        if (!shell_segment(p, L, r_lo, r_hi, 1e30, seg)) continue;
-        tau += optical_depth_along(p + L * seg.x, L, seg.y - seg.x, steps, false);
-    }
-    return exp(-tau);
+// The transmittance from p along L through the shell r_lo..r_hi: `steps` samples of its
+// crossing.
+float shell_transmittance(vec3 p, vec3 L, float r_lo, float r_hi, int steps) {
+    vec2 seg;
+    if (r_hi <= r_lo || !shell_segment(p, L, r_lo, r_hi, 1e30, seg)) return 1.0;
+    return exp(-optical_depth_along(p + L * seg.x, L, seg.y - seg.x, steps, false));
 }
 
+// Transmittance towards the light L from a point p through the clouds' two shells (its cloud
+// shadow): `steps` samples of the shapes (no detail) along each crossing (seed 000 ch.
+// 5.4.3's soft shadows, from the whole crossing rather than one sample).
+float clouds_transmittance(vec3 p, vec3 L, int steps) {
+    return shell_transmittance(p, L, u_cloud_shell.x, u_cloud_shell.y, steps)
+         * shell_transmittance(p, L, u_cloud_shell.z, u_cloud_shell.w, steps);
+}
+
+// The same through the fog and the precipitation under the clouds as well.
+float light_transmittance(vec3 p, vec3 L, int steps) {
+    return clouds_transmittance(p, L, steps)
+         * shell_transmittance(p, L, u_ground_layer.x, max(u_ground_layer.y, u_ground_layer.z), steps);
+}

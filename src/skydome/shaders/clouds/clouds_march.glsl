@@ -40,6 +40,8 @@ uniform vec4 u_ambient_radiance;  // the mean radiance of the cloudy sky and gro
                                   // the air in the clouds' shadow (CloudLayer.sky_probe)
 uniform vec4 u_sky_light_ratio;   // the sky's irradiance on the ground with the clouds over
                                   // the clear sky's (CloudLayer.sky_probe; 1 without it)
+uniform vec4 u_under_sky_ratio;   // the same with the clouds alone (not the fog and rain under
+                                  // them): the sky light on the fog and rain
 uniform vec3 u_sun_direction;     // the air's lights (aerial perspective)
 uniform float u_sun_scale;
 #ifdef HAS_LIGHT2
@@ -107,7 +109,9 @@ const float STEP_TAU = 1.0;
 #ifndef STEP_SPLIT
 #define STEP_SPLIT 1.0
 #endif
-void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
+// `under`: the shell of the fog and the precipitation under the clouds, lit through them
+// (the key light in their shadow; the sky's light as the clouds' probe measured it).
+void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset, bool under,
                  inout vec4 radiance, inout float transmittance, inout vec2 depth) {
     float len = seg.y - seg.x;
     vec4 light0, sky0, light1, sky1;
@@ -161,6 +165,10 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         if (!lit) {
             irradiance_at(o + d * seg.x, light0, sky0);
             irradiance_at(o + d * seg.y, light1, sky1);
+            if (under) {
+                sky0 *= u_under_sky_ratio;
+                sky1 *= u_under_sky_ratio;
+            }
             lit = true;
         }
         // The light of this sample: recomputed on every LIGHT_EVERY-th step of the loop (the
@@ -185,6 +193,7 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             float cos_phi = norms > 1e-6 ? dot(across_out, across_light) / norms : 1.0;
             j = cloud_source(tau_s, tau_far, mu0, dot(-d, n_slab), nu, cos_phi,
                              u_cloud_albedo_below);
+            if (under) j *= vec2(clouds_transmittance(p, L, 4), 1.0);
             have_j = true;
         }
         float w = clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
@@ -244,22 +253,27 @@ void main() {
     vec4 radiance = vec4(0.0);
     float transmittance = 1.0;
     vec2 depth = vec2(0.0);
-    vec2 seg_main, seg_cirrus;
-    bool main_hit = shell_segment(o, d, u_cloud_shell.x, u_cloud_shell.y, t_ground, seg_main);
-    bool cirrus_hit = u_cloud_shell.w > u_cloud_shell.z
-                      && shell_segment(o, d, u_cloud_shell.z, u_cloud_shell.w, t_ground, seg_cirrus);
-    // near to far
-    bool cirrus_first = cirrus_hit && (!main_hit || seg_cirrus.x < seg_main.x);
-    for (int k = 0; k < 2; ++k) {
-        bool cirrus = (k == 0) == cirrus_first;
-        if (cirrus ? !cirrus_hit : !main_hit) continue;
+    // the shells near to far: the fog and precipitation under the clouds (0), the main
+    // layer (1), the cirrus (2)
+    vec2 segs[3];
+    vec2 radii[3] = vec2[3](vec2(u_ground_layer.x, max(u_ground_layer.y, u_ground_layer.z)),
+                            u_cloud_shell.xy, u_cloud_shell.zw);
+    int order[3];
+    int n = 0;
+    for (int s = 0; s < 3; ++s) {
+        vec2 seg;
+        if (radii[s].y <= radii[s].x || !shell_segment(o, d, radii[s].x, radii[s].y, t_ground, seg))
+            continue;
+        int k = n++;
+        for (; k > 0 && segs[order[k - 1]].x > seg.x; --k) order[k] = order[k - 1];
+        segs[s] = seg;
+        order[k] = s;
+    }
+    for (int k = 0; k < n; ++k) {
         if (transmittance <= 0.0) break;
-        if (cirrus)
-            march_shell(o, d, seg_cirrus, u_cloud_shell.z, u_cloud_shell.w, offset, radiance,
-                        transmittance, depth);
-        else
-            march_shell(o, d, seg_main, u_cloud_shell.x, u_cloud_shell.y, offset, radiance,
-                        transmittance, depth);
+        int s = order[k];
+        march_shell(o, d, segs[s], radii[s].x, radii[s].y, offset, s == 0, radiance,
+                    transmittance, depth);
     }
     float mean_km = depth.y > 0.0 ? depth.x / depth.y : 0.0;
     float shadow = t_ground < 1e29 ? ground_shadow(o, d, t_ground) : 1.0;

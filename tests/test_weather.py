@@ -1,0 +1,170 @@
+"""The weather's physics against published numbers, and the weather through Sky and the CLI.
+
+References: Marshall & Palmer (1948) with extinction efficiency 2 (the issue's closed form,
+1.55 /km at 10 mm/h); Gunn & Kinzer (1949)'s measured fall speeds; ITU-R P.1814's rain
+attenuation for free-space optics (1.076 R^0.67 dB/km, from measurements); Transport
+Canada's visibility-in-snow chart (built on Rasmussen et al. 1999's observations); Kunkel
+(1984)'s fog extinction fitted to measured droplet spectra.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from skydome.errors import ParameterError
+from skydome.physics.droplets import KOSCHMIEDER, droplet_extinction_per_m
+from skydome.weather import PRESETS, Weather, rain, snow
+from skydome.weather.fog import kunkel_extinction_per_m
+from skydome.weather.humidity import growth_factor
+from tests.cli_helpers import run_cli
+
+DIAMETERS_MM = np.linspace(1e-4, 12.0, 60001)
+
+
+def test_marshall_palmer_extinction_is_the_closed_form():
+    # pi N0 / Lambda^3 at 10 mm/h: 1.55 /km (the issue's number, 3 %)
+    assert rain.rain_extinction_per_m(10.0) * 1e3 == pytest.approx(1.55, rel=0.03)
+    # and the distribution integrated numerically with Q = 2 (quadrature error << 0.5 %)
+    for rate in (0.5, 10.0, 100.0):
+        n = rain.marshall_palmer(DIAMETERS_MM, rate)
+        beta = 2.0 * np.trapezoid(math.pi / 4 * DIAMETERS_MM**2 * n, DIAMETERS_MM) * 1e-6
+        assert rain.rain_extinction_per_m(rate) == pytest.approx(beta, rel=5e-3)
+
+
+def test_best_extinction_is_its_distribution_integrated():
+    for rate in (1.0, 10.0, 50.0):
+        n = rain.best_distribution(DIAMETERS_MM, rate)
+        beta = 2.0 * np.trapezoid(math.pi / 4 * DIAMETERS_MM**2 * n, DIAMETERS_MM) * 1e-6
+        # the integrand goes as D^0.25 at 0: the trapezoid is within 1 % there
+        assert rain.rain_extinction_per_m(rate, "best") == pytest.approx(beta, rel=0.01)
+
+
+@pytest.mark.parametrize(
+    "diameter_mm, measured_m_s",
+    [(0.5, 2.06), (1.0, 4.03), (2.0, 6.49), (3.0, 8.06), (4.0, 8.83), (5.0, 9.09)],
+)
+def test_fall_speed_against_gunn_kinzer(diameter_mm, measured_m_s):
+    # Gunn & Kinzer (1949) table 2; Atlas et al.'s fit is within 2 % of it (3 % allowed)
+    assert rain.fall_speed_m_s(diameter_mm) == pytest.approx(measured_m_s, rel=0.03)
+
+
+def test_distributions_carry_their_rain_rate():
+    """A distribution falling at Gunn-Kinzer speeds carries a rain rate: Best's (fitted with
+    its water content to measured rates) gives back the rate within 6 %; Marshall-Palmer's
+    (fitted to drop counts) is known to run high: within 20 %."""
+    for rate in (1.0, 10.0, 50.0):
+        best = rain.rain_rate_mm_h(rain.best_distribution(DIAMETERS_MM, rate), DIAMETERS_MM)
+        mp = rain.rain_rate_mm_h(rain.marshall_palmer(DIAMETERS_MM, rate), DIAMETERS_MM)
+        assert best == pytest.approx(rate, rel=0.06)
+        assert mp == pytest.approx(rate, rel=0.20)
+
+
+def test_rain_visibility_against_itu():
+    """ITU-R P.1814's measured rain attenuation, 1.076 R^0.67 dB/km: Marshall-Palmer within a
+    factor 1.5 (the drop counts of one rate differ by more between storms: Joss & Waldvogel
+    1969's N0 spans 1400-30000 m^-3 mm^-1), Best within 25 %."""
+    for rate in (1.0, 4.0, 10.0, 25.0, 50.0):
+        itu = 1.076 * rate**0.67 / (10 * math.log10(math.e)) * 1e-3  # dB/km -> 1/m
+        assert 1 / 1.5 < rain.rain_extinction_per_m(rate) / itu < 1.5
+        assert rain.rain_extinction_per_m(rate, "best") / itu == pytest.approx(1.0, rel=0.25)
+
+
+@pytest.mark.parametrize("rate_mm_h, chart_km", [(0.4, 3.22), (1.0, 1.41), (2.5, 0.60)])
+def test_snow_visibility_against_the_chart(rate_mm_h, chart_km):
+    """Transport Canada's chart (daylight, below -1 deg C): light/very light at 2 statute
+    miles for 0.4 mm/h, moderate/light at 7/8 mile for 1 mm/h, heavy at 3/8 mile for 2.5
+    mm/h. Rasmussen et al. (1999) find one rate's visibility spreads by a factor 3-10
+    between storms: within a factor 2."""
+    v = KOSCHMIEDER / snow.snow_extinction_per_m(rate_mm_h) / 1e3
+    assert 0.5 < v / chart_km < 2.0
+
+
+def test_fog_extinction_against_kunkel():
+    """Kunkel's fit to measured advection fogs; his droplets shrink as the water thins, ours
+    stay at 10 um: within 30 % over 0.05-0.5 g/m^3."""
+    for lwc in (0.05, 0.1, 0.2, 0.5):
+        ours = droplet_extinction_per_m(lwc, 10e-6)
+        assert ours / kunkel_extinction_per_m(lwc) == pytest.approx(1.0, abs=0.30)
+
+
+def test_humidity_growth():
+    assert growth_factor(80.0) == pytest.approx(1.0)
+    assert growth_factor(0.0) == pytest.approx(5.0**-0.25)  # Kasten's law from OPAC's 80 %
+    assert growth_factor(100.0) == growth_factor(97.0)  # droplets take over past activation
+    with pytest.raises(ParameterError):
+        growth_factor(101.0)
+
+
+def test_presets_and_bad_values():
+    for name in PRESETS:
+        w = Weather(name)
+        assert w.preset == name
+    assert Weather("fog").visibility_km == 0.2
+    assert Weather("rain", rain_mm_h=10).rain_extinction_per_m == pytest.approx(1.5556e-3, rel=1e-3)
+    for bad in (dict(preset="blizzard"), dict(visibility_km=0.0), dict(rain_mm_h=-1.0),
+                dict(snow_mm_h=float("nan")), dict(humidity_pct=120.0), dict(wind_m_s=(1.0,)),
+                dict(rain_distribution="gamma")):  # fmt: skip
+        with pytest.raises(ParameterError):
+            Weather(**bad)
+
+
+def test_weather_sets_the_visibility_of_the_sky():
+    from skydome.description import SkyDescription
+
+    for name, km in (("fog", 0.2), ("mist", 2.5), ("hazy", 8.0)):
+        d = SkyDescription.of(sun_elevation_deg=20, weather=name)
+        assert d.visibility_km == pytest.approx(km, rel=1e-6)
+    rainy = SkyDescription.of(sun_elevation_deg=20, weather=Weather("rain", rain_mm_h=10))
+    air, clouds, config = rainy.effective
+    assert clouds.precipitation_extinction_per_m == pytest.approx(1.5556e-3, rel=1e-3)
+    assert config.orders == 4  # the air itself is clear: the usual tables
+    hazy = SkyDescription.of(sun_elevation_deg=20, weather="hazy").effective[2]
+    assert hazy.orders == 50 and hazy.tolerance > 0  # hazy air: orders until they converge
+    with pytest.raises(ParameterError, match="fall from clouds"):
+        SkyDescription.of(sun_elevation_deg=20, weather="rain", clouds="clear")
+
+
+@pytest.mark.gl
+def test_every_knob_at_its_ends_gives_a_finite_frame():
+    from skydome import Sky
+
+    cases = [
+        Weather("fog", visibility_km=0.02, fog_top_m=5.0, fog_droplet_um=1.0),
+        Weather("fog", fog_top_m=2000.0, fog_droplet_um=50.0, humidity_pct=0.0),
+        Weather("heavy-rain", rain_mm_h=300.0, snow_cover=1.0),
+        Weather("snow", snow_mm_h=50.0, humidity_pct=100.0),
+        Weather("rain", rain_mm_h=0.0, snow_mm_h=0.0, snow_cover=0.0),
+    ]
+    for weather in cases:
+        with Sky(sun_elevation_deg=10, weather=weather) as sky:
+            frame = sky.render(sky.camera("south", fov_deg=90, pitch_deg=5), 32, 18)
+            assert np.all(np.isfinite(frame.data)) and frame.data[..., 1].max() > 0, weather
+
+
+@pytest.mark.gl
+def test_weather_darkens_the_ground_light():
+    """The CLI's illuminance under a weather: a nimbostratus rain lets through 2-15 % of the
+    clear sky's light (overcast skies: 10-25 % under a stratus deck of optical depth ~40;
+    this deck's is 150), a radiation fog 150 m deep most of it; the JSON says the
+    visibility."""
+    from skydome.description import SkyDescription
+
+    def lux(*args):
+        result = run_cli("illuminance", "--sun-elevation", "30", "--json", *args)
+        assert result.returncode == 0, result.stderr
+        return json.loads(result.stdout)
+
+    clear = lux()
+    rainy = lux("--weather", "rain")
+    foggy = lux("--weather", "fog")
+    expected = SkyDescription.of(sun_elevation_deg=30, weather="rain").visibility_km
+    assert rainy["visibility_km"] == pytest.approx(expected, rel=1e-9)
+    assert 3.0 < expected < 6.0  # 4 mm/h of Marshall-Palmer rain (1.0 /km) and the haze
+    assert 0.02 < rainy["total_horizontal_lux"] / clear["total_horizontal_lux"] < 0.15
+    assert foggy["visibility_km"] == pytest.approx(0.2, rel=1e-6)
+    assert 0.3 < foggy["total_horizontal_lux"] / clear["total_horizontal_lux"] < 1.0
+    assert foggy["weather"] == "fog" and rainy["rain_mm_h"] == 4.0
