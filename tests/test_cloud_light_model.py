@@ -10,7 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from skydome.clouds.params import EFFECTIVE_RADIUS_M, WATER_DENSITY_KG_M3, extinction_per_m
+from skydome.clouds.params import EFFECTIVE_RADIUS_M, extinction_per_m
+from skydome.physics.droplets import WATER_DENSITY_KG_M3
 from skydome.reference import cloud_slab
 
 
