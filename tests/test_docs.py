@@ -40,8 +40,12 @@ EXPECTED = {
     "night_sky.py": ["night-allsky.png", "night-allsky.exr", "night-bortle8.png", "night-eye.png"],
     "atmospheres.py": ["atmosphere-earth-hazy-smoky.png"],
     "cie_sky.py": ["cie-sky-types.csv", "cie-sky-types.png"],
-    "weather.py": ["weather-fog.png", "weather-fog-sea.png", "weather-rain.png",
-                   "weather-snow-dusk.png"],
+    "weather.py": [
+        "weather-fog.png",
+        "weather-fog-sea.png",
+        "weather-rain.png",
+        "weather-snow-dusk.png",
+    ],
     "clouds.py": [
         "clouds-fair.png",
         "clouds-fair.exr",
