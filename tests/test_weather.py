@@ -168,3 +168,44 @@ def test_weather_darkens_the_ground_light():
     assert foggy["visibility_km"] == pytest.approx(0.2, rel=1e-6)
     assert 0.3 < foggy["total_horizontal_lux"] / clear["total_horizontal_lux"] < 1.0
     assert foggy["weather"] == "fog" and rainy["rain_mm_h"] == 4.0
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("visibility_km", [0.2, 1.0])
+def test_koschmieder_in_fog(visibility_km):
+    """A black target at the visibility distance (a depth image through Sky) shows 2 % +-
+    0.3 % contrast against the horizon sky in the same directions, in the fog preset's layer
+    (150 m; sight lines within a degree of the horizontal, as Koschmieder's homogeneous air
+    asks); its transmittance is 0.02 (the droplets' forward peak counts against a target of
+    the pixels' size)."""
+    from skydome import Sky
+
+    weather = Weather("fog", visibility_km=visibility_km)
+    with Sky(sun_elevation_deg=20, sun_azimuth_deg=90, weather=weather) as sky:
+        camera = sky.camera("south", fov_deg=2, pitch_deg=0.6)
+        w, h = 16, 8
+        horizon = sky.render(camera, w, h, exposure=None).data[..., 1]
+        depth = np.full((h, w), visibility_km * 1e3)
+        frame = sky.render(camera, w, h, depth_m=depth, exposure=None)
+    contrast = 1.0 - frame.data[..., 1] / horizon  # black: scene x T adds nothing
+    # the target's (its pixels' mean); a pixel alone carries the march's sampling noise (its
+    # ordered step offsets: +-0.3 % of the light, i.e. +-0.3 % of contrast)
+    assert abs(contrast.mean() - 0.02) <= 0.003, contrast.mean()
+    assert np.all(np.abs(contrast - 0.02) <= 0.006), contrast
+    assert np.allclose(frame.info["transmittance"][..., 1], 0.02, rtol=0.01)
+
+
+@pytest.mark.gl
+def test_the_sun_is_a_pale_disk_in_fog():
+    """Through 150 m of fog with 200 m of visibility (slant optical depth 11) the Sun's disk
+    keeps its unscattered light only: brighter than the fog around it, but not blinding
+    (within 1.05-3 times the fog beside it; with the forward peak counted as unscattered it
+    was ~100 times)."""
+    from skydome import Sky
+
+    weather = Weather("fog", visibility_km=0.2, fog_top_m=150.0)
+    with Sky(sun_elevation_deg=15, sun_azimuth_deg=90, weather=weather) as sky:
+        frame = sky.render(sky.camera("sun", fov_deg=4), 64, 64, exposure=None)
+    luminance = frame.data[..., 1]
+    ratio = luminance.max() / np.median(luminance[:, :8])
+    assert 1.05 < ratio < 3.0, ratio

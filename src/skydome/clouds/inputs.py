@@ -34,6 +34,7 @@ class CloudInputs(ShaderInputs):
     u_light_march_km: tuple[float, float]
     u_cloud_albedo_below: float
     u_frame_jitter: float
+    u_peak_scale: float
     u_ms_norm_g: list[float]
     u_sky_light_ratio: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
     u_ambient_radiance: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
@@ -81,6 +82,21 @@ class TemporalInputs(ShaderInputs):
     u_current_data: object
     u_history_radiance: object
     u_history_data: object
+
+
+@dataclass(frozen=True)
+class DepthInputs(ShaderInputs):
+    """A user's scene: its distance (km, <= 0 where there is none) along each ray of the tile
+    (the march compiled with HAS_DEPTH_MAP)."""
+
+    u_depth_map: object
+
+
+@dataclass(frozen=True)
+class CloudDataInputs(ShaderInputs):
+    """``clouds/cloud_transmittance.glsl``: the march's data at the frame's resolution."""
+
+    u_cloud_data: object
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,9 @@ from skydome.clouds.inputs import (
     CloudInputs,
     CloudTextures,
     ColumnInputs,
+    CloudDataInputs,
     CompositeInputs,
+    DepthInputs,
     QueryInputs,
     TemporalInputs,
     UpsampleInputs,
@@ -162,6 +164,7 @@ class CloudLayer(Layer):
         self._census = None
         self._probe = None
         self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
+        self._outputs: dict = {}
         self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
         #: function of the time (0 in the abstract mode, which has none).
@@ -279,6 +282,7 @@ class CloudLayer(Layer):
             u_light_march_km=q["light_km"],
             u_cloud_albedo_below=air.ground_albedo(),
             u_frame_jitter=0.0,
+            u_peak_scale=self.extinction_scale,
             u_ms_norm_g=[float(g) for g in _ms_table().norm_g],
             u_uniform_extinction=(
                 c.nominal_optical_depth / (c.thickness_m / 1e3) * self.extinction_scale
@@ -435,6 +439,9 @@ class CloudLayer(Layer):
         lookup = self._air().lookup()
         lights = self.light_inputs(frame)
         inputs = [frame.view, lookup.inputs, lights, cloud, textures]
+        if frame.depth_map is not None and "SKY_PROBE" not in extra:
+            extra = (*extra, "HAS_DEPTH_MAP")
+            inputs.append(DepthInputs(frame.depth_map))
         aerial = None if "CLOUDS_ALONE" in extra else self._aerial(lights)
         if aerial is not None:
             extra = (*extra, "AERIAL_TABLES")
@@ -600,8 +607,10 @@ class CloudLayer(Layer):
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is
             self._copy_behind(frame)
             return
-        # a camera of given directions has no neighbours to share a march texel with
-        scale = QUALITY[self.quality]["scale"] if frame.camera.has_projection else 1
+        # a camera of given directions has no neighbours to share a march texel with, nor has
+        # a user's scene (its edges are the pixels')
+        scene = frame.depth_map is not None
+        scale = QUALITY[self.quality]["scale"] if frame.camera.has_projection and not scene else 1
         whole = frame.tile == (0, 0, *frame.frame_size)
         mode = None
         if self.quality == "interactive" and whole and scale > 1:
@@ -631,6 +640,30 @@ class CloudLayer(Layer):
             frame.fbo, frame.view, self.behind_inputs(frame),
             CompositeInputs(rad, data, cloud_map, ground),
         )  # fmt: skip
+        if scene:
+            self._outputs["transmittance"] = self._scene_transmittance(frame, data)
+
+    def _scene_transmittance(self, frame: DrawContext, data):
+        """The clouds' transmittance to a user's scene as an RGBA texture of the tile (the
+        march's T, read back into frame.info["transmittance"] with the air's)."""
+        _, _, tw, th = frame.tile
+        key = ("scene_transmittance", tw, th)
+        if key not in self._targets:
+            tex = frame.ctx.texture((tw, th), 4, dtype="f4")
+            self._targets[key] = ((tex,), frame.ctx.framebuffer(color_attachments=[tex]))
+        (tex,), fbo = self._targets[key]
+        fbo.viewport = (0, 0, tw, th)
+        fpass = self.full_screen_pass(
+            frame.ctx, "clouds/cloud_transmittance.glsl", (CloudDataInputs,), frame.camera
+        )
+        fpass.draw(fbo, CloudDataInputs(data))
+        return tex
+
+    def outputs(self) -> dict:
+        """The transmittance to a user's scene of the last tile (with a depth map), then
+        forgotten."""
+        out, self._outputs = self._outputs, {}
+        return out
 
     @staticmethod
     def _reduced(frame: DrawContext, scale: int) -> DrawContext:

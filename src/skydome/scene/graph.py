@@ -407,10 +407,18 @@ class FrameGraph:
             try:
                 last = self.draw_tile(camera, (w, h), (x0, y0, tw, th), altitude_m, tile_inputs)
                 data[rows, x0 : x0 + tw] = self._read_tile(last, tw, th)
+                # a name several volume layers give is the product of theirs (the air's
+                # and the clouds' transmittances to a user's scene)
+                given: set[str] = set()
                 for layer in self.active("volume"):
                     for name, tex in layer.outputs().items():
                         out = outputs.setdefault(name, np.empty((h, w, 4), np.float32))
-                        out[rows, x0 : x0 + tw] = self._read_tile(tex, tw, th)
+                        tile = self._read_tile(tex, tw, th)
+                        if name in given:
+                            out[rows, x0 : x0 + tw] *= tile
+                        else:
+                            out[rows, x0 : x0 + tw] = tile
+                        given.add(name)
             finally:
                 for tex in tile_inputs.textures():
                     tex.release()

@@ -36,6 +36,10 @@ uniform vec3 u_march;             // (view steps per km, most view steps, shorte
 uniform vec2 u_light_march_km;    // lengths of the march towards the light and across the slab
 uniform float u_cloud_albedo_below; // the ground's albedo seen by the clouds' two-stream slab
 uniform float u_frame_jitter;     // added to the ordered offset (0 for still frames)
+uniform float u_peak_scale;       // 1 - the droplets' forward peak's share of their extinction
+#ifdef HAS_DEPTH_MAP
+uniform sampler2D u_depth_map;    // distance to the user's scene along each ray, km (<= 0: none)
+#endif
 uniform vec4 u_ambient_radiance;  // the mean radiance of the cloudy sky and ground around
                                   // the air in the clouds' shadow (CloudLayer.sky_probe)
 uniform vec4 u_sky_light_ratio;   // the sky's irradiance on the ground with the clouds over
@@ -163,11 +167,17 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         }
         empty = 0;
         if (!lit) {
-            irradiance_at(o + d * seg.x, light0, sky0);
-            irradiance_at(o + d * seg.y, light1, sky1);
             if (under) {
+                // a sheet at the ground, whose rays run far through it: its light varies with
+                // the height, between its bottom and top above the segment's start
+                vec3 up = normalize(o + d * seg.x);
+                irradiance_at(up * r_lo, light0, sky0);
+                irradiance_at(up * r_hi, light1, sky1);
                 sky0 *= u_under_sky_ratio;
                 sky1 *= u_under_sky_ratio;
+            } else {
+                irradiance_at(o + d * seg.x, light0, sky0);
+                irradiance_at(o + d * seg.y, light1, sky1);
             }
             lit = true;
         }
@@ -196,13 +206,15 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             if (under) j *= vec2(clouds_transmittance(p, L, 4), 1.0);
             have_j = true;
         }
-        float w = clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
+        float w = under ? clamp((length(p) - r_lo) / max(r_hi - r_lo, 1e-9), 0.0, 1.0)
+                        : clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
         vec4 source = mix(light0, light1, w) * j.x + mix(sky0, sky1, w) * j.y;
         float a = 1.0 - exp(-sigma * step);
         radiance += transmittance * a * source;
         depth += vec2(transmittance * a * t, transmittance * a);
         transmittance *= 1.0 - a;
-        if (transmittance < 0.01) { transmittance = 0.0; break; }
+        // nearly opaque: the rest of the ray as deep as it is, of this step's source
+        if (transmittance < 0.01) { radiance += transmittance * source; transmittance = 0.0; break; }
     }
 }
 
@@ -237,6 +249,53 @@ float ground_shadow(vec3 o, vec3 d, float t_ground) {
     return 0.25 * lit;
 }
 
+// What the clouds add to the light behind them, seen through the air in front of them, for a
+// march that reached transmittance T and radiance R (their own) at the light-weighted
+// distance mean_km (location 0 above, before the ground's corrections).
+vec4 through_air(vec3 o, vec3 d, vec3 entry, float r, float mu, bool hits_ground, float T,
+                 vec4 R, float mean_km) {
+    if (T >= 1.0) return vec4(0.0);
+    float along = max(mean_km - length(entry - o), 0.0);
+    vec4 t_air = output_transmittance(column_along_ray(r, mu, along, hits_ground));
+#ifdef AERIAL_TABLES
+    float ray_km = ray_length(r, mu, hits_ground);
+    vec3 sun_unit = sky_view_unit(azimuth_from_light(d, u_sun_direction), d.z, hits_ground);
+    vec4 air = u_sun_scale * aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
+                                               sun_unit, dot(d, u_sun_direction), along, ray_km);
+#ifdef HAS_LIGHT2
+    vec3 l2_unit = sky_view_unit(azimuth_from_light(d, u_light2_direction), d.z, hits_ground);
+    air += u_light2_scale * aerial_from_table(u_light2_aerial_scattering,
+                                              u_light2_aerial_single_mie, l2_unit,
+                                              dot(d, u_light2_direction), along, ray_km);
+#endif
+#else
+    vec3 point = o + d * max(mean_km, 1e-3);
+    vec4 air = u_sun_scale * sky_radiance_to_point(o, point, 0.0, u_sun_direction);
+#ifdef HAS_LIGHT2
+    air += u_light2_scale * sky_radiance_to_point(o, point, 0.0, u_light2_direction);
+#endif
+#endif
+    // the air in front of the clouds: lit by the key light where the clouds let it
+    // through; in their shadow by the cloudy sky alone, a nearly isotropic field of
+    // radiance u_ambient_radiance, which a column of conservatively scattering air
+    // of transmittance t_air passes on as (1 - t_air) of it, whatever its phase
+    float lit = path_lit_fraction(o, d, max(mean_km, 1e-3));
+    air = lit * air + (1.0 - lit) * (vec4(1.0) - t_air) * u_ambient_radiance;
+    return (1.0 - T) * air + t_air * R;
+}
+
+// The clear sky along the ray without the Sun's and the Moon's disks (and the ground where it
+// ends there): the smooth light behind the clouds, as the probe sees it.
+vec4 smooth_behind(vec3 o, vec3 d, vec3 entry, float r, float mu, bool hits_ground) {
+    vec3 column;
+    vec4 behind = u_sun_scale * sky_radiance(o, d, 0.0, u_sun_direction, column);
+    if (hits_ground) behind += u_sun_scale * ground_radiance(entry, d, r, mu, u_sun_direction);
+#ifdef HAS_LIGHT2
+    behind += u_light2_scale * sky_radiance(o, d, 0.0, u_light2_direction, column);
+#endif
+    return behind;
+}
+
 void main() {
     frag_radiance = vec4(0.0);
     frag_cloud = vec4(1.0, 0.0, 1.0, 1.0);
@@ -245,6 +304,14 @@ void main() {
     vec3 o = u_camera_position;
     vec2 ground = ray_sphere(o, d, u_bottom_radius);
     float t_ground = ground.x > 0.0 ? ground.x : 1e30;
+    // a user's scene along the ray (a depth map, km): the march notes what it has met there
+    // and goes on to the end of the ray (the droplets' forward peak, below)
+    float t_scene = 1e30;
+#ifdef HAS_DEPTH_MAP
+    float scene_km = texelFetch(u_depth_map, ivec2(gl_FragCoord.xy), 0).r;
+    if (scene_km > 0.0 && scene_km < t_ground) t_scene = scene_km;
+#endif
+    bool scene_hit = t_scene < 1e29;
 #ifdef NO_JITTER
     float offset = 0.5;
 #else
@@ -269,61 +336,51 @@ void main() {
         segs[s] = seg;
         order[k] = s;
     }
-    for (int k = 0; k < n; ++k) {
-        if (transmittance <= 0.0) break;
-        int s = order[k];
-        march_shell(o, d, segs[s], radii[s].x, radii[s].y, offset, s == 0, radiance,
-                    transmittance, depth);
+    // before the scene, then (with one) beyond it
+    vec4 radiance_scene = vec4(0.0);
+    float transmittance_scene = 1.0;
+    vec2 depth_scene = vec2(0.0);
+    float fog_scene = 1.0;  // the transmittance of the fog and precipitation before the scene
+    for (int part = 0; part < (scene_hit ? 2 : 1); ++part) {
+        for (int k = 0; k < n; ++k) {
+            if (transmittance <= 0.0) break;
+            int s = order[k];
+            vec2 seg = part == 0 ? vec2(segs[s].x, min(segs[s].y, t_scene))
+                                 : vec2(max(segs[s].x, t_scene), segs[s].y);
+            if (seg.y <= seg.x) continue;
+            float before = transmittance;
+            march_shell(o, d, seg, radii[s].x, radii[s].y, offset, s == 0, radiance,
+                        transmittance, depth);
+            if (s == 0 && part == 0) fog_scene *= transmittance / before;
+        }
+        if (part == 0) {
+            radiance_scene = radiance;
+            transmittance_scene = transmittance;
+            depth_scene = depth;
+        }
     }
-    float mean_km = depth.y > 0.0 ? depth.x / depth.y : 0.0;
-    float shadow = t_ground < 1e29 ? ground_shadow(o, d, t_ground) : 1.0;
+    float mean_km = depth_scene.y > 0.0 ? depth_scene.x / depth_scene.y : 0.0;
+    float shadow = t_ground < 1e29 && !scene_hit ? ground_shadow(o, d, t_ground) : 1.0;
     // w: whether the ray misses the ground (the composite upsamples within each kind)
-    frag_cloud = vec4(transmittance, mean_km, shadow, t_ground < 1e29 ? 0.0 : 1.0);
+    frag_cloud = vec4(transmittance_scene, mean_km, shadow, t_ground < 1e29 ? 0.0 : 1.0);
 #ifdef CLOUDS_ALONE
-    frag_radiance = radiance;
+    frag_radiance = radiance_scene;
 #else
     frag_radiance = vec4(0.0);
     vec3 entry = o;
     float r, rmu;
     if (enter_atmosphere(entry, d, r, rmu)) {
         float mu = clamp_cosine(rmu / r);
-        bool hits_ground = ray_hits_ground(r, mu);
-        if (transmittance < 1.0) {
-            float along = max(mean_km - length(entry - o), 0.0);
-            vec4 t_air = output_transmittance(column_along_ray(r, mu, along, hits_ground));
-#ifdef AERIAL_TABLES
-            float ray_km = ray_length(r, mu, hits_ground);
-            vec3 sun_unit = sky_view_unit(azimuth_from_light(d, u_sun_direction), d.z, hits_ground);
-            vec4 air = u_sun_scale * aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
-                                                       sun_unit, dot(d, u_sun_direction), along, ray_km);
-#ifdef HAS_LIGHT2
-            vec3 l2_unit = sky_view_unit(azimuth_from_light(d, u_light2_direction), d.z, hits_ground);
-            air += u_light2_scale * aerial_from_table(u_light2_aerial_scattering,
-                                                      u_light2_aerial_single_mie, l2_unit,
-                                                      dot(d, u_light2_direction), along, ray_km);
-#endif
-#else
-            vec3 point = o + d * max(mean_km, 1e-3);
-            vec4 air = u_sun_scale * sky_radiance_to_point(o, point, 0.0, u_sun_direction);
-#ifdef HAS_LIGHT2
-            air += u_light2_scale * sky_radiance_to_point(o, point, 0.0, u_light2_direction);
-#endif
-#endif
-            // the air in front of the clouds: lit by the key light where the clouds let it
-            // through; in their shadow by the cloudy sky alone, a nearly isotropic field of
-            // radiance u_ambient_radiance, which a column of conservatively scattering air
-            // of transmittance t_air passes on as (1 - t_air) of it, whatever its phase
-            float lit = path_lit_fraction(o, d, max(mean_km, 1e-3));
-            air = lit * air + (1.0 - lit) * (vec4(1.0) - t_air) * u_ambient_radiance;
-            frag_radiance = (1.0 - transmittance) * air + t_air * radiance;
-        }
+        bool hits_ground = ray_hits_ground(r, mu) && !scene_hit;
+        frag_radiance = through_air(o, d, entry, r, mu, hits_ground, transmittance_scene,
+                                    radiance_scene, mean_km);
         if (shadow < 1.0 && hits_ground) {
             // the ground's direct light only (common/ground_shading.glsl), seen through the air
             float d_ground = distance_to_bottom(r, mu);
             vec3 n = normalize(entry + d * d_ground);
             vec4 direct = u_light_scale * lambertian_ground(n * u_bottom_radius, n, u_light_direction,
                                                             column_along_ray(r, mu, d_ground, true), false);
-            frag_radiance -= transmittance * (1.0 - shadow) * direct;
+            frag_radiance -= transmittance_scene * (1.0 - shadow) * direct;
         }
         if (hits_ground && u_sky_light_ratio != vec4(1.0)) {
             // the ground lit by the sky that is drawn (the clouds' probe), not the clear one
@@ -332,19 +389,35 @@ void main() {
             vec3 column = column_along_ray(r, mu, d_ground, true);
             vec4 sky_lit = lambertian_ground(n * u_bottom_radius, n, u_light_direction, column, true)
                          - lambertian_ground(n * u_bottom_radius, n, u_light_direction, column, false);
-            frag_radiance += transmittance * (u_sky_light_ratio - 1.0) * u_light_scale * sky_lit;
+            frag_radiance += transmittance_scene * (u_sky_light_ratio - 1.0) * u_light_scale * sky_lit;
         }
 #ifdef SKY_PROBE
         // the probe: the whole sky, the clear one behind the clouds (no Sun's disk: its light
         // is the direct light, counted apart); the clear sky alone in frag_cloud.yzw
-        vec3 column;
-        vec4 behind = u_sun_scale * sky_radiance(o, d, 0.0, u_sun_direction, column);
-        if (hits_ground) behind += u_sun_scale * ground_radiance(entry, d, r, mu, u_sun_direction);
-#ifdef HAS_LIGHT2
-        behind += u_light2_scale * sky_radiance(o, d, 0.0, u_light2_direction, column);
-#endif
+        vec4 behind = smooth_behind(o, d, entry, r, mu, hits_ground);
         frag_radiance += transmittance * behind;
         frag_cloud.yzw = behind.rgb;
+#else
+        // The drops' forward peak (skydome.clouds.phase: the part of their scattering within
+        // TRUNCATION_DEG of the forward direction) is marched as unscattered light:
+        // right for a smooth background, whose peak-scattered light is the light it lost.
+        // A sharp source (the Sun's disk, a star, a user's scene of small details: the
+        // visibility's 2 % contrast is of such a target) keeps only the truly unscattered
+        // part, T_full = T^(1 / u_peak_scale), and the rest of the peak's light is the smooth
+        // light behind it: the continuation of the ray beyond the scene (its clouds and the
+        // sky behind them).
+        // (Of the fog and the precipitation only: their sheets are smooth, while at the
+        // march's resolution the clouds' ragged edges would print its texels on a bright sky.)
+        float t_full = transmittance_scene * pow(fog_scene, 1.0 / u_peak_scale - 1.0);
+        if (transmittance_scene > 0.0 && t_full < transmittance_scene) {
+            vec4 beyond = smooth_behind(o, d, entry, r, mu, ray_hits_ground(r, mu)) * transmittance;
+            if (scene_hit)
+                beyond += through_air(o, d, entry, r, mu, false, transmittance, radiance, 
+                                      depth.y > 0.0 ? depth.x / depth.y : 0.0)
+                        - frag_radiance;
+            frag_radiance += (1.0 - t_full / transmittance_scene) * beyond;
+            frag_cloud.x = t_full;
+        }
 #endif
     }
 #endif
