@@ -19,10 +19,10 @@ from math import lcm
 import numpy as np
 
 from skydome.clouds.inputs import (
+    CloudDataInputs,
     CloudInputs,
     CloudTextures,
     ColumnInputs,
-    CloudDataInputs,
     CompositeInputs,
     DepthInputs,
     QueryInputs,
