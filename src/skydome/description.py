@@ -44,6 +44,7 @@ from skydome.night.light_pollution import LightPollution
 from skydome.physics.constants import STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C
 from skydome.scene.state import abstract_state, state_at
 from skydome.weather import Weather
+from skydome.weather.particles import EXPOSURE_RANGE_S, PrecipitationLayer
 from skydome.weather_effects import ground_visibility_km, weathered
 
 #: The sky models: the atmosphere's ("precomputed", "single") and the CIE standard general
@@ -108,7 +109,9 @@ class SkyDescription:
             None: on but in the interactive quality).
         weather: a ``Weather`` (fog, mist, rain, snow, visibility, humidity) or None: it
             changes the air and the clouds the sky is drawn with (``effective``;
-            ``skydome.weather_effects``), brings its preset's clouds where the sky has none.
+            ``skydome.weather_effects``), brings its preset's clouds where the sky has none,
+            and its rain or snow falls near the camera (``PrecipitationLayer``) as streaks
+            of one exposure of ``shutter_s`` seconds.
         night_vision, overlays: the display (the image only, never the frame's data).
     """
 
@@ -132,6 +135,7 @@ class SkyDescription:
     cloud_quality: str = "full"
     cloud_shafts: bool | None = None
     weather: Weather | None = None
+    shutter_s: float = 1.0 / 60.0
     night_vision: bool = False
     overlays: tuple[str, ...] = ()
 
@@ -185,6 +189,7 @@ class SkyDescription:
             if self.model != "precomputed":
                 raise ParameterError(f"a weather needs the default model, not {self.model!r}")
             _ = self.effective  # checks that the weather fits the air and the clouds
+        check_range("shutter_s", self.shutter_s, *EXPOSURE_RANGE_S, "s")
         object.__setattr__(self, "overlays", parse_overlays(self.overlays))
         if self.model == "single" and (
             self.clouds is not None or self.night_vision or self.overlays or self.observer
@@ -220,6 +225,7 @@ class SkyDescription:
         cloud_quality: str = "full",
         cloud_shafts: bool | None = None,
         weather: Weather | str | None = None,
+        shutter_s: float = 1.0 / 60.0,
         night_vision: bool = False,
         overlays: Any = (),
     ) -> SkyDescription:
@@ -276,6 +282,7 @@ class SkyDescription:
             cloud_quality=cloud_quality,
             cloud_shafts=None if cloud_shafts is None else bool(cloud_shafts),
             weather=weather,
+            shutter_s=shutter_s,
             night_vision=bool(night_vision),
             overlays=tuple(overlays),
             **refraction,
@@ -389,6 +396,8 @@ class SkyDescription:
         clouds = self.effective[1]
         if clouds is not None:
             layers.append(CloudLayer(clouds, quality=self.cloud_quality, shafts=self.cloud_shafts))
+        if self.weather is not None and self.weather.precipitates:
+            layers.append(PrecipitationLayer(self.weather, exposure_s=self.shutter_s))
         glow = self.light_pollution_layer()
         if glow is not None:
             layers.append(glow)

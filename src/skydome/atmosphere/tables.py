@@ -30,6 +30,7 @@ TABLES_CACHE = CacheSpec(
         "atmosphere/transmittance.py",
         "atmosphere/inputs.py",
         "physics/constants.py",
+        "physics/droplets.py",
         "physics/geometry.py",
         "physics/packing.py",
         "physics/phase.py",

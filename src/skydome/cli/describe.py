@@ -291,6 +291,11 @@ def sky_description(
     weather = weather_from_flags(flags)
     if weather is not None and model != "precomputed":
         raise ParameterError(f"--weather and --visibility need the default model, not {model}")
+    shutter = getattr(flags, "shutter", None)
+    if shutter is not None:
+        from skydome.weather.particles import EXPOSURE_RANGE_S
+
+        check_range("--shutter", shutter, *EXPOSURE_RANGE_S, "s")
     settings = {
         "atmosphere": params,
         "model": model,
@@ -299,6 +304,7 @@ def sky_description(
         "light_pollution": bortle,
         "clouds": clouds,
         "weather": weather,
+        **({} if shutter is None else {"shutter_s": shutter}),
         "cloud_quality": cloud_quality,
         "night_vision": night_vision,
         "overlays": overlays,

@@ -119,6 +119,9 @@ FLAGS: dict[str, Flag] = {
     "snow": Flag(float, None, ("--snow",), "Snowfall rate, mm/h of melted water (0..50)."),
     "snow_cover": Flag(float, None, ("--snow-cover",),
                        "Fraction of the ground under snow, 0..1 (its albedo goes to snow's)."),
+    "shutter": Flag(float, None, ("--shutter",),
+                    "Shutter time of the camera, seconds (1e-5..1; default 1/60): how long the "
+                    "falling rain's and snow's streaks are."),
     # the camera
     "look": Flag(str, None, ("--look",),
                  "Aim the camera: sun | moon | zenith | north | east | south | west (default: "
@@ -150,7 +153,9 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "clouds", "coverage", "cloud_base", "cloud_thickness", "cloud_type", "cirrus", "wind",
         "cloud_seed", "weather_map",
     ),
-    "weather": ("weather", "humidity", "fog_top", "fog_droplet", "rain", "snow", "snow_cover"),
+    "weather": (
+        "weather", "humidity", "fog_top", "fog_droplet", "rain", "snow", "snow_cover", "shutter",
+    ),
     "camera": ("look", "camera", "fov", "yaw", "pitch", "altitude"),
     "display": ("compensation", "tonemap"),
 }  # fmt: skip

@@ -201,6 +201,16 @@ def register(app: typer.Typer) -> None:
                 f"CIE sky type {cie_type}: zenith {frame.info['cie_zenith_luminance']:.0f} "
                 f"cd/m^2, diffuse horizontal {frame.info['cie_diffuse_horizontal_lux']:.0f} lx"
             )
+        if description.weather is not None:
+            wx = description.weather
+            falling = "".join(
+                f", {name} {rate:g} mm/h"
+                for name, rate in (("rain", wx.rain_mm_h), ("snow", wx.snow_mm_h))
+                if rate > 0
+            )
+            console.print(
+                f"weather: {wx.preset}{falling}, visibility {description.visibility_km:.3g} km"
+            )
         if frame.info.get("cloud_optical_depth_mean") is not None:
             i = frame.info
             console.print(

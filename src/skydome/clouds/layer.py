@@ -42,7 +42,14 @@ from skydome.clouds.probe import SkyProbe
 from skydome.clouds.weather import AnimatedWeather, WeatherMap
 from skydome.core.cameras import CameraInputs, EquirectCamera
 from skydome.core.layer import BehindInputs, DrawContext, Layer, LayerHost
-from skydome.core.services import AerialInputs, AirLights, AirService, LightInputs, VolumeInputs
+from skydome.core.services import (
+    AerialInputs,
+    AirLights,
+    AirService,
+    LightInputs,
+    SkyLightService,
+    VolumeInputs,
+)
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.textures import linear_clamped, release_unbound
@@ -230,6 +237,9 @@ class CloudLayer(Layer):
         rain_top = c.base_m / 1e3 if c.precipitation_extinction_per_m > 0 else 0.0
         return (ground_km, ground_km + c.fog_top_m / 1e3, ground_km + rain_top,
                 FOG_TOP_FADE * c.fog_top_m / 1e3)  # fmt: skip
+
+    def services(self) -> tuple:
+        return (_CloudySkyLight(self),)
 
     def key_light(self, lights: AirLights) -> tuple[tuple, tuple]:
         """(direction, per-channel scale relative to the tables' Sun) of the light that lights
@@ -924,3 +934,17 @@ def weather_map_for(clouds: Clouds):
 def _ms_table():
 
     return load_ms_table()
+
+
+class _CloudySkyLight(SkyLightService):
+    """The cloud layer's probe as a SkyLightService."""
+
+    def __init__(self, layer: CloudLayer):
+        self._layer = layer
+
+    def ambient_radiance(self) -> tuple[float, float, float, float]:
+        layer = self._layer
+        if layer.clouds.empty:
+            return (0.0, 0.0, 0.0, 0.0)
+        probe = layer.sky_probe()
+        return tuple(float(v) for v in probe.ambient_radiance(layer._air().ground_albedo()))

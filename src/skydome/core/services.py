@@ -1,7 +1,8 @@
 """Typed services: what one layer offers the others through the frame graph.
 
 A layer never imports another layer. The atmosphere layer offers its tables and lights as
-an :class:`AirService`; the cloud layer reads it (the sunlight and skylight at each cloud,
+an :class:`AirService`; the cloud layer the light of the cloudy sky as a
+:class:`SkyLightService`; the cloud layer reads it (the sunlight and skylight at each cloud,
 the aerial perspective in front of it) and offers the air its shadow as a
 :class:`VolumeInputs` (the light shafts). The frame graph finds a service by its type
 (``graph.service(AirService)``) among the layers that provide one (``Layer.services``).
@@ -135,6 +136,17 @@ class AirService(ABC):
         """The aerial-perspective tables of ``lights`` seen from ``radius_km``
         (``atmosphere/aerial_lookup.glsl``), or None above the air or without sky-view tables
         (look the 4D tables up instead)."""
+
+
+class SkyLightService(ABC):
+    """The light of the sky that is drawn (clouds and all) around the camera's ground: the
+    cloud layer offers it (its probe); what lights things in the air near the camera, such
+    as falling rain and snow."""
+
+    @abstractmethod
+    def ambient_radiance(self) -> tuple[float, float, float, float]:
+        """The mean radiance (cd/m^2 per output channel) of the sky and the ground around
+        the camera's ground."""
 
 
 @dataclass

@@ -110,6 +110,8 @@ void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
 #endif
 const int EMPTY_STEPS = 3;
 const float STEP_TAU = 1.0;
+const float UNDER_STEP_KM = 0.5;
+const float UNDER_STEP_TAU = 0.5;
 #ifndef STEP_SPLIT
 #define STEP_SPLIT 1.0
 #endif
@@ -156,6 +158,10 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         // in dense cloud a step spans at most STEP_TAU of optical depth (down to an eighth
         // of dt): the light is taken where the scattering happens, not up to a step deep
         float step = min(min(dt, seg.y - edge), max(STEP_TAU / max(sigma_near, 1e-6), dt / STEP_SPLIT));
+        // the sheet under the clouds is smooth (a uniform fog, rain varying over kilometres):
+        // its steps may span an optical depth of UNDER_STEP_TAU, up to UNDER_STEP_KM
+        if (under)
+            step = min(seg.y - edge, max(dt, min(UNDER_STEP_TAU / max(sigma_near, 1e-6), UNDER_STEP_KM)));
         float t = edge + offset * step;
         vec3 p = o + d * t;
         float sigma = cloud_extinction(p);
