@@ -1,6 +1,7 @@
 """Render the README gallery into docs/gallery/ (small PNGs, auto exposure, filmic).
 
 Usage: python tools/make_gallery.py [--model single] [--size 480x270] [--scene] [--night]
+       [--clouds] [--weather]
 """
 
 from __future__ import annotations
@@ -74,6 +75,7 @@ def main() -> None:
     ap.add_argument("--night", action="store_true", help="only the night-sky views")
     ap.add_argument("--mars", action="store_true", help="only Mars at noon and at sunset")
     ap.add_argument("--clouds", action="store_true", help="only the cloud views")
+    ap.add_argument("--weather", action="store_true", help="only the weather views")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     OUT.mkdir(parents=True, exist_ok=True)
@@ -82,6 +84,9 @@ def main() -> None:
         return
     if args.clouds:
         cloud_views(w, h)
+        return
+    if args.weather:
+        weather_views(w, h)
         return
     if args.scene or args.night:
         if args.scene:
@@ -292,6 +297,37 @@ def cloud_views(w: int, h: int) -> None:
     path = OUT / "clouds-moonlit-night.png"
     atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": "moonlit cumulus"}))
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+
+
+def weather_views(w: int, h: int) -> None:
+    """Weather (issue 23), full quality, auto exposure: a foggy morning with the Sun a pale
+    disk, a fog sea seen from a hill, mist at sunrise, a rainy day under nimbostratus with
+    rain falling, a thunderstorm with rain shafts, snow falling at dusk."""
+    from skydome.core.cameras import PerspectiveCamera as Cam
+    from skydome.weather import Weather
+
+    # name: (sun elevation, azimuth, weather, (yaw, pitch), fov, altitude m, note)
+    views = {
+        "weather-fog-morning": (12.0, 100.0, Weather("fog", visibility_km=0.3),
+                                (100, 8), 80, None, "a foggy morning: 300 m, the Sun a pale disk"),
+        "weather-fog-sea": (6.0, 95.0, Weather("fog", visibility_km=0.2, fog_top_m=120),
+                            (95, -3), 80, 250.0, "a fog sea from a hill 250 m up"),
+        "weather-mist-sunrise": (2.0, 90.0, Weather("mist"), (90, 5), 90, None,
+                                 "mist at sunrise: 2.5 km of visibility"),
+        "weather-rain": (35.0, 180.0, Weather("rain", rain_mm_h=8, wind_m_s=(3.0, 0.0)),
+                         (200, 2), 80, None, "8 mm/h of rain under nimbostratus"),
+        "weather-thunderstorm": (40.0, 240.0, Weather("thunderstorm"), (120, 12), 100, None,
+                                 "a thunderstorm: rain shafts under the cells"),
+        "weather-snow-dusk": (1.0, 250.0, Weather("snow", snow_mm_h=2), (250, 5), 80, None,
+                              "snow falling at dusk"),
+    }  # fmt: skip
+    for name, (el, az, weather, (yaw, pitch), fov, alt, note) in views.items():
+        with Sky(sun_elevation_deg=el, sun_azimuth_deg=az, weather=weather) as sky:
+            cam = Cam(fov_deg=fov, yaw_deg=yaw, pitch_deg=pitch)
+            frame = sky.render(cam, w, h, altitude_m=alt, tonemap="filmic")
+        path = OUT / f"{name}.png"
+        atomic_write(path, lambda tmp, f=frame, n=note: write_png(tmp, f.image, {"views": n}))
+        print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
 def scene_views(w: int, h: int) -> None:

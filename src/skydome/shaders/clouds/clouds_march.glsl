@@ -126,7 +126,8 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     vec2 j = vec2(0.0);
     vec3 L = u_light_direction;
     float nu = dot(d, L);
-    bool fine = false;
+    bool fine = under;  // the sheet under the clouds: no skipping (it has no empty air to skip)
+    float under_sigma = u_ground_extinction.x + u_ground_extinction.y;  // its densest (1/km)
     float sigma_near = 0.0;  // the extinction last met (a bound of it on a coarse hit)
     float skipped = -1.0;    // where the last coarse step through empty air began
     int empty = 0;
@@ -159,16 +160,19 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         // of dt): the light is taken where the scattering happens, not up to a step deep
         float step = min(min(dt, seg.y - edge), max(STEP_TAU / max(sigma_near, 1e-6), dt / STEP_SPLIT));
         // the sheet under the clouds is smooth (a uniform fog, rain varying over kilometres):
-        // its steps may span an optical depth of UNDER_STEP_TAU, up to UNDER_STEP_KM
+        // its steps may span an optical depth of UNDER_STEP_TAU at its densest, up to
+        // UNDER_STEP_KM
         if (under)
-            step = min(seg.y - edge, max(dt, min(UNDER_STEP_TAU / max(sigma_near, 1e-6), UNDER_STEP_KM)));
-        float t = edge + offset * step;
+            step = min(seg.y - edge, max(dt, min(UNDER_STEP_TAU / max(under_sigma, 1e-6), UNDER_STEP_KM)));
+        // (the smooth sheet under the clouds at the steps' middles: offsets there would print
+        // their pattern on it, having no edges to hide)
+        float t = edge + (under ? 0.5 : offset) * step;
         vec3 p = o + d * t;
         float sigma = cloud_extinction(p);
         edge += step;
         if (sigma > 0.0) sigma_near = sigma;
         if (sigma <= 0.0) {
-            if (++empty >= EMPTY_STEPS && edge >= stay_fine) fine = false;
+            if (++empty >= EMPTY_STEPS && edge >= stay_fine) fine = under;
             continue;
         }
         empty = 0;
