@@ -211,6 +211,25 @@ def test_the_preset_combo_rebuilds_the_atmosphere(window):
     scene.release()
 
 
+def test_the_weather_combo_builds_a_foggy_sky(window):
+    """Opening the Weather section and picking "fog" builds the sky with the fog preset (its
+    air's tables in the background first); the foggy sky draws finite frames, and its
+    visibility is the preset's 200 m."""
+    scene = _scene(window)
+    old = scene.base
+    _run_until_clicked(window, scene, ["header:Time", "header:Weather", "weather", "weather:fog"])
+    deadline = time.monotonic() + 120.0
+    while scene.base is old and time.monotonic() < deadline:
+        window.run(scene, frames=1)
+    assert scene.base is not old, (window.panel.rebuild.status, window.panel.message)
+    description = scene.base.description
+    assert description.weather is not None and description.weather.preset == "fog"
+    assert description.visibility_km == pytest.approx(0.2, rel=1e-6)
+    assert window.panel.message == "weather: fog"
+    window.run(scene, frames=2)
+    scene.release()
+
+
 @pytest.fixture()
 def wide_window(x_display):  # noqa: F811
     """A 1280 x 720 window: at a mocked scale of 2, 640 x 360 units, room beside the panel."""

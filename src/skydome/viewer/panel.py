@@ -26,6 +26,7 @@ from skydome.astro.time import Time, to_time
 from skydome.atmosphere.presets import PRESETS
 from skydome.display import TONEMAPS
 from skydome.display.overlays import OVERLAYS
+from skydome.sky import Sky
 from skydome.viewer import require
 from skydome.viewer.controls import (
     COMPENSATION_RANGE,
@@ -43,6 +44,11 @@ from skydome.viewer.controls import (
 )
 from skydome.viewer.imgui_gl import ImguiPlatform, ImguiRenderer
 from skydome.viewer.rebuild import KNOB_RANGES, AtmosphereRebuild, Knobs, build_sky, clamp_knobs
+from skydome.weather import PRESETS as WEATHER_PRESETS
+from skydome.weather import Weather
+
+#: The panel has started no change of the weather.
+_NO_WEATHER_CHANGE = object()
 
 #: Panel width (window units) and where it sits.
 PANEL_WIDTH = 340.0
@@ -64,6 +70,8 @@ class Panel:
         self.rebuild = AtmosphereRebuild()
         self.knobs: Knobs | None = None
         self.config = None
+        self.weather = None  # the Weather shown (None: none)
+        self._pending_weather = _NO_WEATHER_CHANGE
         self.rects: dict[str, tuple[float, float, float, float]] = {}
         self.message = ""
         self.search_text = ""
@@ -77,6 +85,7 @@ class Panel:
         which a rebuild keeps with the rest of the description."""
         self.knobs = Knobs.of(description.atmosphere)
         self.config = description.config
+        self.weather = description.weather
 
     # ------------------------------------------------------------------ input
 
@@ -126,6 +135,8 @@ class Panel:
                 self._camera(scene)
             if self._header("Atmosphere"):
                 self._atmosphere(scene)
+            if self._header("Weather"):
+                self._weather(scene)
             if self._header("Display"):
                 self._display(scene)
             if self._header("Frame times"):
@@ -382,6 +393,53 @@ class Panel:
         if edited:
             self._start_rebuild()
 
+    def _weather(self, scene) -> None:
+        """A weather preset and its visibility, rain and snow: a change builds the sky with
+        it (its air's tables in the background first, as the atmosphere's knobs do)."""
+        imgui = self.imgui
+        names = ["none", *WEATHER_PRESETS]
+        w = self.weather
+        current = names.index(w.preset) if w is not None else 0
+        changed, i = self._combo("weather", current, names, "weather")
+        if changed:
+            self._start_weather(scene, None if i == 0 else Weather(names[i]))
+            return
+        if w is None:
+            return
+        values, edited = {}, False
+        visibility = w.visibility_km if w.visibility_km is not None else 20.0
+        for field, label, value, lo, hi, fmt in (
+            ("visibility_km", "visibility", visibility, 0.05, 50.0, "%.2f km"),
+            ("rain_mm_h", "rain", w.rain_mm_h, 0.0, 50.0, "%.1f mm/h"),
+            ("snow_mm_h", "snow", w.snow_mm_h, 0.0, 10.0, "%.1f mm/h"),
+        ):
+            moved, v = imgui.slider_float(label, value, lo, hi, fmt, _clamp(imgui))
+            if moved:
+                values[field] = v
+            if imgui.is_item_deactivated_after_edit():
+                edited = True
+        if values:
+            try:
+                self.weather = w.with_(**values)
+            except Exception as exc:  # out of range: said, the weather stays
+                self.message = f"weather: {exc}"
+        if edited:
+            self._start_weather(scene, self.weather)
+
+    def _start_weather(self, scene, weather) -> None:
+        """Start building the sky with ``weather``: its air's tables in the background."""
+        try:
+            description = scene.base.description.with_(weather=weather)
+            air, _, config = description.effective
+            self.rebuild.start(air, config)
+        except Exception as exc:  # a weather this sky cannot have: said, the old one stays
+            self.message = f"weather: {exc}"
+            self.weather = scene.base.description.weather
+            return
+        self.weather = weather
+        self._pending_weather = weather
+        self.message = ""
+
     def _start_rebuild(self) -> None:
         try:
             self.rebuild.start(self.knobs.params(), self.config)
@@ -396,13 +454,23 @@ class Panel:
         if done is None:
             return
         params, config = done
+        weather, self._pending_weather = self._pending_weather, _NO_WEATHER_CHANGE
         try:
-            sky = build_sky(scene.base, params, config)
+            if weather is _NO_WEATHER_CHANGE:
+                sky = build_sky(scene.base, params, config)
+            else:
+                base = scene.base
+                sky = Sky(base.description.with_(weather=weather), ctx=base.graph.ctx)
+                sky.graph.set_display(night_vision=base.night_vision, overlays=base.overlays)
         except Exception as exc:
-            self.message = f"atmosphere: {exc}"
+            self.message = f"sky: {exc}"
             return
         scene.replace_sky(sky)
-        self.message = f"atmosphere: {params.name}"
+        self.message = (
+            f"atmosphere: {params.name}"
+            if weather is _NO_WEATHER_CHANGE
+            else f"weather: {'none' if weather is None else weather.preset}"
+        )
 
     def stop_rebuild(self) -> None:
         self.rebuild.stop()
