@@ -252,3 +252,21 @@ def test_fog_slab_matches_monte_carlo(tau, monkeypatch):
     for k in range(2):
         ref, err = mc.radiance[k], mc.radiance_se[k]
         assert abs(got[k] / ref - 1.0) < 0.05 + 2.0 * err / ref, (k, got[k], ref)
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["--visibility", "0"], "--visibility 0 km is outside the valid range"),
+        (["--weather", "rain", "--rain", "-1"], "--rain -1 mm/h is outside the valid range"),
+        (["--weather", "blizzard"], "--weather blizzard: unknown weather"),
+        (["--snow", "60"], "--snow 60 mm/h is outside the valid range"),
+        (["--weather", "rain", "--clouds", "clear"], "fall from clouds"),
+        (["--weather", "fog", "--shutter", "5"], "--shutter 5 s is outside the valid range"),
+    ],
+)
+def test_bad_weather_is_one_line_and_exit_2(tmp_path, args, words):
+    out = tmp_path / "sky.png"
+    res = run_cli("render", "--sun-elevation", "20", "--size", "8x8", *args, "-o", str(out))
+    assert res.returncode == 2 and words in res.stderr, (res.returncode, res.stderr)
+    assert len(res.stderr.strip().splitlines()) == 1 and not out.exists()
