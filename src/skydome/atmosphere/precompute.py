@@ -608,6 +608,7 @@ class _Precomputation:
             self._setup_ms()
             orders = 1
             j_total = None
+            ratio_before = j_prev = None
             if cfg.orders >= 2:
                 st.run("field", 0.3, self._field, 1)
                 st.run("ground_irradiance", 0.01, self._ground_irradiance)
@@ -615,10 +616,19 @@ class _Precomputation:
                     log_j = st.run("density", 0.4, self._density)
                     orders = n
                     j_n = np.exp(log_j.astype(np.float64))
+                    ratio = None if j_total is None else order_ratio(j_n, j_prev, self.ms_groups)
+                    j_prev = j_n
                     j_total = j_n if j_total is None else j_total + j_n
                     added = float(j_n.sum()) / max(float(j_total.sum()), 1e-300)
                     if n == cfg.orders or (cfg.tolerance > 0 and added < cfg.tolerance):
                         break
+                    settling = cfg.tolerance > 0 and n >= FIRST_SETTLED_ORDER
+                    if settling and geometric(ratio, ratio_before):
+                        # the orders fall geometrically: the rest of the series, added at
+                        # once (each later order the last times the ratio, per wavelength)
+                        j_total = j_total + tail(j_n, ratio, self.ms_groups)
+                        break
+                    ratio_before = ratio
                     st.run("field", 0.1, self._field, n, log_j)
                     st.run("ground_irradiance", 0.01, self._ground_irradiance)
                 st.run("density", 0.01, self._upload_density, j_total)
@@ -837,3 +847,36 @@ class _Precomputation:
             )
 
         return log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))
+
+
+#: Orders fall geometrically once two successive ratios of an order's scattering density to
+#: the previous one's differ by less than this (relative), per wavelength.
+RATIO_SETTLED = 0.005
+#: The first order whose ratio may settle the series (orders 2-3 are still shaped by the
+#: single scattering's angular structure).
+FIRST_SETTLED_ORDER = 4
+
+
+def order_ratio(j_n: np.ndarray, j_before: np.ndarray, groups: int) -> np.ndarray:
+    """The ratio of order n's scattering density to order n-1's, summed over the grid, per
+    wavelength group and channel: (groups, 4)."""
+    a = j_n.reshape(groups, -1, 4).sum(axis=1)
+    b = j_before.reshape(groups, -1, 4).sum(axis=1)
+    return a / np.maximum(b, 1e-300)
+
+
+def geometric(ratio: np.ndarray | None, before: np.ndarray | None) -> bool:
+    """Whether the series has settled into a geometric fall (the successive ratios agree
+    within RATIO_SETTLED and are below 1) from order FIRST_SETTLED_ORDER on."""
+    if ratio is None or before is None:
+        return False
+    settled = np.abs(ratio - before) <= RATIO_SETTLED * np.abs(before)
+    return bool(np.all(settled) and np.all((ratio > 0) & (ratio < 1)))
+
+
+def tail(j_n: np.ndarray, ratio: np.ndarray, groups: int) -> np.ndarray:
+    """The orders after n of a geometric series: J_n r / (1 - r), per group and channel
+    (the eigenmode the higher orders converge to has the last order's shape)."""
+    factor = ratio / (1.0 - ratio)
+    shaped = j_n.reshape(groups, -1, *j_n.shape[1:])
+    return (shaped * factor[:, None, None, None, :]).reshape(j_n.shape)

@@ -79,8 +79,12 @@ class PrecomputeConfig:
             (one group only: a debugging and testing mode).
         orders: scattering orders (1 = single scattering only). The tables hold orders
             1..orders, like Bruneton's ``num_scattering_orders``.
-        tolerance: stop adding orders once an order adds less than this fraction of the sum so
-            far (0 = always compute ``orders``).
+        tolerance: with > 0, orders are added until they converge (up to ``orders``): until
+            an order adds less than this fraction of the sum so far, or, from order 4 on,
+            until the orders fall geometrically (two successive ratios of an order's
+            scattering density to the previous one's agree within 0.5 % at every wavelength),
+            when the rest of the series is added at once (the last order times r / (1 - r)).
+            0 = always compute ``orders``.
         scattering_size: (r, mu, mu_s, nu) of the single-scattering tables (mu even).
         multiple_size: (r, mu, mu_s, nu) of the table of orders >= 2 (smooth: coarser).
         ms_size: (r, mu, mu_s, nu) of the grid of the scattering density J, on which the
