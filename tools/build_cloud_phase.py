@@ -5,7 +5,7 @@ fitted by HG lobes: skydome.clouds.phase.CLOUD_PHASE, the Monte Carlo tests' ana
 
 Usage::
 
-    python tools/build_cloud_phase.py          # about 3 s
+    python tools/build_cloud_phase.py          # about 80 s
 
 Model (each input's source)
 ---------------------------
@@ -15,7 +15,9 @@ Model (each input's source)
   16, 527, eq. 2.56) with effective radius 10 um and effective variance 0.1, their standard
   water cloud (sec. 2, Figs. 8-11): size parameter 2 pi r_eff / lambda = 114.
 - Mie theory: ``skydome.atmosphere.mie.bulk_optics`` (Bohren & Huffman series, n_stop = x +
-  4 x^(1/3) + 2, i.e. ~960 terms at the largest radius 8 r_eff = 80 um), 1000 radii.
+  4 x^(1/3) + 2, i.e. ~960 terms at the largest radius 8 r_eff = 80 um), 16000 radii (1000
+  left the side and back directions 1-8 % off miepython: the phase function of one droplet
+  swings with its size faster than 1000 radii sample; tests/test_droplet_phase_miepython.py).
 
 Fit
 ---
@@ -49,7 +51,7 @@ DATA = Path(__file__).resolve().parents[1] / "src/skydome/data"
 OUT = DATA / "cloud_droplet_phase.csv"
 MIE_OUT = DATA / "cloud_droplet_mie_phase.csv"
 WAVELENGTH_UM, R_EFF_UM, V_EFF, M_WATER = 0.55, 10.0, 0.1, 1.333 + 0.0j
-RADII = 1000
+RADII = 16000
 #: Scattering angles (deg): 0.025 deg steps over the diffraction peak, 0.05 deg beyond.
 THETA_DEG = np.concatenate([np.linspace(0.0, 10.0, 401), np.linspace(10.05, 180.0, 3400)])
 #: Candidate lobe asymmetries: dense near 1 for the ~1 deg wide diffraction peak (a lobe's width

@@ -41,6 +41,8 @@ __all__ = [  # noqa: F405  (the names of skydome.api)
     "SkyDescription",
     "SkyState",
     "SkydomeError",
+    "PrecipitationLayer",
+    "Weather",
     "WeatherMap",
     "__version__",
     "auto_exposure",

@@ -11,13 +11,14 @@ The names a user needs are here; the packages below hold the rest (``docs/archit
 shows how they stand on one another):
 
 - a sky: :class:`Sky` (a place and a time, or a Sun alone), described by a frozen
-  :class:`SkyDescription`; its parts :class:`Clouds`, :class:`AtmosphereParams` (presets:
-  :func:`preset`), :class:`LightPollution`;
+  :class:`SkyDescription`; its parts :class:`Clouds`, :class:`Weather`,
+  :class:`AtmosphereParams` (presets: :func:`preset`), :class:`LightPollution`;
 - cameras: :class:`PerspectiveCamera`, :class:`FisheyeCamera`, :class:`EquirectCamera`,
   :class:`CubemapCamera`, :class:`DirectionsCamera`; frames: :class:`Frame` (cd/m^2);
 - places and times: :class:`Observer`, :func:`find_place`, :func:`to_time`;
 - layers for a sky of your own: :class:`Layer`, :class:`AtmosphereLayer`,
-  :class:`CloudLayer`, :class:`CieSkyLayer` (a CIE standard general sky);
+  :class:`CloudLayer`, :class:`PrecipitationLayer` (falling rain and snow),
+  :class:`CieSkyLayer` (a CIE standard general sky);
 - output: :func:`tonemap`, :func:`write_outputs`;
 - errors: :class:`SkydomeError` and its kinds.
 """
@@ -47,6 +48,8 @@ from skydome.io import write_outputs
 from skydome.night import LightPollution
 from skydome.sky import Sky
 from skydome.version import __version__
+from skydome.weather import Weather
+from skydome.weather.particles import PrecipitationLayer
 
 __all__ = [
     "ATMOSPHERES",
@@ -72,6 +75,8 @@ __all__ = [
     "SkyDescription",
     "SkyState",
     "SkydomeError",
+    "PrecipitationLayer",
+    "Weather",
     "WeatherMap",
     "__version__",
     "auto_exposure",

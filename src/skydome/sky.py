@@ -363,6 +363,9 @@ class Sky:
         frame.info.update(self.state.summary())
         if self.state.time is not None:
             frame.info["time"] = str(self.state.time.iso())
+        if self.description.weather is not None:
+            frame.info.update(self.description.weather.summary())
+            frame.info["visibility_km"] = self.description.visibility_km
         return frame
 
     def draw(

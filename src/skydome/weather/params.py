@@ -3,8 +3,8 @@
 >>> from skydome.weather import Weather
 >>> Weather("fog").visibility_km
 0.2
->>> Weather("rain", rain_mm_h=10).rain_extinction_per_m  # Marshall-Palmer: 1.55 /km
-0.00155...
+>>> round(Weather("rain", rain_mm_h=10).rain_extinction_per_m * 1e3, 3)  # Marshall-Palmer, /km
+1.556
 
 The presets (:data:`PRESETS`) set every knob; a knob given overrides its preset's value:
 
