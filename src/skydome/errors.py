@@ -4,6 +4,8 @@ Messages name the bad value and the valid range; the CLI prints them as one
 line on stderr and exits with status 2.
 """
 
+import math
+
 
 class SkydomeError(Exception):
     """Base class of all errors raised by skydome for bad input or environment."""
@@ -48,6 +50,35 @@ def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -
         if name.startswith("--"):
             raise ParameterError(f"{name} {v:g}{u} is outside the valid range {lo:g} to {hi:g}{u}")
         raise ParameterError(f"{name} = {value}{u} is outside the valid range [{lo}, {hi}]{u}")
+    return v
+
+
+#: The fastest wind (m/s) a sky takes: past the strongest gusts on record (~113 m/s).
+WIND_LIMIT_M_S = 200.0
+
+
+def check_wind(value) -> tuple[float, float]:
+    """Return an (east, north) wind ``value`` (m/s) as two floats, or raise ParameterError:
+    two finite numbers, each within WIND_LIMIT_M_S."""
+    try:
+        wind = tuple(float(v) for v in value)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(f"wind must be (east, north) m/s, got {value!r}") from None
+    if len(wind) != 2 or not all(math.isfinite(v) and abs(v) <= WIND_LIMIT_M_S for v in wind):
+        raise ParameterError(
+            f"wind must be (east, north) m/s, each within {WIND_LIMIT_M_S:g} m/s, got {value!r}"
+        )
+    return wind
+
+
+def check_rates(name: str, values, unit: str):
+    """Return ``values`` (a number or an array) as a float64 array, or raise ParameterError
+    unless every one is finite and >= 0 (rates: of rain, of snow)."""
+    import numpy as np  # here: the command line imports this module before NumPy
+
+    v = np.asarray(values, float)
+    if not np.all(np.isfinite(v)) or np.any(v < 0):
+        raise ParameterError(f"{name} must be >= 0 {unit}, got {values!r}")
     return v
 
 

@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from skydome.errors import ParameterError
+from skydome.errors import ParameterError, check_wind
 from skydome.physics.droplets import droplet_extinction_per_m
 
 #: The cloud types of the height profiles and where each sits on the weather map's type axis.
@@ -183,15 +183,7 @@ class Clouds:
         object.__setattr__(
             self, "tile_km", _number("weather tile", self.tile_km, 1.0, 1000.0, "km")
         )
-        try:
-            wind = tuple(float(v) for v in self.wind_m_s)
-        except (TypeError, ValueError, OverflowError):
-            raise ParameterError(f"wind must be (east, north) m/s, got {self.wind_m_s!r}") from None
-        if len(wind) != 2 or not all(math.isfinite(v) and abs(v) <= 200 for v in wind):
-            raise ParameterError(
-                f"wind must be (east, north) m/s, each within 200 m/s, got {self.wind_m_s!r}"
-            )
-        object.__setattr__(self, "wind_m_s", wind)
+        object.__setattr__(self, "wind_m_s", check_wind(self.wind_m_s))
         if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
             raise ParameterError(f"cloud seed must be a non-negative integer, got {self.seed!r}")
         if self.optical_depth is not None:

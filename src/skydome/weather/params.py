@@ -23,11 +23,10 @@ The presets (:data:`PRESETS`) set every knob; a knob given overrides its preset'
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from skydome.errors import ParameterError, check_range
+from skydome.errors import ParameterError, check_range, check_wind
 from skydome.weather.fog import FOG_DROPLET_RADIUS_M, FOG_DROPLET_RANGE_UM
 from skydome.weather.humidity import growth_factor
 from skydome.weather.rain import DISTRIBUTIONS, RAIN_RATE_RANGE, rain_extinction_per_m
@@ -110,15 +109,7 @@ class Weather:
                 f"rain_distribution {self.rain_distribution!r} must be one of "
                 f"{', '.join(DISTRIBUTIONS)}"
             )
-        try:
-            wind = tuple(float(v) for v in self.wind_m_s)
-        except (TypeError, ValueError, OverflowError):
-            raise ParameterError(f"wind must be (east, north) m/s, got {self.wind_m_s!r}") from None
-        if len(wind) != 2 or not all(math.isfinite(v) and abs(v) <= 100 for v in wind):
-            raise ParameterError(
-                f"wind must be (east, north) m/s within 100, got {self.wind_m_s!r}"
-            )
-        object.__setattr__(self, "wind_m_s", wind)
+        object.__setattr__(self, "wind_m_s", check_wind(self.wind_m_s))
 
     def with_(self, **changes) -> Weather:
         return replace(self, **changes)

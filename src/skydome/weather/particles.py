@@ -25,8 +25,8 @@ from skydome.errors import ParameterError, check_range
 from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.constants import J2000_JD
 from skydome.weather.params import Weather
-from skydome.weather.rain import marshall_palmer_slope_per_mm
-from skydome.weather.snow import FLAKE_DENSITY_KG_M3, flake_size_ratio
+from skydome.weather.rain import MP_N0, marshall_palmer_slope_per_mm
+from skydome.weather.snow import FLAKE_DENSITY_KG_M3, flake_size_ratio, gunn_marshall_parameters
 
 #: The smallest drop (mm) and flake (mm of melted water) drawn.
 SMALLEST_DROP_MM = 0.5
@@ -55,12 +55,14 @@ def particle_density(weather: Weather) -> tuple[float, float, float, str]:
     """(particles per m^3 drawn, the slope of their sizes 1/mm, the smallest mm, kind) of a
     weather's precipitation: its snow if it snows, else its rain."""
     if weather.snow_mm_h > 0:
-        s = weather.snow_mm_h
-        n0, lam = 3.8e3 * s**-0.87, 2.55 * s**-0.48  # Gunn & Marshall (skydome.weather.snow)
-        return n0 / lam * math.exp(-lam * SMALLEST_FLAKE_MM), lam, SMALLEST_FLAKE_MM, "snow"
-    lam = float(marshall_palmer_slope_per_mm(max(weather.rain_mm_h, 1e-9)))
-    n0 = 8000.0
-    return n0 / lam * math.exp(-lam * SMALLEST_DROP_MM), lam, SMALLEST_DROP_MM, "rain"
+        n0, lam = (float(v) for v in gunn_marshall_parameters(weather.snow_mm_h))
+        smallest, kind = SMALLEST_FLAKE_MM, "snow"
+    else:
+        n0 = MP_N0
+        lam = float(marshall_palmer_slope_per_mm(max(weather.rain_mm_h, 1e-9)))
+        smallest, kind = SMALLEST_DROP_MM, "rain"
+    # an exponential distribution has N0 / Lambda exp(-Lambda D) particles above D
+    return n0 / lam * math.exp(-lam * smallest), lam, smallest, kind
 
 
 def resolved_distance_m(pixel_rad: float, smallest_mm: float) -> float:

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from skydome.errors import ParameterError
+from skydome.errors import ParameterError, check_rates
 from skydome.physics.droplets import LARGE_DROP_EXTINCTION_EFFICIENCY, WATER_DENSITY_KG_M3
 
 #: Marshall-Palmer's intercept (m^-3 mm^-1).
@@ -41,10 +41,7 @@ RAIN_RATE_RANGE = (0.0, 300.0)
 
 
 def _rate(rain_mm_h) -> np.ndarray:
-    r = np.asarray(rain_mm_h, float)
-    if not np.all(np.isfinite(r)) or np.any(r < 0):
-        raise ParameterError(f"rain rate must be >= 0 mm/h, got {rain_mm_h!r}")
-    return r
+    return check_rates("rain rate", rain_mm_h, "mm/h")
 
 
 def marshall_palmer_slope_per_mm(rain_mm_h) -> np.ndarray:

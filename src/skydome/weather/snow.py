@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from skydome.errors import ParameterError
+from skydome.errors import ParameterError, check_rates
 from skydome.physics.droplets import LARGE_DROP_EXTINCTION_EFFICIENCY, WATER_DENSITY_KG_M3
 
 #: The bulk density of a dry snowflake (kg/m^3): what turns a melted diameter into a flake's.
@@ -37,10 +37,14 @@ SNOW_RATE_RANGE = (0.0, 50.0)
 
 
 def _rate(snow_mm_h) -> np.ndarray:
-    s = np.asarray(snow_mm_h, float)
-    if not np.all(np.isfinite(s)) or np.any(s < 0):
-        raise ParameterError(f"snow rate must be >= 0 mm/h of water, got {snow_mm_h!r}")
-    return s
+    return check_rates("snow rate", snow_mm_h, "mm/h of water")
+
+
+def gunn_marshall_parameters(snow_mm_h) -> tuple[np.ndarray, np.ndarray]:
+    """Gunn & Marshall's (N0 m^-3 mm^-1, Lambda 1/mm) at ``snow_mm_h`` (mm/h of water;
+    a rate of 0 is taken as 1e-30)."""
+    s = np.maximum(_rate(snow_mm_h), 1e-30)
+    return 3.8e3 * np.power(s, -0.87), 2.55 * np.power(s, -0.48)
 
 
 def flake_size_ratio(flake_density_kg_m3: float = FLAKE_DENSITY_KG_M3) -> float:
@@ -50,9 +54,7 @@ def flake_size_ratio(flake_density_kg_m3: float = FLAKE_DENSITY_KG_M3) -> float:
 
 def gunn_marshall(melted_diameter_mm, snow_mm_h) -> np.ndarray:
     """Gunn & Marshall's flakes per m^3 and per mm of melted diameter, N(D)."""
-    s = _rate(snow_mm_h)
-    n0 = 3.8e3 * np.power(s, -0.87)
-    lam = 2.55 * np.power(s, -0.48)
+    n0, lam = gunn_marshall_parameters(snow_mm_h)
     return n0 * np.exp(-lam * np.asarray(melted_diameter_mm, float))
 
 
@@ -61,9 +63,7 @@ def snow_extinction_per_m(
 ) -> np.ndarray:
     """Extinction coefficient (1/m) of falling snow at ``snow_mm_h`` (mm/h of water)."""
     s = _rate(snow_mm_h)
-    safe = np.maximum(s, 1e-30)
-    n0 = 3.8e3 * np.power(safe, -0.87)
-    lam = 2.55 * np.power(safe, -0.48)
+    n0, lam = gunn_marshall_parameters(s)
     k2 = flake_size_ratio(flake_density_kg_m3) ** 2
     beta = LARGE_DROP_EXTINCTION_EFFICIENCY / 2.0 * math.pi * k2 * n0 / lam**3 * 1e-6
     return np.where(s > 0, beta, 0.0)
@@ -71,8 +71,8 @@ def snow_extinction_per_m(
 
 def mean_flake_size_mm(snow_mm_h, flake_density_kg_m3: float = FLAKE_DENSITY_KG_M3):
     """The mean flake size (mm) of Gunn & Marshall's distribution: k / Lambda."""
-    s = np.maximum(_rate(snow_mm_h), 1e-30)
-    return flake_size_ratio(flake_density_kg_m3) / (2.55 * np.power(s, -0.48))
+    _, lam = gunn_marshall_parameters(snow_mm_h)
+    return flake_size_ratio(flake_density_kg_m3) / lam
 
 
 def flake_fall_speed_m_s(flake_size_mm) -> np.ndarray:
