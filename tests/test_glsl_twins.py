@@ -34,6 +34,7 @@ from skydome.atmosphere.inputs import (
     spectra_inputs,
 )
 from skydome.celestial.sun import limb_uniforms
+from skydome.clouds.direction_table import table_frame
 from skydome.core.cameras import CubemapCamera, EquirectCamera, FisheyeCamera, PerspectiveCamera
 from skydome.core.refraction_table import RefractionTable
 from skydome.display.tonemap import FILMIC_DESATURATION_STOPS, FILMIC_INPUT_CAP, TONEMAPS
@@ -321,6 +322,11 @@ def _tonemap(name):
 _REFRACTION_TABLE = RefractionTable()
 
 
+#: The fog's direction table of the case below: its size, and its frame for a light in the
+#: south-east seen from 1 km up.
+_TABLE_SIZE = (256.0, 128.0)
+_TABLE_FRAME = table_frame((0.6, -0.6, 0.5), 6361.0, 6360.0)
+
 #: Cases keyed by "file:function"; each maps variant names to a Setup.
 SETUPS: dict[str, dict[str, Setup]] = {
     # d = 1 + g^2 - 2 g nu loses digits to cancellation near nu = 1 at |g| = 0.95:
@@ -442,6 +448,21 @@ SETUPS: dict[str, dict[str, Setup]] = {
             rtol=1e-4,
             uniforms={"u_tau": float(mag_to_optical_depth(DEFAULT_EXTINCTION_MAG))},
             call=lambda twin, cos_z, **_: twin(np.arccos(cos_z), DEFAULT_EXTINCTION_MAG),
+        )
+    },
+    # The square root of q's distance from the horizon amplifies float32's rounding of q
+    # (~6e-8) near it: sqrt(6e-8) x 63 texels / 128 = 1.2e-4 of the texture, a sixtieth of a
+    # texel; u wraps around at the light's azimuth (0 and 1 are one place).
+    "clouds/direction_table.glsl:direction_table_uv": {
+        "": Setup(
+            uniforms={"u_table_frame": _TABLE_FRAME, "u_table_size": _TABLE_SIZE},
+            call=lambda twin, d, hits_ground, **_: twin(
+                d, hits_ground > 0.5, _TABLE_SIZE, _TABLE_FRAME
+            ),
+            mask=lambda env, ref: np.stack(
+                [np.abs(ref[:, 0] - 0.5) < 0.499, np.ones(len(ref), bool)], -1
+            ),
+            atol=3e-4,
         )
     },
     # Noise values within [-1, 1]: float32 lattice coordinates and fades, ~1e-6.

@@ -61,12 +61,15 @@ class CloudTextures(ShaderInputs):
 class CompositeInputs(ShaderInputs):
     """``clouds/clouds_composite.glsl``: the march's radiance and data at their resolution,
     where a pixel falls in them, and the camera (km, planet-centred) with the ground's
-    radius (km), to tell a pixel of the ground from one of the sky."""
+    radius (km), to tell a pixel of the ground from one of the sky; with DIRECTION_TABLE,
+    the direction table's frame and size (clouds/direction_table.glsl)."""
 
     u_cloud_radiance: object
     u_cloud_data: object
     u_cloud_map: tuple[float, float, float, float]
     u_ground_sphere: tuple[float, float, float, float]
+    u_table_frame: tuple[float, float, float] | None = None
+    u_table_size: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from math import lcm
 
 import numpy as np
 
+from skydome.clouds.direction_table import TABLE_SIZE, table_directions, table_frame
 from skydome.clouds.inputs import (
     CloudDataInputs,
     CloudInputs,
@@ -40,7 +41,7 @@ from skydome.clouds.params import (
 from skydome.clouds.phase import MIE_PHASE, RENDER_PHASE_TEXELS, TabulatedPhase
 from skydome.clouds.probe import SkyProbe
 from skydome.clouds.weather import AnimatedWeather, WeatherMap
-from skydome.core.cameras import CameraInputs, EquirectCamera
+from skydome.core.cameras import CameraInputs, DirectionsCamera, EquirectCamera
 from skydome.core.layer import BehindInputs, DrawContext, Layer, LayerHost
 from skydome.core.services import (
     AerialInputs,
@@ -170,6 +171,7 @@ class CloudLayer(Layer):
         self._state = None
         self._census = None
         self._probe = None
+        self._table = None  # (key, radiance, data, u_table_frame): a fog alone's march
         self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
         self._outputs: dict = {}
         self.air: AirService | None = None
@@ -377,6 +379,8 @@ class CloudLayer(Layer):
             d["HAS_LIGHT2"] = 1
         if self.clouds.uniform:
             d["UNIFORM_CLOUD"] = 1
+        elif not self.clouds.aloft:
+            d["NO_ALOFT"] = 1
         for name in extra:
             d[name] = 1
         return d
@@ -440,11 +444,13 @@ class CloudLayer(Layer):
             self._targets[key] = self._make_target(w, h)
         return self._targets[key]
 
-    def march(self, frame: DrawContext, cloud: CloudInputs, textures: CloudTextures, extra=()):
-        """Draw the march pass of ``frame``'s tile into this layer's two targets; returns
-        them (radiance, (transmittance, distance km, ground shadow, 1))."""
+    def march(self, frame: DrawContext, cloud: CloudInputs, textures: CloudTextures, extra=(),
+              target=None):  # fmt: skip
+        """Draw the march pass of ``frame``'s tile into this layer's two targets (or
+        ``target``'s: textures and framebuffer); returns them (radiance, (transmittance,
+        distance km, ground shadow, 1))."""
         _, _, tw, th = frame.tile
-        (rad, data), fbo = self._march_target(tw, th)
+        (rad, data), fbo = target or self._march_target(tw, th)
         fbo.viewport = (0, 0, tw, th)
         lookup = self._air().lookup()
         lights = self.light_inputs(frame)
@@ -617,6 +623,10 @@ class CloudLayer(Layer):
         if self.clouds.empty:  # nothing to draw: what lies behind, as it is
             self._copy_behind(frame)
             return
+        if self._tabled(frame):
+            rad, data, table_frame = self._direction_table(frame)
+            self._composite(frame, rad, data, (0.0, 0.0, 0.0, 0.0), table_frame)
+            return
         # a camera of given directions has no neighbours to share a march texel with, nor has
         # a user's scene (its edges are the pixels')
         scene = frame.depth_map is not None
@@ -639,19 +649,72 @@ class CloudLayer(Layer):
             self._refined_key = key if mode == "refine" else None
         # the march's texels cover scale x scale pixels (the last row and column may overhang)
         lw, lh = rad.size
+        self._composite(frame, rad, data, (1.0 / (scale * lw), 1.0 / (scale * lh), 0.0, 0.0))
+        if scene:
+            self._outputs["transmittance"] = self._scene_transmittance(frame, data)
+
+    def _composite(self, frame: DrawContext, rad, data, cloud_map, table_frame=None) -> None:
+        """The march (``rad``, ``data``) over what lies behind: read per pixel at
+        ``cloud_map``, or by direction in a direction table (``table_frame``: its frame and
+        size, clouds/direction_table.glsl's uniforms)."""
+        extra = () if table_frame is None else ("DIRECTION_TABLE",)
         composite = self.full_screen_pass(
             frame.ctx, "clouds/clouds_composite.glsl",
-            (CameraInputs, BehindInputs, CompositeInputs), frame.camera, self.defines(frame),
+            (CameraInputs, BehindInputs, CompositeInputs), frame.camera,
+            self.defines(frame, extra),
         )  # fmt: skip
-        cloud_map = (1.0 / (scale * lw), 1.0 / (scale * lh), 0.0, 0.0)
         air = self._air()
         ground = (*air.camera_position_km(frame.altitude_m), air.bottom_radius_m / 1e3)
         composite.draw(
             frame.fbo, frame.view, self.behind_inputs(frame),
-            CompositeInputs(rad, data, cloud_map, ground),
+            CompositeInputs(rad, data, cloud_map, ground, *(table_frame or (None, None))),
         )  # fmt: skip
-        if scene:
-            self._outputs["transmittance"] = self._scene_transmittance(frame, data)
+
+    def _tabled(self, frame: DrawContext) -> bool:
+        """Whether ``frame`` draws the march from a direction table: a fog with no clouds
+        over it (the same everywhere) and no user's scene (whose distances are the pixels')."""
+        return not self.clouds.aloft and not self.clouds.uniform and frame.depth_map is None
+
+    def _direction_table(self, frame: DrawContext):
+        """A fog alone marched for a table of view directions from the camera's height
+        (skydome.clouds.direction_table; TABLE_SIZE by quality): its (radiance, data) textures
+        and the table's (frame, size) (u_table_frame, u_table_size). Marched afresh only when the time, the lights,
+        the clouds, the ground's albedo, the height or the quality change: a frame turned or
+        of another camera reads the same table."""
+        lights = self.light_inputs(frame)
+        key = (*self._sky_key(), self._pass_quality, round(frame.altitude_m, 3), lights)
+        if self._table is not None and self._table[0] == key:
+            return self._table[1:]
+        air = self._air()
+        size = TABLE_SIZE[self._pass_quality]
+        radius_km = math.sqrt(sum(v * v for v in air.camera_position_km(frame.altitude_m)))
+        key_direction, _ = self.key_light(air.lights())
+        frame_uniform = table_frame(key_direction, radius_km, air.bottom_radius_m / 1e3)
+        directions = table_directions(size, frame_uniform)
+        ctx = frame.ctx
+        direction_map = ctx.texture(size, 3, directions.astype("f4").tobytes(), dtype="f4")
+        try:
+            view = CameraInputs((float(size[0]), float(size[1])), u_direction_map=direction_map)
+            table = DrawContext(
+                ctx, DirectionsCamera(directions), size, (0, 0, *size), None, view,
+                frame.altitude_m, frame.basis,
+            )  # fmt: skip
+            rad, data = self._march_frame(table, None, 1, self._table_target(size))[:2]
+        finally:
+            direction_map.release()
+        self._table = (key, rad, data, (frame_uniform, (float(size[0]), float(size[1]))))
+        return self._table[1:]
+
+    def _table_target(self, size: tuple[int, int]):
+        """The direction table's textures (bilinear, wrapping around in azimuth) and
+        framebuffer."""
+        key = ("direction_table", *size)
+        if key not in self._targets:
+            texs, fbo = self._make_target(*size)
+            for t in texs:
+                t.repeat_x = True
+            self._targets[key] = (texs, fbo)
+        return self._targets[key]
 
     def _scene_transmittance(self, frame: DrawContext, data):
         """The clouds' transmittance to a user's scene as an RGBA texture of the tile (the
@@ -695,7 +758,7 @@ class CloudLayer(Layer):
         """The light shafts: the shadow length (km) of each pixel's air in the clouds' shadow
         (clouds/cloud_shafts.glsl at 1/SHAFT_SCALE of the resolution, upsampled), for the
         atmosphere's HAS_SHADOW_MAP input; none without a sunlit cloud layer."""
-        if self.clouds.empty:
+        if not self.clouds.aloft:  # no clouds to shade the air (a fog alone: its own march)
             return None
         refined = self._refines(frame)
         if not self.shafts and not (self._refined_shafts and refined):
@@ -764,9 +827,9 @@ class CloudLayer(Layer):
             return False
         return self._interactive_mode(frame)[0] != "accumulate"
 
-    def _march_frame(self, frame: DrawContext, mode: str | None, scale: int):
-        """The march of ``frame`` at the pass's quality: (radiance, data, the scale of its
-        texels in pixels)."""
+    def _march_frame(self, frame: DrawContext, mode: str | None, scale: int, target=None):
+        """The march of ``frame`` at the pass's quality (into ``target``, or the layer's
+        march target of its size): (radiance, data, the scale of its texels in pixels)."""
         probe = self.sky_probe()
         cloud = self.cloud_inputs(
             u_sky_light_ratio=probe.ratio,
@@ -780,7 +843,7 @@ class CloudLayer(Layer):
             scale = QUALITY["full"]["scale"]
         if scale > 1:
             return (*self.march(self._reduced(frame, scale), cloud, textures), scale)
-        return (*self.march(frame, cloud, textures), 1)
+        return (*self.march(frame, cloud, textures, target=target), 1)
 
     def _same_history(self, frame: DrawContext) -> bool:
         """Whether the interactive history holds this view at this time."""
@@ -845,8 +908,8 @@ class CloudLayer(Layer):
         """The interactive mode's image of a still view is still changing: a window redraws
         it until SETTLE_FRAMES frames have gone into its history and (``refine``) its
         full-quality frame has been drawn."""
-        if self.quality != "interactive" or self.clouds.empty:
-            return False
+        if self.quality != "interactive" or not self.clouds.aloft:
+            return False  # nothing accumulated (a fog alone is drawn from its direction table)
         return self._settled < SETTLE_FRAMES or (self.refine and self._refined_key is None)
 
     def _history_targets(self, w: int, h: int):
@@ -899,6 +962,7 @@ class CloudLayer(Layer):
                 for t in texs:
                     t.release()
         self._targets.clear()
+        self._table = None
         self._history_key = None
         for tex in self._static or ():
             tex.release()

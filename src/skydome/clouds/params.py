@@ -249,6 +249,12 @@ class Clouds:
         return top
 
     @property
+    def aloft(self) -> bool:
+        """Whether there are clouds over the ground (a deck, cirrus or a weather map): without
+        them the fog under is the same everywhere, lit by the clear sky."""
+        return self.coverage > 0.0 or self.cirrus > 0.0 or self.weather is not None
+
+    @property
     def empty(self) -> bool:
         """No cloud, fog or precipitation at all: the layer draws nothing."""
         return self.coverage == 0.0 and self.cirrus == 0.0 and self.fog_top_m == 0.0

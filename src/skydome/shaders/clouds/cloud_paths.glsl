@@ -53,8 +53,12 @@ float shell_transmittance(vec3 p, vec3 L, float r_lo, float r_hi, int steps) {
 // shadow): `steps` samples of the shapes (no detail) along each crossing (seed 000 ch.
 // 5.4.3's soft shadows, from the whole crossing rather than one sample).
 float clouds_transmittance(vec3 p, vec3 L, int steps) {
+#ifdef NO_ALOFT
+    return 1.0;  // no clouds over the sheet under them
+#else
     return shell_transmittance(p, L, u_cloud_shell.x, u_cloud_shell.y, steps)
          * shell_transmittance(p, L, u_cloud_shell.z, u_cloud_shell.w, steps);
+#endif
 }
 
 // The same through the fog and the precipitation under the clouds as well.

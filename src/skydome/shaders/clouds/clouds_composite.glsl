@@ -7,7 +7,14 @@
 // (on the ground, or not: the march's data.w): at the horizon a texel of the ground must not
 // lend its T_c = 1 to a pixel of the sky behind a cloud (a bright line of the clear horizon
 // seen through it) nor a cloud's texel its light to the ground.
+//
+// With DIRECTION_TABLE the march is a table of view directions (a fog alone, the same
+// everywhere: clouds/direction_table.glsl), read bilinearly at this pixel's direction (its
+// halves keep the ground's rays from the sky's).
 #include "common/camera.glsl"
+#ifdef DIRECTION_TABLE
+#include "clouds/direction_table.glsl"
+#endif
 
 uniform sampler2D u_behind;
 uniform sampler2D u_cloud_radiance;
@@ -28,6 +35,15 @@ float sky_class(vec2 tile_xy) {
 
 void main() {
     vec4 behind = texelFetch(u_behind, ivec2(gl_FragCoord.xy), 0);
+#ifdef DIRECTION_TABLE
+    vec3 dir;
+    if (!camera_ray(gl_FragCoord.xy, dir)) { frag = behind; return; }
+    // the ground's rays: those below its horizon's cone (as sky_class, without a second ray)
+    float q = dir.z / (length(dir.xy) + abs(dir.z) + 1e-30);
+    vec2 uv = direction_table_uv(dir, q < u_table_frame.z);
+    float T = texture(u_cloud_data, uv).x;
+    vec4 added = texture(u_cloud_radiance, uv);
+#else
     vec2 uv = gl_FragCoord.xy * u_cloud_map.xy + u_cloud_map.zw;
     ivec2 size = textureSize(u_cloud_data, 0);
     vec2 p = uv * vec2(size) - 0.5;
@@ -59,5 +75,6 @@ void main() {
         T = any_T;
         added = any_added;
     }
+#endif
     frag = (T >= 1.0 && added == vec4(0.0)) ? behind : max(behind * T + added, vec4(0.0));
 }

@@ -337,7 +337,12 @@ void main() {
                             u_cloud_shell.xy, u_cloud_shell.zw);
     int order[3];
     int n = 0;
-    for (int s = 0; s < 3; ++s) {
+#ifdef NO_ALOFT
+    const int SHELLS = 1;  // the sheet under the clouds alone: no clouds over it
+#else
+    const int SHELLS = 3;
+#endif
+    for (int s = 0; s < SHELLS; ++s) {
         vec2 seg;
         if (radii[s].y <= radii[s].x || !shell_segment(o, d, radii[s].x, radii[s].y, t_ground, seg))
             continue;
