@@ -111,6 +111,8 @@ void irradiance_at(vec3 p, out vec4 light, out vec4 sky) {
 const int EMPTY_STEPS = 3;
 const float STEP_TAU = 1.0;
 const float UNDER_STEP_KM = 0.5;
+const int UNDER_LIGHT_EVERY = 2;
+const float UNDER_LIGHT_TAU = 0.1;
 const float UNDER_STEP_TAU = 0.5;
 #ifndef STEP_SPLIT
 #define STEP_SPLIT 1.0
@@ -124,6 +126,7 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     bool lit = false;  // the irradiances at the segment's ends, on its first cloud
     bool have_j = false;
     vec2 j = vec2(0.0);
+    float j_radius = 0.0;  // where (km from the centre) j was computed
     vec3 L = u_light_direction;
     float nu = dot(d, L);
     bool fine = under;  // the sheet under the clouds: no skipping (it has no empty air to skip)
@@ -195,7 +198,16 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
         // same steps for every pixel: neighbouring pixels run in lockstep on a CPU
         // rasterizer, so a pixel's own schedule would not save them the work) and where a
         // pixel has none yet; between, the last one (the light varies slowly along a ray).
-        if (!have_j || i % LIGHT_EVERY == 0) {
+        // In the rain under the clouds every UNDER_LIGHT_EVERY-th, or where the height has
+        // changed by an optical depth of UNDER_LIGHT_TAU since: its light varies with the
+        // height, and across it over kilometres only (the clouds' shadow; its steps are up to
+        // UNDER_STEP_KM).
+        // (in the fog: every step, as in the clouds: its light falls off within a step)
+        bool rain_only = under && length(p) >= u_ground_layer.y;
+        bool fresh = i % (rain_only ? max(LIGHT_EVERY, UNDER_LIGHT_EVERY) : LIGHT_EVERY) == 0;
+        if (rain_only) fresh = fresh || abs(length(p) - j_radius) * sigma > UNDER_LIGHT_TAU;
+        if (!have_j || fresh) {
+            j_radius = length(p);
             vec3 up = normalize(p);
             float mu_l = dot(up, L);
             // the local slab faces the light: its top is towards the light
