@@ -84,6 +84,7 @@ def weathered(
             fog_top_m=weather.fog_top_m if fog > 0 else 0.0,
             fog_extinction_per_m=fog,
             precipitation_extinction_per_m=precip,
+            rain_fraction=weather.rain_extinction_per_m / precip if precip > 0 else 1.0,
         )
     if weather.snow_cover > 0:
         c = weather.snow_cover

@@ -39,6 +39,7 @@ class CloudInputs(ShaderInputs):
     u_sky_light_ratio: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
     u_ambient_radiance: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
     u_under_sky_ratio: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
+    u_rain_share: float = 1.0
     u_test_irradiance: tuple[float, float, float, float] | None = None
     u_uniform_extinction: float | None = None
     u_shaft_km: float | None = None
@@ -46,11 +47,13 @@ class CloudInputs(ShaderInputs):
 
 @dataclass(frozen=True)
 class CloudTextures(ShaderInputs):
-    """The clouds' textures: the multiple-scattering table, the phase function's table, the
-    weather map and the noises (None where a pass marches a uniform cloud)."""
+    """The clouds' textures: the multiple-scattering table, the droplets' and the rain's
+    phase functions' tables, the weather map and the noises (None where a pass marches a
+    uniform cloud)."""
 
     u_cloud_ms_table: object
     u_cloud_phase_table: object
+    u_rain_phase_table: object
     u_weather: object = None
     u_shape_noise: object = None
     u_detail_noise: object = None

@@ -38,7 +38,13 @@ from skydome.clouds.params import (
     WATER_NORMALIZATION,
     Clouds,
 )
-from skydome.clouds.phase import MIE_PHASE, RENDER_PHASE_TEXELS, TabulatedPhase
+from skydome.clouds.phase import (
+    MIE_PHASE,
+    RAIN_PEAK_FRACTION,
+    RAIN_RENDER_PHASE,
+    RENDER_PHASE_TEXELS,
+    TabulatedPhase,
+)
 from skydome.clouds.probe import SkyProbe
 from skydome.clouds.weather import AnimatedWeather, WeatherMap
 from skydome.core.cameras import CameraInputs, DirectionsCamera, EquirectCamera
@@ -273,6 +279,10 @@ class CloudLayer(Layer):
         # which every noise it moves repeats: float32 keeps its metres.
         period = self._offset_period_km()
         offset_km = tuple(float(v) * self.time_s / 1e3 % period for v in c.wind_m_s) + (0.0,)
+        # the rain's extinction less its forward peak (RAIN_PEAK_FRACTION), the snow's as the
+        # droplets'; u_rain_share: the rain's part of what remains
+        rain_scaled = c.rain_fraction * (1.0 - RAIN_PEAK_FRACTION)
+        precipitation_scale = rain_scaled + (1.0 - c.rain_fraction) * self.extinction_scale
         inputs = CloudInputs(
             u_light_direction=key_dir,
             u_light_scale=tuple(s * solar for s in key_scale),
@@ -280,9 +290,10 @@ class CloudLayer(Layer):
             u_ground_layer=self._ground_layer_km(air.bottom_radius_m / 1e3),
             u_ground_extinction=(
                 c.fog_extinction_per_m * 1e3 * self.extinction_scale,
-                c.precipitation_extinction_per_m * 1e3 * self.extinction_scale,
+                c.precipitation_extinction_per_m * 1e3 * precipitation_scale,
                 1.0 / c.precipitation if c.precipitation > 0 else 0.0,
             ),
+            u_rain_share=rain_scaled / precipitation_scale,
             u_noise_tiles_km=(c.tile_km, SHAPE_TILE_KM, DETAIL_TILE_KM),
             u_cloud_offset_km=offset_km,
             u_type_extinction=tuple(e * self.extinction_scale for e in c.type_extinctions_per_km()),
@@ -396,9 +407,10 @@ class CloudLayer(Layer):
     def _static_textures(self) -> tuple:
         """(the multiple-scattering table, skydome.clouds.ms_table, as a 3D texture: x = 12
         blocks (the scattered direction's cosine) of 24 depths, y = the optical thickness,
-        z = the light's cosine, RGB = the azimuth Fourier coefficients; the phase function
-        the march uses, tabulated at RENDER_PHASE_TEXELS angles uniform from 0 to 180 deg,
-        linear filtering: the same function as its TabulatedPhase)."""
+        z = the light's cosine, RGB = the azimuth Fourier coefficients; the phase functions
+        the march uses, the droplets' and the rain's, tabulated at RENDER_PHASE_TEXELS angles
+        uniform from 0 to 180 deg, linear filtering: the same functions as their
+        TabulatedPhase)."""
         if self._static is None:
             j = np.asarray(_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
             nt, nm0, nd, nmu, _ = j.shape
@@ -406,9 +418,12 @@ class CloudLayer(Layer):
             texels[..., :3] = j.transpose(1, 0, 3, 2, 4).reshape(nm0, nt, nmu * nd, 3)
             ctx = self.graph.ctx
             ms = ctx.texture3d((nmu * nd, nt, nm0), 4, texels.tobytes(), dtype="f4")
-            values = np.asarray(self.phase.values, dtype=np.float32)
-            phase = ctx.texture((values.size, 1), 1, values.tobytes(), dtype="f4")
-            self._static = (linear_clamped(ms, ctx), linear_clamped(phase, ctx))
+            tables = []
+            for table in (self.phase, RAIN_RENDER_PHASE):
+                values = np.asarray(table.values, dtype=np.float32)
+                tex = ctx.texture((values.size, 1), 1, values.tobytes(), dtype="f4")
+                tables.append(linear_clamped(tex, ctx))
+            self._static = (linear_clamped(ms, ctx), *tables)
         return self._static
 
     def texture_inputs(self, noise: bool = True) -> CloudTextures:
@@ -417,10 +432,11 @@ class CloudLayer(Layer):
         if not noise or self.clouds.uniform:
             return CloudTextures(*self._static_textures())
         self._noise_and_weather()
-        ms, phase = self._static_textures()
+        ms, phase, rain = self._static_textures()
         return CloudTextures(
             u_cloud_ms_table=ms,
             u_cloud_phase_table=phase,
+            u_rain_phase_table=rain,
             u_weather=self.weather.texture_at(self.time_s),
             u_shape_noise=self.noise.shape,
             u_detail_noise=self.noise.detail,

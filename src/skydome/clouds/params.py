@@ -131,6 +131,9 @@ class Clouds:
             main layer's base to the ground, where the weather map's precipitation is (the
             value under a cell of the map's full precipitation; its coverage where the layer
             has no precipitation).
+        rain_fraction: the share (0-1) of that extinction that is rain (water spheres,
+            scattering by geometric optics: ``clouds.phase.RAIN_RENDER_PHASE``); the rest is
+            snow, which scatters as the cloud droplets do.
     """
 
     preset: str = "fair"
@@ -151,6 +154,7 @@ class Clouds:
     fog_top_m: float = 0.0
     fog_extinction_per_m: float = 0.0
     precipitation_extinction_per_m: float = 0.0
+    rain_fraction: float = 1.0
 
     def __post_init__(self):
         if not isinstance(self.preset, str) or self.preset not in PRESETS:
@@ -211,6 +215,8 @@ class Clouds:
         object.__setattr__(self, "fog_top_m", top)
         object.__setattr__(self, "fog_extinction_per_m", fog)
         object.__setattr__(self, "precipitation_extinction_per_m", precip)
+        rain = _number("rain fraction", self.rain_fraction, 0.0, 1.0, "")
+        object.__setattr__(self, "rain_fraction", rain)
         if (top > 0) != (fog > 0):
             raise ParameterError("a fog needs both a top above the ground and an extinction")
         if top > 0 and self.coverage > 0 and top > self.base_m:

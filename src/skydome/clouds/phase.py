@@ -39,12 +39,15 @@ __all__ = [
     "MIE_PHASE_CSV",
     "PEAK_FRACTION",
     "PHASE_CSV",
+    "RAIN_PEAK_FRACTION",
+    "RAIN_RENDER_PHASE",
     "RENDER_PHASE",
     "RENDER_PHASE_TEXELS",
     "TRUNCATION_DEG",
     "TabulatedPhase",
     "load_cloud_phase",
     "load_mie_phase",
+    "load_rain_phase",
     "render_grid_deg",
     "sample_hg",
 ]
@@ -269,9 +272,29 @@ CLOUD_PHASE: LobePhase = load_cloud_phase()
 #: The Mie phase function of the same droplets, tabulated (0.025 deg steps over the peak).
 MIE_PHASE: TabulatedPhase = load_mie_phase()
 
+#: The rain drops' packaged phase function (``tools/build_rain_phase.py``): geometric optics.
+RAIN_PHASE_CSV = "rain_drop_phase.csv"
+
+
+def load_rain_phase() -> TabulatedPhase:
+    """Rain drops' phase function, their refracted and reflected light (diffraction apart:
+    skydome.physics.sphere_optics), from the packaged ``rain_drop_phase.csv`` (bin centres,
+    extended to 0 and 180 deg with the end bins' values)."""
+    t = read_packaged_csv(RAIN_PHASE_CSV, ("theta_deg", "phase"))
+    theta = np.concatenate([[0.0], t["theta_deg"], [180.0]])
+    values = np.concatenate([t["phase"][:1], t["phase"], t["phase"][-1:]])
+    return TabulatedPhase(theta, values)
+
+
 #: The phase function the renderer marches with (and the clouds' multiple-scattering table of
 #: skydome.clouds.ms_table is computed for): :data:`MIE_PHASE` with its diffraction peak cut
 #: flat at :data:`TRUNCATION_DEG`, on the renderer's grid; :data:`PEAK_FRACTION` is the
 #: fraction f of scattering the peak sends straight on (extinction and optical depths scale
 #: by 1 - f, ssa stays 1).
 RENDER_PHASE, PEAK_FRACTION = MIE_PHASE.delta_truncated()
+
+#: Rain's, the same way: its rays' phase function cut flat at :data:`TRUNCATION_DEG`;
+#: :data:`RAIN_PEAK_FRACTION` is what goes straight on of the drops' extinction (efficiency 2):
+#: the diffraction's half and the share of their rays' half within the truncation angle.
+RAIN_RENDER_PHASE, _rays_within = load_rain_phase().delta_truncated()
+RAIN_PEAK_FRACTION = 0.5 + 0.5 * _rays_within

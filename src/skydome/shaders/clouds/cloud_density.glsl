@@ -153,23 +153,29 @@ float cirrus_extinction(vec3 p, float r) {
 #endif
 }
 
-// Extinction (1/km) under the clouds (the weather: skydome.weather): the fog, thinning over
-// its top's fade, and the rain or snow falling from the layer's base where the weather map
-// has precipitation (its coverage where the layer has none: rain where the clouds are).
-float ground_layer_extinction(vec3 p, float r) {
-    float sigma = 0.0;
+// Extinction (1/km) under the clouds (the weather: skydome.weather), as (the fog's, the rain
+// and snow's): the fog, thinning over its top's fade, and the rain or snow falling from the
+// layer's base where the weather map has precipitation (its coverage where the layer has
+// none: rain where the clouds are).
+vec2 ground_layer_parts(vec3 p, float r) {
+    vec2 sigma = vec2(0.0);
     if (r < u_ground_layer.y)
-        sigma += u_ground_extinction.x * clamp((u_ground_layer.y - r) / max(u_ground_layer.w, 1e-6), 0.0, 1.0);
+        sigma.x = u_ground_extinction.x * clamp((u_ground_layer.y - r) / max(u_ground_layer.w, 1e-6), 0.0, 1.0);
     if (r < u_ground_layer.z) {
 #ifdef UNIFORM_CLOUD
-        sigma += u_ground_extinction.y;
+        sigma.y = u_ground_extinction.y;
 #else
         vec4 weather = texture(u_weather, tile_position(p) / u_noise_tiles_km.x);
         float rain = u_ground_extinction.z > 0.0 ? weather.b * u_ground_extinction.z : weather.r;
-        sigma += u_ground_extinction.y * clamp(rain, 0.0, 1.0);
+        sigma.y = u_ground_extinction.y * clamp(rain, 0.0, 1.0);
 #endif
     }
     return sigma;
+}
+
+float ground_layer_extinction(vec3 p, float r) {
+    vec2 parts = ground_layer_parts(p, r);
+    return parts.x + parts.y;
 }
 
 // Extinction (1/km) of the clouds at planet-centred p (km).

@@ -16,6 +16,15 @@ float cloud_phase(float nu) {
     return texture(u_cloud_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5)).r;
 }
 
+// Rain's phase function, the same way (skydome.clouds.phase.RAIN_RENDER_PHASE: its drops'
+// rays by geometric optics, the rainbows' white light in it; snow scatters as cloud_phase).
+uniform sampler2D u_rain_phase_table;
+
+float rain_phase(float nu) {
+    float x = acos(clamp(nu, -1.0, 1.0)) / PI * float(CLOUD_PHASE_TEXELS - 1);
+    return texture(u_rain_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5)).r;
+}
+
 // (I0, I1) of the diffuse field at scaled depth tau below the top of a slab of scaled
 // thickness tau_total lit at its top by a beam of cosine mu0 (unit irradiance normal to it),
 // over a ground of albedo A: the net flux F_up - F_down = mu0 exp(-tau/mu0) + c1 is constant

@@ -46,6 +46,8 @@ uniform vec4 u_sky_light_ratio;   // the sky's irradiance on the ground with the
                                   // the clear sky's (CloudLayer.sky_probe; 1 without it)
 uniform vec4 u_under_sky_ratio;   // the same with the clouds alone (not the fog and rain under
                                   // them): the sky light on the fog and rain
+uniform float u_rain_share;       // the rain's share of the precipitation's extinction (the
+                                  // rest is snow)
 uniform vec3 u_sun_direction;     // the air's lights (aerial perspective)
 uniform float u_sun_scale;
 #ifdef HAS_LIGHT2
@@ -225,7 +227,14 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             float cos_phi = norms > 1e-6 ? dot(across_out, across_light) / norms : 1.0;
             j = cloud_source(tau_s, tau_far, mu0, dot(-d, n_slab), nu, cos_phi,
                              u_cloud_albedo_below);
-            if (under) j *= vec2(clouds_transmittance(p, L, 4), 1.0);
+            if (under) {
+                // the rain's share of the extinction here scatters its single-scattered
+                // light with its own phase function (its rainbows), not the droplets'
+                vec2 parts = ground_layer_parts(p, length(p));
+                float rain = u_rain_share * parts.y / max(parts.x + parts.y, 1e-9);
+                j.x += rain * (rain_phase(nu) - cloud_phase(nu)) * exp(-tau_s);
+                j *= vec2(clouds_transmittance(p, L, 4), 1.0);
+            }
             have_j = true;
         }
         float w = under ? clamp((length(p) - r_lo) / max(r_hi - r_lo, 1e-9), 0.0, 1.0)
