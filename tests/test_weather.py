@@ -99,6 +99,35 @@ def test_humidity_growth():
         growth_factor(101.0)
 
 
+def test_humidity_whitens_the_aerosol():
+    """The Angstrom exponent's change with humidity is OPAC's water-soluble component's:
+    recomputed here from its files' extinction at 450 and 650 nm (Hess et al. 1998, waso00,
+    waso80, waso95, waso98; /km per particle per cm^3), to 0.002; the weather's air carries
+    it (the exponent of any pair of wavelengths moves by it; 440/870 nm read back), held at
+    activation (97 %)."""
+    from skydome.atmosphere.precompute_config import PrecomputeConfig
+    from skydome.atmosphere.presets import preset
+    from skydome.weather.humidity import angstrom_change
+    from skydome.weather_effects import weathered
+
+    extinction = {0: (5.180e-6, 3.003e-6), 80: (1.244e-5, 7.521e-6), 95: (2.561e-5, 1.643e-5),
+                  98: (4.167e-5, 2.805e-5)}  # fmt: skip
+    alpha = {rh: math.log(a / b) / math.log(650.0 / 450.0) for rh, (a, b) in extinction.items()}
+    for rh in (0, 95):
+        assert angstrom_change(rh) == pytest.approx(alpha[rh] - alpha[80], abs=0.002)
+    at_97 = alpha[95] + 2.0 / 3.0 * (alpha[98] - alpha[95])  # linear between the files
+    assert angstrom_change(97.0) == pytest.approx(at_97 - alpha[80], abs=0.002)
+    assert angstrom_change(80.0) == 0.0
+    assert angstrom_change(100.0) == angstrom_change(97.0) < -0.2  # whiter near saturation
+    air = {}
+    for rh in (50.0, 80.0, 95.0):
+        air[rh], _, _ = weathered(Weather("hazy", humidity_pct=rh), preset("earth"), None,
+                                  PrecomputeConfig())  # fmt: skip
+    for rh in (50.0, 95.0):
+        change = air[rh].angstrom_exponent - air[80.0].angstrom_exponent
+        assert change == pytest.approx(angstrom_change(rh), abs=1e-6)
+
+
 def test_presets_and_bad_values():
     for name in PRESETS:
         w = Weather(name)

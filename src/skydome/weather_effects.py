@@ -3,7 +3,8 @@
 The weather package knows no layer; this joins it to them (as ``skydome.description`` joins
 every layer):
 
-- the aerosol swells with the humidity (``Weather.aerosol_growth`` on its optical depth);
+- the aerosol swells with the humidity (``Weather.aerosol_growth`` on its optical depth) and
+  whitens (``Weather.aerosol_whitening``: its Angstrom exponent falls as its particles grow);
 - the visibility asked for is met by the droplets of the weather's fog or mist when it has
   one, else by the aerosol (``AtmosphereParams.with_visibility``), after the air, the rain
   and the snow have taken their part: V = 3.912 / (beta_air + beta_aerosol + beta_fog +
@@ -49,6 +50,8 @@ def weathered(
     growth = weather.aerosol_growth
     if air.aod_550 > 0 and growth != 1.0:
         air = air.with_aerosol(aod_550=min(air.aod_550 * growth, 5.0))
+    if air.aod_550 > 0:
+        air = air.with_aerosol_tilt(weather.aerosol_whitening)
     if clouds is None and weather.clouds is not None:
         clouds = Clouds(weather.clouds, wind_m_s=weather.wind_m_s)
     precip = weather.precipitation_extinction_per_m

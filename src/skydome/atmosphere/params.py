@@ -613,6 +613,23 @@ class AtmosphereParams:
             changes["mie_phase"] = None
         return self.with_(**changes)
 
+    def with_aerosol_tilt(self, delta_angstrom: float) -> AtmosphereParams:
+        """A copy whose aerosol extinction and scattering spectra are multiplied by
+        (lambda / 550 nm)^-delta_angstrom: the Angstrom exponent of any pair of wavelengths
+        moves by ``delta_angstrom``, the optical depth at 550 nm and the albedo stay, and the
+        spectrum keeps its own shape otherwise (a humidity's growth, skydome.weather.humidity).
+        Sampled every 5 nm over 360-1000 nm where a spectrum is coarser."""
+        delta = check_range("Angstrom exponent change", delta_angstrom, -3.0, 3.0)
+        if delta == 0.0:
+            return self
+        changes = {}
+        for name in ("mie_extinction", "mie_scattering"):
+            spectrum = getattr(self, name)
+            grid = np.union1d(AEROSOL_GRID_NM, spectrum.wavelengths_nm)
+            tilt = (grid / 550.0) ** (-delta)
+            changes[name] = Spectrum.sampled(grid, spectrum.at(grid) * tilt)
+        return self.with_(**changes)
+
     def with_knobs(
         self,
         *,

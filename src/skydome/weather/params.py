@@ -28,7 +28,7 @@ from typing import Any
 
 from skydome.errors import ParameterError, check_range, check_wind
 from skydome.weather.fog import FOG_DROPLET_RADIUS_M, FOG_DROPLET_RANGE_UM
-from skydome.weather.humidity import growth_factor
+from skydome.weather.humidity import angstrom_change, growth_factor
 from skydome.weather.rain import DISTRIBUTIONS, RAIN_RATE_RANGE, rain_extinction_per_m
 from skydome.weather.snow import SNOW_RATE_RANGE, snow_extinction_per_m
 
@@ -143,6 +143,11 @@ class Weather:
     def aerosol_growth(self) -> float:
         """The aerosol's extinction at this humidity over its extinction at OPAC's 80 %."""
         return growth_factor(self.humidity_pct)
+
+    @property
+    def aerosol_whitening(self) -> float:
+        """The change of the aerosol's Angstrom exponent at this humidity from OPAC's 80 %."""
+        return angstrom_change(self.humidity_pct)
 
     @property
     def fog_droplet_radius_m(self) -> float:
