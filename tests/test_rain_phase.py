@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skydome.clouds.phase import RAIN_PEAK_FRACTION, RAIN_RENDER_PHASE, load_rain_phase
+from skydome.clouds.phase import RAIN_PEAK_FRACTION, RAIN_PHASES, RAIN_RENDER_PHASE
+from skydome.io.packaged import read_packaged_csv
 from skydome.physics.sphere_optics import (
     descartes_angle_deg,
     geometric_phase,
@@ -71,21 +72,33 @@ def test_the_orders_carry_all_the_light():
     assert np.allclose(shares.sum(axis=0), 1.0, atol=1e-9)
 
 
-def test_the_packaged_table():
-    """The renderer's table (white light: 400-700 nm weighted by V(lambda)): normalised,
-    its primary bow between Descartes' angles for 700 and 400 nm, half of the drops'
-    extinction (diffraction) plus the rays within 5 deg counted as unscattered."""
-    table = load_rain_phase()
-    lo, hi = (descartes_angle_deg(float(water_index(wl)), 2) for wl in (700.0, 400.0))
-    t = table.theta_deg
-    peak = t[np.argmax(np.where((t > 132) & (t < 145), table.values, 0))]
-    assert lo - 0.25 <= peak <= hi + 0.25
+def test_the_packaged_tables():
+    """The renderer's tables (350-800 nm every 10 nm): at each wavelength the primary and the
+    secondary bows peak in the 0.05 deg bin holding Descartes' angles for water's index there
+    (red's primary at a smaller scattering angle than violet's, the secondary's order
+    reversed); each normalised; in white light (V(lambda)) half of the drops' extinction
+    (diffraction) plus the rays within 5 deg counted as unscattered."""
+    t = RAIN_PHASES.theta_deg
+    half_bin = 0.025 + 1e-6
+    for wl, row in zip(RAIN_PHASES.wavelength_nm, RAIN_PHASES.phase, strict=True):
+        n = float(water_index(wl))
+        primary = t[np.argmax(np.where((t > 133) & (t < 145), row, 0))]
+        secondary = t[np.argmax(np.where((t > 120) & (t < 133), row, 0))]
+        # the caustic's bin: the one holding the angle, or its neighbour on the bright side
+        assert -half_bin <= primary - descartes_angle_deg(n, 2) <= 3 * half_bin, (wl, primary)
+        assert -3 * half_bin <= secondary - descartes_angle_deg(n, 3) <= half_bin, wl
+        rad = np.radians(t)
+        assert np.trapezoid(row * 2 * np.pi * np.sin(rad), rad) == pytest.approx(1.0, abs=0.01)
+    assert descartes_angle_deg(float(water_index(700.0)), 2) < descartes_angle_deg(
+        float(water_index(400.0)), 2
+    )
     assert 0.5 < RAIN_PEAK_FRACTION < 0.51
-    # the rendered phase: normalised, exact beyond the truncation angle (the renormalised
-    # table times the share kept)
+    # the rendered white phase: normalised, the table's beyond the truncation angle
     kept = 2.0 * (1.0 - RAIN_PEAK_FRACTION)
-    cos_t = np.cos(np.radians([30.0, 90.0, 138.0, 170.0]))
-    np.testing.assert_allclose(RAIN_RENDER_PHASE.value(cos_t) * kept, table.value(cos_t), rtol=2e-3)
+    v = read_packaged_csv("cie_luminous_efficiency_5nm.csv")
+    white = RAIN_PHASES.white(v["wavelength_nm"], v["V_photopic"])
+    cos_t = np.cos(np.radians([30.0, 90.0, 150.0, 170.0]))  # (the bows: its grid is coarser)
+    np.testing.assert_allclose(RAIN_RENDER_PHASE.value(cos_t) * kept, white.value(cos_t), rtol=2e-3)
 
 
 @pytest.mark.gl
@@ -95,7 +108,7 @@ def test_sunlit_rain_shows_its_rainbow(rain_fraction):
     along the antisolar vertical: the cloud layer's march draws the primary bow within 1 deg
     of Descartes' angle (137.9 deg at 550 nm; white light spreads it over 137.6-138.8), the
     secondary within 1 deg of 129.1 deg, and Alexander's dark band between them darker than
-    inside the primary; snow (rain_fraction 0) scatters as the droplets: no secondary bow (the
+    inside the primary; red outside blue in the primary, inside it in the secondary; snow (rain_fraction 0) scatters as the droplets: no secondary bow (the
     light rises steadily through 124-133 deg; the droplets' broad cloudbow remains)."""
     from skydome import Sky
     from skydome.atmosphere.layer import AtmosphereLayer
@@ -122,6 +135,7 @@ def test_sunlit_rain_shows_its_rainbow(rain_fraction):
     sun = np.array([-math.cos(math.radians(10.0)), 0.0, math.sin(math.radians(10.0))])
     theta = np.degrees(np.arccos(dirs @ sun))[::-1]  # the probe's rows are top first
     light = radiance[:, 2, 1]
+    red, blue = radiance[:, 2, 0], radiance[:, 2, 2]
     primary = theta[np.argmax(np.where((theta > 133) & (theta < 145), light, 0))]
     secondary = theta[np.argmax(np.where((theta > 124) & (theta < 132), light, 0))]
     band = light[(theta > 131) & (theta < 136)].mean()
@@ -131,5 +145,13 @@ def test_sunlit_rain_shows_its_rainbow(rain_fraction):
         assert abs(primary - 137.9) < 1.0 and abs(secondary - 129.1) < 1.0, (primary, secondary)
         assert light.max() > 4.0 * band and band < 0.5 * inside
         assert second > 1.3 * light[(theta > 131) & (theta < 133)].mean()
+
+        # the colours: red outside the primary (a smaller scattering angle) than blue, and
+        # inside the secondary (the order reversed)
+        def peak(channel, lo, hi):
+            return theta[np.argmax(np.where((theta > lo) & (theta < hi), channel, 0))]
+
+        assert peak(red, 133, 145) < peak(blue, 133, 145)
+        assert peak(red, 124, 132) > peak(blue, 124, 132)
     else:
         assert second <= light[(theta > 131) & (theta < 133)].mean()

@@ -302,7 +302,7 @@ def cloud_views(w: int, h: int) -> None:
 def weather_views(w: int, h: int) -> None:
     """Weather (issue 23), full quality, auto exposure: a foggy morning with the Sun a pale
     disk, a fog sea seen from a hill, mist at sunrise, a rainy day under nimbostratus with
-    rain falling, a thunderstorm with rain shafts, snow falling at dusk."""
+    rain falling, a thunderstorm with rain shafts, snow falling at dusk, showers' rainbows."""
     from skydome.core.cameras import PerspectiveCamera as Cam
     from skydome.weather import Weather
 
@@ -320,6 +320,9 @@ def weather_views(w: int, h: int) -> None:
                                  "a thunderstorm: rain shafts under the cells"),
         "weather-snow-dusk": (1.0, 250.0, Weather("snow", snow_mm_h=2), (250, 5), 80, None,
                               "snow falling at dusk"),
+        "weather-rainbow": (15.0, 270.0, Weather("rain", rain_mm_h=8, clouds="fair"),
+                            (90, 25), 120, None,
+                            "showers under fair cumulus, the Sun 15 deg up behind: rainbows"),
     }  # fmt: skip
     for name, (el, az, weather, (yaw, pitch), fov, alt, note) in views.items():
         with Sky(sun_elevation_deg=el, sun_azimuth_deg=az, weather=weather) as sky:

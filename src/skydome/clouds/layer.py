@@ -41,9 +41,9 @@ from skydome.clouds.params import (
 from skydome.clouds.phase import (
     MIE_PHASE,
     RAIN_PEAK_FRACTION,
-    RAIN_RENDER_PHASE,
     RENDER_PHASE_TEXELS,
     TabulatedPhase,
+    rain_channel_phases,
 )
 from skydome.clouds.probe import SkyProbe
 from skydome.clouds.weather import AnimatedWeather, WeatherMap
@@ -408,9 +408,9 @@ class CloudLayer(Layer):
         """(the multiple-scattering table, skydome.clouds.ms_table, as a 3D texture: x = 12
         blocks (the scattered direction's cosine) of 24 depths, y = the optical thickness,
         z = the light's cosine, RGB = the azimuth Fourier coefficients; the phase functions
-        the march uses, the droplets' and the rain's, tabulated at RENDER_PHASE_TEXELS angles
-        uniform from 0 to 180 deg, linear filtering: the same functions as their
-        TabulatedPhase)."""
+        the march uses, tabulated at RENDER_PHASE_TEXELS angles uniform from 0 to 180 deg,
+        linear filtering: the droplets' (the same function as its TabulatedPhase) and the
+        rain's, one per output channel (RGBA: rain_channel_phases for the graph's basis))."""
         if self._static is None:
             j = np.asarray(_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
             nt, nm0, nd, nmu, _ = j.shape
@@ -418,12 +418,13 @@ class CloudLayer(Layer):
             texels[..., :3] = j.transpose(1, 0, 3, 2, 4).reshape(nm0, nt, nmu * nd, 3)
             ctx = self.graph.ctx
             ms = ctx.texture3d((nmu * nd, nt, nm0), 4, texels.tobytes(), dtype="f4")
-            tables = []
-            for table in (self.phase, RAIN_RENDER_PHASE):
-                values = np.asarray(table.values, dtype=np.float32)
-                tex = ctx.texture((values.size, 1), 1, values.tobytes(), dtype="f4")
-                tables.append(linear_clamped(tex, ctx))
-            self._static = (linear_clamped(ms, ctx), *tables)
+            values = np.asarray(self.phase.values, dtype=np.float32)
+            phase = ctx.texture((values.size, 1), 1, values.tobytes(), dtype="f4")
+            basis = self.graph.basis
+            rain = rain_channel_phases(basis.wavelengths_nm, basis.to_output)
+            rain = np.ascontiguousarray(rain.T, dtype=np.float32)  # (texels, 4 channels)
+            rain_tex = ctx.texture((rain.shape[0], 1), 4, rain.tobytes(), dtype="f4")
+            self._static = tuple(linear_clamped(t, ctx) for t in (ms, phase, rain_tex))
         return self._static
 
     def texture_inputs(self, noise: bool = True) -> CloudTextures:

@@ -29,7 +29,7 @@ from functools import cached_property
 import numpy as np
 
 from skydome.errors import ParameterError
-from skydome.io.packaged import read_packaged_csv
+from skydome.io.packaged import read_packaged_csv, read_packaged_npz
 from skydome.physics.phase import MAX_LOBES, henyey_greenstein, sample_hg
 
 __all__ = [
@@ -47,7 +47,10 @@ __all__ = [
     "TabulatedPhase",
     "load_cloud_phase",
     "load_mie_phase",
-    "load_rain_phase",
+    "RAIN_PHASES",
+    "RainPhases",
+    "load_rain_phases",
+    "rain_channel_phases",
     "render_grid_deg",
     "sample_hg",
 ]
@@ -272,18 +275,69 @@ CLOUD_PHASE: LobePhase = load_cloud_phase()
 #: The Mie phase function of the same droplets, tabulated (0.025 deg steps over the peak).
 MIE_PHASE: TabulatedPhase = load_mie_phase()
 
-#: The rain drops' packaged phase function (``tools/build_rain_phase.py``): geometric optics.
-RAIN_PHASE_CSV = "rain_drop_phase.csv"
+#: The rain drops' packaged phase functions (``tools/build_rain_phase.py``): geometric optics
+#: per wavelength, and the file's format version.
+RAIN_PHASE_NPZ = "rain_drop_phase.npz"
+RAIN_PHASE_FORMAT = 1
 
 
-def load_rain_phase() -> TabulatedPhase:
-    """Rain drops' phase function, their refracted and reflected light (diffraction apart:
-    skydome.physics.sphere_optics), from the packaged ``rain_drop_phase.csv`` (bin centres,
+@dataclass(frozen=True)
+class RainPhases:
+    """Rain drops' phase functions (1/sr, each normalised over the sphere) at
+    ``wavelength_nm`` (W), tabulated at ``theta_deg`` (A; 0 to 180 deg): ``phase`` (W, A),
+    the light their rays refract and reflect (diffraction apart: skydome.physics.sphere_optics).
+    """
+
+    wavelength_nm: np.ndarray
+    theta_deg: np.ndarray
+    phase: np.ndarray
+
+    def at(self, wavelengths_nm) -> np.ndarray:
+        """The phase functions at ``wavelengths_nm`` (N, A): linear between the table's
+        wavelengths (held beyond them)."""
+        grid = self.wavelength_nm
+        wl = np.clip(np.atleast_1d(np.asarray(wavelengths_nm, dtype=float)), grid[0], grid[-1])
+        i = np.clip(np.searchsorted(grid, wl) - 1, 0, grid.size - 2)
+        f = ((wl - grid[i]) / (grid[i + 1] - grid[i]))[:, None]
+        return (1.0 - f) * self.phase[i] + f * self.phase[i + 1]
+
+    def white(self, weights_wavelength_nm, weights) -> TabulatedPhase:
+        """The phase function of light of spectral ``weights`` at ``weights_wavelength_nm``."""
+        w = np.asarray(weights, dtype=float)
+        return TabulatedPhase(self.theta_deg, w @ self.at(weights_wavelength_nm) / w.sum())
+
+
+def load_rain_phases() -> RainPhases:
+    """Rain drops' phase functions from the packaged ``rain_drop_phase.npz`` (bin centres,
     extended to 0 and 180 deg with the end bins' values)."""
-    t = read_packaged_csv(RAIN_PHASE_CSV, ("theta_deg", "phase"))
-    theta = np.concatenate([[0.0], t["theta_deg"], [180.0]])
-    values = np.concatenate([t["phase"][:1], t["phase"], t["phase"][-1:]])
-    return TabulatedPhase(theta, values)
+    phase, meta = read_packaged_npz(
+        RAIN_PHASE_NPZ, "phase", RAIN_PHASE_FORMAT, "rain phase functions",
+        "tools/build_rain_phase.py",
+    )  # fmt: skip
+    theta = np.concatenate([[0.0], meta["theta_deg"], [180.0]])
+    phase = np.asarray(phase, dtype=float)
+    phase = np.concatenate([phase[:, :1], phase, phase[:, -1:]], axis=1)
+    return RainPhases(np.asarray(meta["wavelength_nm"], float), theta, phase)
+
+
+def rain_channel_phases(wavelengths_nm, to_output) -> np.ndarray:
+    """Rain's phase function per output channel (4, RENDER_PHASE_TEXELS) on the renderer's
+    grid: the wavelengths' phase functions weighted as sunlight's share of each channel
+    (``to_output`` (4, N): a SpectralBasis's, per unit of the solar spectrum at
+    ``wavelengths_nm``), cut flat at :data:`TRUNCATION_DEG` as :data:`RAIN_RENDER_PHASE`
+    and divided by the same kept share, held >= 0 (a channel's weights may be negative)."""
+    m = np.asarray(to_output, dtype=float)
+    per_wavelength = RAIN_PHASES.at(wavelengths_nm)  # (N, A)
+    t = render_grid_deg()
+    table = np.stack([np.interp(np.maximum(t, TRUNCATION_DEG), RAIN_PHASES.theta_deg, row)
+                      for row in per_wavelength])  # fmt: skip
+    kept = 1.0 - _rays_within
+    channels = (m @ table) / m.sum(axis=1, keepdims=True) / kept
+    return np.maximum(channels, 0.0)
+
+
+#: The rain drops' phase functions per wavelength.
+RAIN_PHASES: RainPhases = load_rain_phases()
 
 
 #: The phase function the renderer marches with (and the clouds' multiple-scattering table of
@@ -293,8 +347,13 @@ def load_rain_phase() -> TabulatedPhase:
 #: by 1 - f, ssa stays 1).
 RENDER_PHASE, PEAK_FRACTION = MIE_PHASE.delta_truncated()
 
-#: Rain's, the same way: its rays' phase function cut flat at :data:`TRUNCATION_DEG`;
+#: Rain's in white light (sunlight seen by the eye: the wavelengths weighted by V(lambda)),
+#: the same way: its rays' phase function cut flat at :data:`TRUNCATION_DEG`;
 #: :data:`RAIN_PEAK_FRACTION` is what goes straight on of the drops' extinction (efficiency 2):
 #: the diffraction's half and the share of their rays' half within the truncation angle.
-RAIN_RENDER_PHASE, _rays_within = load_rain_phase().delta_truncated()
+#: (The march scatters with :func:`rain_channel_phases`, each channel its own colours.)
+_V = read_packaged_csv("cie_luminous_efficiency_5nm.csv")
+RAIN_RENDER_PHASE, _rays_within = RAIN_PHASES.white(
+    _V["wavelength_nm"], _V["V_photopic"]
+).delta_truncated()
 RAIN_PEAK_FRACTION = 0.5 + 0.5 * _rays_within

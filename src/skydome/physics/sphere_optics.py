@@ -26,19 +26,21 @@ from skydome.errors import ParameterError
 
 #: Water's real refractive index at 25 C (Hale & Querry 1973, Appl. Opt. 12, 555, table 1)
 #: at wavelengths (nm); absorption is negligible in the visible (k < 1e-8).
-WATER_INDEX_NM = (400.0, 450.0, 500.0, 550.0, 600.0, 650.0, 700.0)
-WATER_INDEX = (1.339, 1.337, 1.335, 1.333, 1.332, 1.331, 1.331)
+WATER_INDEX_NM = (350.0, 375.0, 400.0, 425.0, 450.0, 475.0, 500.0, 525.0, 550.0, 575.0,
+                  600.0, 625.0, 650.0, 675.0, 700.0, 725.0, 750.0, 775.0, 800.0)  # fmt: skip
+WATER_INDEX = (1.343, 1.341, 1.339, 1.338, 1.337, 1.336, 1.335, 1.334, 1.333, 1.333, 1.332,
+               1.332, 1.331, 1.331, 1.331, 1.330, 1.330, 1.330, 1.329)  # fmt: skip
 #: Ray orders followed: reflection, transmission and up to six internal reflections (the
 #: rest carries R^7 ~ 1e-9 of the light except in grazing rays; it is renormalised away).
 MAX_ORDER = 7
 
 
 def water_index(wavelength_nm) -> np.ndarray:
-    """Water's refractive index (real part) at ``wavelength_nm`` (400-700 nm, linear between
+    """Water's refractive index (real part) at ``wavelength_nm`` (350-800 nm, linear between
     Hale & Querry's nodes)."""
     wl = np.asarray(wavelength_nm, dtype=float)
     if np.any(wl < WATER_INDEX_NM[0]) or np.any(wl > WATER_INDEX_NM[-1]):
-        raise ParameterError("water's refractive index is tabulated for 400-700 nm")
+        raise ParameterError("water's refractive index is tabulated for 350-800 nm")
     return np.interp(wl, WATER_INDEX_NM, WATER_INDEX)
 
 

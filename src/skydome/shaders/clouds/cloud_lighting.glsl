@@ -16,13 +16,14 @@ float cloud_phase(float nu) {
     return texture(u_cloud_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5)).r;
 }
 
-// Rain's phase function, the same way (skydome.clouds.phase.RAIN_RENDER_PHASE: its drops'
-// rays by geometric optics, the rainbows' white light in it; snow scatters as cloud_phase).
+// Rain's phase function per output channel, the same way (skydome.clouds.phase.
+// rain_channel_phases: its drops' rays by geometric optics at each wavelength, weighted as
+// sunlight's share of each channel: the rainbows' colours); snow scatters as cloud_phase.
 uniform sampler2D u_rain_phase_table;
 
-float rain_phase(float nu) {
+vec4 rain_phase(float nu) {
     float x = acos(clamp(nu, -1.0, 1.0)) / PI * float(CLOUD_PHASE_TEXELS - 1);
-    return texture(u_rain_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5)).r;
+    return texture(u_rain_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5));
 }
 
 // (I0, I1) of the diffuse field at scaled depth tau below the top of a slab of scaled

@@ -128,6 +128,7 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     bool lit = false;  // the irradiances at the segment's ends, on its first cloud
     bool have_j = false;
     vec2 j = vec2(0.0);
+    vec4 j_rain = vec4(0.0);  // the rain's single scattering per channel, over the droplets'
     float j_radius = 0.0;  // where (km from the centre) j was computed
     vec3 L = u_light_direction;
     float nu = dot(d, L);
@@ -229,17 +230,20 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
                              u_cloud_albedo_below);
             if (under) {
                 // the rain's share of the extinction here scatters its single-scattered
-                // light with its own phase function (its rainbows), not the droplets'
+                // light with its own phase function, each channel its own (the rainbows),
+                // not the droplets'
                 vec2 parts = ground_layer_parts(p, length(p));
                 float rain = u_rain_share * parts.y / max(parts.x + parts.y, 1e-9);
-                j.x += rain * (rain_phase(nu) - cloud_phase(nu)) * exp(-tau_s);
-                j *= vec2(clouds_transmittance(p, L, 4), 1.0);
+                float shadow = clouds_transmittance(p, L, 4);
+                j_rain = rain * (rain_phase(nu) - cloud_phase(nu)) * (exp(-tau_s) * shadow);
+                j *= vec2(shadow, 1.0);
             }
             have_j = true;
         }
         float w = under ? clamp((length(p) - r_lo) / max(r_hi - r_lo, 1e-9), 0.0, 1.0)
                         : clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
-        vec4 source = mix(light0, light1, w) * j.x + mix(sky0, sky1, w) * j.y;
+        vec4 light = mix(light0, light1, w);
+        vec4 source = light * (j.x + j_rain) + mix(sky0, sky1, w) * j.y;
         float a = 1.0 - exp(-sigma * step);
         radiance += transmittance * a * source;
         depth += vec2(transmittance * a * t, transmittance * a);
