@@ -32,7 +32,7 @@ __all__ = ["EYE_HEIGHT_M", "LOOKS", "NIGHT_LAYERS", "Sky", "aim_camera", "defaul
 #: Height of the eye above the ground at the place (m): a standing observer.
 EYE_HEIGHT_M = 1.7
 #: Where ``look=`` can aim the default camera.
-LOOKS = ("sun", "moon", "zenith", "north", "east", "south", "west")
+LOOKS = ("sun", "moon", "antisun", "zenith", "north", "east", "south", "west")
 _COMPASS = {"north": 0.0, "east": 90.0, "south": 180.0, "west": 270.0}
 
 
@@ -40,6 +40,7 @@ def aim_camera(
     state: SkyState, look: str = "sun", *, fov_deg: float = 90.0, pitch_deg: float | None = None
 ) -> PerspectiveCamera:
     """A perspective camera aimed by ``look``: at the Sun or the Moon (centred on it), at the
+    antisolar point (opposite the Sun: the centre of the rainbows and the glory), at the
     zenith, or at a compass point (pitch 15 deg unless given)."""
     if look not in LOOKS:
         raise ParameterError(f"look {look!r} must be one of {', '.join(LOOKS)}")
@@ -48,6 +49,8 @@ def aim_camera(
         if light is None:
             raise ParameterError("this sky has no Moon (the abstract mode has a Sun only)")
         yaw, pitch = light.azimuth_deg, light.elevation_deg
+    elif look == "antisun":
+        yaw, pitch = (state.sun.azimuth_deg + 180.0) % 360.0, -state.sun.elevation_deg
     elif look == "zenith":
         yaw, pitch = 0.0, 90.0
     else:

@@ -17,7 +17,7 @@ from skydome.errors import ParameterError, check_choice, check_range
 LAT_RANGE = (-90.0, 90.0)
 LON_RANGE = (-180.0, 360.0)
 ELEVATION_RANGE_M = (-1000.0, 100000.0)
-LOOKS = ("sun", "moon", "zenith", "north", "east", "south", "west")
+LOOKS = ("sun", "moon", "antisun", "zenith", "north", "east", "south", "west")
 
 
 def observer_from_flags(flags: SimpleNamespace):

@@ -124,8 +124,9 @@ FLAGS: dict[str, Flag] = {
                     "falling rain's and snow's streaks are."),
     # the camera
     "look": Flag(str, None, ("--look",),
-                 "Aim the camera: sun | moon | zenith | north | east | south | west (default: "
-                 "the Sun, or at night the Moon when it is up; a time-lapse looks south)."),
+                 "Aim the camera: sun | moon | antisun (the antisolar point: rainbows) | "
+                 "zenith | north | east | south | west (default: the Sun, or at night the "
+                 "Moon when it is up; a time-lapse looks south)."),
     "camera": Flag(str, "perspective", ("--camera",),
                    "perspective | fisheye | equirect | cubemap."),
     "fov": Flag(float, 90.0, ("--fov",),

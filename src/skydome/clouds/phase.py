@@ -51,6 +51,8 @@ __all__ = [
     "RainPhases",
     "load_rain_phases",
     "rain_channel_phases",
+    "disk_smoothed",
+    "SUN_RADIUS_DEG",
     "render_grid_deg",
     "sample_hg",
 ]
@@ -320,16 +322,41 @@ def load_rain_phases() -> RainPhases:
     return RainPhases(np.asarray(meta["wavelength_nm"], float), theta, phase)
 
 
+#: The Sun's mean apparent angular radius (deg: the IAU's nominal 695 700 km at 1 au, 959.6").
+SUN_RADIUS_DEG = 0.26656
+
+
+def disk_smoothed(theta_deg, values, radius_deg: float = SUN_RADIUS_DEG):
+    """Phase functions ``values`` (..., A) at ``theta_deg`` as seen in the light of a uniform
+    disk of angular ``radius_deg`` (the Sun's: it smooths the bows' caustics over its
+    diameter): each averaged over the disk's chords, weights sqrt(R^2 - x^2) at offsets x in
+    scattering angle (mirrored at 0 and 180 deg), on a 0.01 deg grid. Returns (the grid, the
+    smoothed values)."""
+    step = 0.01
+    fine = np.arange(0.0, 180.0 + step / 2, step)
+    rows = np.atleast_2d(np.asarray(values, dtype=float))
+    x = np.arange(-radius_deg, radius_deg + step / 2, step)
+    kernel = np.sqrt(np.maximum(radius_deg**2 - x**2, 0.0))
+    kernel /= kernel.sum()
+    half = x.size // 2
+    out = np.empty((rows.shape[0], fine.size))
+    for k, row in enumerate(rows):
+        v = np.pad(np.interp(fine, theta_deg, row), half, mode="reflect")
+        out[k] = np.convolve(v, kernel, mode="valid")[: fine.size]
+    return fine, out.reshape(*np.shape(values)[:-1], fine.size)
+
+
 def rain_channel_phases(wavelengths_nm, to_output) -> np.ndarray:
     """Rain's phase function per output channel (4, RENDER_PHASE_TEXELS) on the renderer's
-    grid: the wavelengths' phase functions weighted as sunlight's share of each channel
-    (``to_output`` (4, N): a SpectralBasis's, per unit of the solar spectrum at
-    ``wavelengths_nm``), cut flat at :data:`TRUNCATION_DEG` as :data:`RAIN_RENDER_PHASE`
-    and divided by the same kept share, held >= 0 (a channel's weights may be negative)."""
+    grid: the wavelengths' phase functions seen in the Sun's disk (:func:`disk_smoothed`),
+    weighted as sunlight's share of each channel (``to_output`` (4, N): a SpectralBasis's,
+    per unit of the solar spectrum at ``wavelengths_nm``), cut flat at
+    :data:`TRUNCATION_DEG` as :data:`RAIN_RENDER_PHASE` and divided by the same kept share,
+    held >= 0 (a channel's weights may be negative)."""
     m = np.asarray(to_output, dtype=float)
-    per_wavelength = RAIN_PHASES.at(wavelengths_nm)  # (N, A)
+    fine, per_wavelength = disk_smoothed(RAIN_PHASES.theta_deg, RAIN_PHASES.at(wavelengths_nm))
     t = render_grid_deg()
-    table = np.stack([np.interp(np.maximum(t, TRUNCATION_DEG), RAIN_PHASES.theta_deg, row)
+    table = np.stack([np.interp(np.maximum(t, TRUNCATION_DEG), fine, row)
                       for row in per_wavelength])  # fmt: skip
     kept = 1.0 - _rays_within
     channels = (m @ table) / m.sum(axis=1, keepdims=True) / kept
