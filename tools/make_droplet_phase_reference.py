@@ -7,7 +7,9 @@ Offline only (CI never runs it); ``miepython`` is no project dependency. To run 
     .venv/bin/python tools/make_droplet_phase_reference.py      # about 50 s
 
 **The droplets** (as ``tools/build_cloud_phase.py``): liquid water spheres, m = 1.333 + 0i at
-550 nm, the modified gamma distribution of Hansen & Travis (1974, Space Sci. Rev. 16, 527,
+550 nm (``--wavelength-um`` and ``--index`` for the other wavelengths of
+``tools/build_droplet_spectral_phase.py``: tests/data/droplet_phase_miepython_430nm.json and
+_680nm.json, water's index of Hale & Querry there), the modified gamma distribution of Hansen & Travis (1974, Space Sci. Rev. 16, 527,
 eq. 2.56) with r_eff = 10 um and v_eff = 0.1, n(r) ~ r^7 exp(-r / 1 um), over the same radius
 range r_eff / 40 to 8 r_eff (0.25-80 um). The quadrature differs on purpose (the build uses
 1000 log-spaced radii): the trapezoid rule on radii uniform in r, :data:`RADII` over
@@ -118,7 +120,17 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--radii", type=int, default=RADII, help="radii of the coarser run")
     ap.add_argument("-o", "--output", type=Path, default=OUT)
+    ap.add_argument(
+        "--wavelength-um",
+        type=float,
+        default=WAVELENGTH_UM,
+        help="another wavelength (um; the spectral table's check)",
+    )
+    ap.add_argument(
+        "--index", type=float, default=M_WATER, help="water's refractive index there (real part)"
+    )
     args = ap.parse_args(argv)
+    globals().update(WAVELENGTH_UM=args.wavelength_um, M_WATER=args.index)
     t0 = time.time()
     coarse = droplet_optics(args.radii)
     fine = droplet_optics(2 * args.radii)

@@ -47,13 +47,14 @@ class CloudInputs(ShaderInputs):
 
 @dataclass(frozen=True)
 class CloudTextures(ShaderInputs):
-    """The clouds' textures: the multiple-scattering table, the droplets' and the rain's
-    phase functions' tables, the weather map and the noises (None where a pass marches a
-    uniform cloud)."""
+    """The clouds' textures: the multiple-scattering table, the droplets' phase function,
+    the rain's and the droplets' by output channel, the weather map and the noises (None
+    where a pass marches a uniform cloud)."""
 
     u_cloud_ms_table: object
     u_cloud_phase_table: object
     u_rain_phase_table: object
+    u_droplet_phase_table: object
     u_weather: object = None
     u_shape_noise: object = None
     u_detail_noise: object = None

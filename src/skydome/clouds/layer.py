@@ -43,6 +43,7 @@ from skydome.clouds.phase import (
     RAIN_PEAK_FRACTION,
     RENDER_PHASE_TEXELS,
     TabulatedPhase,
+    droplet_channel_phases,
     rain_channel_phases,
 )
 from skydome.clouds.probe import SkyProbe
@@ -409,8 +410,9 @@ class CloudLayer(Layer):
         blocks (the scattered direction's cosine) of 24 depths, y = the optical thickness,
         z = the light's cosine, RGB = the azimuth Fourier coefficients; the phase functions
         the march uses, tabulated at RENDER_PHASE_TEXELS angles uniform from 0 to 180 deg,
-        linear filtering: the droplets' (the same function as its TabulatedPhase) and the
-        rain's, one per output channel (RGBA: rain_channel_phases for the graph's basis))."""
+        linear filtering: the droplets' (the same function as its TabulatedPhase), and the
+        rain's and the droplets' by output channel (RGBA: rain_channel_phases and
+        droplet_channel_phases for the graph's basis))."""
         if self._static is None:
             j = np.asarray(_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
             nt, nm0, nd, nmu, _ = j.shape
@@ -421,10 +423,12 @@ class CloudLayer(Layer):
             values = np.asarray(self.phase.values, dtype=np.float32)
             phase = ctx.texture((values.size, 1), 1, values.tobytes(), dtype="f4")
             basis = self.graph.basis
-            rain = rain_channel_phases(basis.wavelengths_nm, basis.to_output)
-            rain = np.ascontiguousarray(rain.T, dtype=np.float32)  # (texels, 4 channels)
-            rain_tex = ctx.texture((rain.shape[0], 1), 4, rain.tobytes(), dtype="f4")
-            self._static = tuple(linear_clamped(t, ctx) for t in (ms, phase, rain_tex))
+            channels = []
+            for table in (rain_channel_phases, droplet_channel_phases):
+                values = table(basis.wavelengths_nm, basis.to_output)
+                values = np.ascontiguousarray(values.T, dtype=np.float32)  # (texels, 4)
+                channels.append(ctx.texture((values.shape[0], 1), 4, values.tobytes(), dtype="f4"))
+            self._static = tuple(linear_clamped(t, ctx) for t in (ms, phase, *channels))
         return self._static
 
     def texture_inputs(self, noise: bool = True) -> CloudTextures:
@@ -433,11 +437,12 @@ class CloudLayer(Layer):
         if not noise or self.clouds.uniform:
             return CloudTextures(*self._static_textures())
         self._noise_and_weather()
-        ms, phase, rain = self._static_textures()
+        ms, phase, rain, droplets = self._static_textures()
         return CloudTextures(
             u_cloud_ms_table=ms,
             u_cloud_phase_table=phase,
             u_rain_phase_table=rain,
+            u_droplet_phase_table=droplets,
             u_weather=self.weather.texture_at(self.time_s),
             u_shape_noise=self.noise.shape,
             u_detail_noise=self.noise.detail,

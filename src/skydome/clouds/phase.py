@@ -48,7 +48,10 @@ __all__ = [
     "load_cloud_phase",
     "load_mie_phase",
     "RAIN_PHASES",
-    "RainPhases",
+    "SpectralPhases",
+    "DROPLET_PHASES",
+    "droplet_channel_phases",
+    "load_droplet_phases",
     "load_rain_phases",
     "rain_channel_phases",
     "disk_smoothed",
@@ -284,11 +287,12 @@ RAIN_PHASE_FORMAT = 1
 
 
 @dataclass(frozen=True)
-class RainPhases:
-    """Rain drops' phase functions (1/sr, each normalised over the sphere) at
-    ``wavelength_nm`` (W), tabulated at ``theta_deg`` (A; 0 to 180 deg): ``phase`` (W, A),
-    the light their rays refract and reflect (diffraction apart: skydome.physics.sphere_optics).
-    """
+class SpectralPhases:
+    """Phase functions (1/sr) by wavelength: at ``wavelength_nm`` (W), tabulated at
+    ``theta_deg`` (A; 0 to 180 deg): ``phase`` (W, A). The rain drops' (:data:`RAIN_PHASES`:
+    the light their rays refract and reflect, diffraction apart, each row normalised over the
+    sphere) and the cloud droplets' (:data:`DROPLET_PHASES`: Mie theory, normalised with their
+    diffraction peak, tabulated from 5 deg and held flat below)."""
 
     wavelength_nm: np.ndarray
     theta_deg: np.ndarray
@@ -309,7 +313,7 @@ class RainPhases:
         return TabulatedPhase(self.theta_deg, w @ self.at(weights_wavelength_nm) / w.sum())
 
 
-def load_rain_phases() -> RainPhases:
+def load_rain_phases() -> SpectralPhases:
     """Rain drops' phase functions from the packaged ``rain_drop_phase.npz`` (bin centres,
     extended to 0 and 180 deg with the end bins' values)."""
     phase, meta = read_packaged_npz(
@@ -319,7 +323,7 @@ def load_rain_phases() -> RainPhases:
     theta = np.concatenate([[0.0], meta["theta_deg"], [180.0]])
     phase = np.asarray(phase, dtype=float)
     phase = np.concatenate([phase[:, :1], phase, phase[:, -1:]], axis=1)
-    return RainPhases(np.asarray(meta["wavelength_nm"], float), theta, phase)
+    return SpectralPhases(np.asarray(meta["wavelength_nm"], float), theta, phase)
 
 
 #: The Sun's mean apparent angular radius (deg: the IAU's nominal 695 700 km at 1 au, 959.6").
@@ -364,7 +368,45 @@ def rain_channel_phases(wavelengths_nm, to_output) -> np.ndarray:
 
 
 #: The rain drops' phase functions per wavelength.
-RAIN_PHASES: RainPhases = load_rain_phases()
+RAIN_PHASES: SpectralPhases = load_rain_phases()
+
+#: The cloud and fog droplets' Mie phase functions by wavelength
+#: (``tools/build_droplet_spectral_phase.py``), and the file's format version.
+DROPLET_PHASE_NPZ = "cloud_droplet_spectral_phase.npz"
+DROPLET_PHASE_FORMAT = 1
+
+
+def load_droplet_phases() -> SpectralPhases:
+    """The droplets' phase functions from the packaged ``cloud_droplet_spectral_phase.npz``
+    (from 5 deg; held flat below it, as the renderer cuts them)."""
+    phase, meta = read_packaged_npz(
+        DROPLET_PHASE_NPZ, "phase", DROPLET_PHASE_FORMAT, "droplet phase functions",
+        "tools/build_droplet_spectral_phase.py",
+    )  # fmt: skip
+    theta = np.concatenate([[0.0], meta["theta_deg"]])
+    phase = np.asarray(phase, dtype=float)
+    return SpectralPhases(
+        np.asarray(meta["wavelength_nm"], float), theta, np.concatenate([phase[:, :1], phase], 1)
+    )
+
+
+DROPLET_PHASES: SpectralPhases = load_droplet_phases()
+
+
+def droplet_channel_phases(wavelengths_nm, to_output) -> np.ndarray:
+    """The droplets' phase function per output channel (4, RENDER_PHASE_TEXELS) on the
+    renderer's grid: the wavelengths' Mie phase functions cut flat at :data:`TRUNCATION_DEG`,
+    weighted as sunlight's share of each channel (``to_output`` (4, N) of a SpectralBasis at
+    ``wavelengths_nm``), held >= 0 and each normalised over the sphere as
+    :data:`RENDER_PHASE` (whose extinction scale they share): the cloudbow's, the fogbow's and
+    the glory's colours."""
+    m = np.asarray(to_output, dtype=float)
+    t = render_grid_deg()
+    rows = DROPLET_PHASES.at(wavelengths_nm)
+    table = np.stack([np.interp(np.maximum(t, TRUNCATION_DEG), DROPLET_PHASES.theta_deg, r)
+                      for r in rows])  # fmt: skip
+    channels = np.maximum(m @ table, 0.0)
+    return np.stack([TabulatedPhase(t, c).values for c in channels])
 
 
 #: The phase function the renderer marches with (and the clouds' multiple-scattering table of

@@ -26,6 +26,17 @@ vec4 rain_phase(float nu) {
     return texture(u_rain_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5));
 }
 
+// The droplets' per output channel (skydome.clouds.phase.droplet_channel_phases: their Mie
+// phase function by wavelength, each channel normalised as cloud_phase): single scattering
+// takes its colours from it (the cloudbow's and fogbow's rims, the glory's rings), the
+// orders >= 2 stay grey.
+uniform sampler2D u_droplet_phase_table;
+
+vec4 droplet_phase(float nu) {
+    float x = acos(clamp(nu, -1.0, 1.0)) / PI * float(CLOUD_PHASE_TEXELS - 1);
+    return texture(u_droplet_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5));
+}
+
 // (I0, I1) of the diffuse field at scaled depth tau below the top of a slab of scaled
 // thickness tau_total lit at its top by a beam of cosine mu0 (unit irradiance normal to it),
 // over a ground of albedo A: the net flux F_up - F_down = mu0 exp(-tau/mu0) + c1 is constant

@@ -128,7 +128,7 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     bool lit = false;  // the irradiances at the segment's ends, on its first cloud
     bool have_j = false;
     vec2 j = vec2(0.0);
-    vec4 j_rain = vec4(0.0);  // the rain's single scattering per channel, over the droplets'
+    vec4 j_colour = vec4(0.0);  // single scattering per channel, over j's grey one
     float j_radius = 0.0;  // where (km from the centre) j was computed
     vec3 L = u_light_direction;
     float nu = dot(d, L);
@@ -228,22 +228,24 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             float cos_phi = norms > 1e-6 ? dot(across_out, across_light) / norms : 1.0;
             j = cloud_source(tau_s, tau_far, mu0, dot(-d, n_slab), nu, cos_phi,
                              u_cloud_albedo_below);
+            // single scattering per channel: the droplets' colours, and under the clouds
+            // the rain's share of the extinction with its own phase function (the rainbows)
+            float rain = 0.0, shadow = 1.0;
             if (under) {
-                // the rain's share of the extinction here scatters its single-scattered
-                // light with its own phase function, each channel its own (the rainbows),
-                // not the droplets'
                 vec2 parts = ground_layer_parts(p, length(p));
-                float rain = u_rain_share * parts.y / max(parts.x + parts.y, 1e-9);
-                float shadow = clouds_transmittance(p, L, 4);
-                j_rain = rain * (rain_phase(nu) - cloud_phase(nu)) * (exp(-tau_s) * shadow);
+                rain = u_rain_share * parts.y / max(parts.x + parts.y, 1e-9);
+                shadow = clouds_transmittance(p, L, 4);
                 j *= vec2(shadow, 1.0);
             }
+            vec4 single = (1.0 - rain) * droplet_phase(nu);
+            if (rain > 0.0) single += rain * rain_phase(nu);
+            j_colour = (single - cloud_phase(nu)) * (exp(-tau_s) * shadow);
             have_j = true;
         }
         float w = under ? clamp((length(p) - r_lo) / max(r_hi - r_lo, 1e-9), 0.0, 1.0)
                         : clamp((t - seg.x) / max(len, 1e-6), 0.0, 1.0);
         vec4 light = mix(light0, light1, w);
-        vec4 source = light * (j.x + j_rain) + mix(sky0, sky1, w) * j.y;
+        vec4 source = light * (j.x + j_colour) + mix(sky0, sky1, w) * j.y;
         float a = 1.0 - exp(-sigma * step);
         radiance += transmittance * a * source;
         depth += vec2(transmittance * a * t, transmittance * a);
