@@ -73,6 +73,7 @@ test-fast: $(DEV_STAMP)
 gallery: $(STAMP)
 	$(PY) tools/make_gallery.py && $(PY) tools/make_gallery.py --model single
 	$(PY) tools/make_gallery.py --clouds --size 1280x720 && $(PY) tools/make_gallery.py --weather --size 1280x720
+	$(PY) tools/make_gallery.py --optics --size 1280x720
 
 # The documentation site into site/ (MkDocs, warnings are errors); the CLI page first.
 docs: $(DEV_STAMP)

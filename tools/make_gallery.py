@@ -1,7 +1,7 @@
 """Render the README gallery into docs/gallery/ (small PNGs, auto exposure, filmic).
 
 Usage: python tools/make_gallery.py [--model single] [--size 480x270] [--scene] [--night]
-       [--clouds] [--weather]
+       [--clouds] [--weather] [--optics]
 """
 
 from __future__ import annotations
@@ -76,6 +76,7 @@ def main() -> None:
     ap.add_argument("--mars", action="store_true", help="only Mars at noon and at sunset")
     ap.add_argument("--clouds", action="store_true", help="only the cloud views")
     ap.add_argument("--weather", action="store_true", help="only the weather views")
+    ap.add_argument("--optics", action="store_true", help="only the optics views")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     OUT.mkdir(parents=True, exist_ok=True)
@@ -87,6 +88,9 @@ def main() -> None:
         return
     if args.weather:
         weather_views(w, h)
+        return
+    if args.optics:
+        optics_views(w, h)
         return
     if args.scene or args.night:
         if args.scene:
@@ -331,6 +335,26 @@ def weather_views(w: int, h: int) -> None:
         path = OUT / f"{name}.png"
         atomic_write(path, lambda tmp, f=frame, n=note: write_png(tmp, f.image, {"views": n}))
         print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+
+
+def optics_views(w: int, h: int) -> None:
+    """Optics (issue 24), full quality, auto exposure: the glory around the antisolar point
+    seen from an aircraft 600 m above an overcast's top (the droplets' Mie phase function by
+    output channel)."""
+    from skydome.core.cameras import PerspectiveCamera as Cam
+
+    with Sky(sun_elevation_deg=35.0, sun_azimuth_deg=200.0, clouds="overcast") as sky:
+        c = sky.layer("clouds").clouds
+        sun = sky.state.sun
+        cam = Cam(fov_deg=40, yaw_deg=(sun.azimuth_deg + 180.0) % 360.0,
+                  pitch_deg=-sun.elevation_deg)  # fmt: skip
+        frame = sky.render(
+            cam, w, h, altitude_m=c.top_m + 600.0, tonemap="filmic", compensation_ev=1.5
+        )  # a sunlit deck is white, not mid-grey
+    path = OUT / "optics-glory.png"
+    note = "the glory from 600 m above an overcast, the Sun 35 deg up behind"
+    atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": note}))
+    print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
 def scene_views(w: int, h: int) -> None:
