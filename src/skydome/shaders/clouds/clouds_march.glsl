@@ -256,8 +256,12 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
 }
 
 // The fraction of the key light that reaches the air along the ray from o over `length_km`
-// (the mean of the clouds' transmittance towards it at PATH_SAMPLES points).
-const int PATH_SAMPLES = 4;
+// (the mean of the clouds' transmittance towards it at PATH_SAMPLES points). A cloud's
+// shadow is nearly 0 or 1, so the fraction takes about PATH_SAMPLES + 1 values: at a low
+// Sun, where the air in front of the clouds is most of their light, 4 points drew them in
+// flat terraces; 12 leave steps too small to see (+5 % on a cloud frame; the pixels'
+// ordered offsets would dither them, but print their pattern at the march's resolution).
+const int PATH_SAMPLES = 12;
 float path_lit_fraction(vec3 o, vec3 d, float length_km) {
     float lit = 0.0;
     for (int k = 0; k < PATH_SAMPLES; ++k)
