@@ -79,10 +79,10 @@ def _diamond_angle(x, y) -> np.ndarray:
     return np.where(x < 0.0, 2.0 - r, r)
 
 
-def table_texcoords(directions, hits_ground, size: tuple[int, int], frame) -> np.ndarray:
+def table_texcoords(directions, size: tuple[int, int], frame) -> np.ndarray:
     """Texture coordinates (..., 2) of unit ENU ``directions`` in the table of ``frame`` (the
-    float64 twin of ``direction_table_uv``): texel (i, j)'s own direction falls on its
-    centre."""
+    float64 twin of ``direction_table_uv``), each in the half of its side of the ground's
+    horizon (q < q_h: the ground's): texel (i, j)'s own direction falls on its centre."""
     d = np.asarray(directions, dtype=np.float64)
     width, height = size
     cos_a, sin_a, q_h = frame
@@ -92,6 +92,7 @@ def table_texcoords(directions, hits_ground, size: tuple[int, int], frame) -> np
     u = np.mod(0.25 * _diamond_angle(a, b) + 0.5 / width, 1.0)
     h = np.hypot(d[..., 0], d[..., 1])
     q = d[..., 2] / (h + np.abs(d[..., 2]))
+    hits_ground = q < q_h
     x = np.where(hits_ground, (q_h - q) / (q_h + 1.0), (q - q_h) / (1.0 - q_h))
     x = np.sqrt(np.clip(x, 0.0, 1.0))
     v_half = (0.5 + x * (half - 1.0)) / half

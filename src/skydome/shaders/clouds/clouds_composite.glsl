@@ -38,9 +38,7 @@ void main() {
 #ifdef DIRECTION_TABLE
     vec3 dir;
     if (!camera_ray(gl_FragCoord.xy, dir)) { frag = behind; return; }
-    // the ground's rays: those below its horizon's cone (as sky_class, without a second ray)
-    float q = dir.z / (length(dir.xy) + abs(dir.z) + 1e-30);
-    vec2 uv = direction_table_uv(dir, q < u_table_frame.z);
+    vec2 uv = direction_table_uv(dir);
     float T = texture(u_cloud_data, uv).x;
     vec4 added = texture(u_cloud_radiance, uv);
 #else

@@ -20,8 +20,10 @@ float diamond_angle(float x, float y) {
     return x < 0.0 ? 2.0 - r : r;
 }
 
-// twin: skydome.clouds.direction_table.table_texcoords(d, hits_ground, size, frame) d=unit hits_ground=0..1
-vec2 direction_table_uv(vec3 d, bool hits_ground) {
+// Its half: the rays below the ground's horizon (q < q_h) are the ground's, as sky_class
+// (clouds_composite.glsl) finds them, without a second ray.
+// twin: skydome.clouds.direction_table.table_texcoords(d, size, frame) d=unit
+vec2 direction_table_uv(vec3 d) {
     // the horizontal direction in the light's frame: +x towards the light
     float a = d.x * u_table_frame.x + d.y * u_table_frame.y;
     float b = d.y * u_table_frame.x - d.x * u_table_frame.y;
@@ -29,6 +31,7 @@ vec2 direction_table_uv(vec3 d, bool hits_ground) {
     float h = length(d.xy);
     float q = d.z / (h + abs(d.z) + 1e-30);
     float q_h = u_table_frame.z;
+    bool hits_ground = q < q_h;
     float x = hits_ground ? (q_h - q) / (q_h + 1.0) : (q - q_h) / (1.0 - q_h);
     x = sqrt(clamp(x, 0.0, 1.0));
     float half_n = 0.5 * u_table_size.y;
