@@ -203,7 +203,7 @@ def config_from_flags(flags: SimpleNamespace):
 #: The cloud flags that shape a ``Clouds``, by the flag's parameter name.
 _CLOUD_FIELDS = {
     "coverage": "coverage", "cloud_base": "base_m", "cloud_thickness": "thickness_m",
-    "cloud_type": "cloud_type", "cirrus": "cirrus",
+    "cloud_type": "cloud_type", "cirrus": "cirrus", "halos": "halos",
 }  # fmt: skip
 
 

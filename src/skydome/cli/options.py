@@ -97,6 +97,10 @@ FLAGS: dict[str, Flag] = {
     "cloud_type": Flag(str, None, ("--cloud-type",),
                        "stratus | stratocumulus | cumulus | cumulonimbus."),
     "cirrus": Flag(float, None, ("--cirrus",), "Cirrus sheet coverage 0..1 (with --clouds)."),
+    "halos": Flag(str, None, ("--halos",),
+                  "The cirrus's ice crystals: none, or random (22/46 deg halos), plates (sun "
+                  "dogs, circumzenithal arc), columns (tangent arcs) with optional weights, "
+                  "e.g. random:0.6,plates:0.4 (default random:0.6,plates:0.25,columns:0.15)."),
     "wind": Flag(str, None, ("--wind",),
                  "SPEED,FROM: wind speed (m/s) and the direction it blows from (degrees, 90 = "
                  "from the east), carrying the clouds (time-lapses animate them)."),
@@ -151,8 +155,8 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "tables": ("orders", "spectral"),
     "night": ("bortle", "night_vision", "overlay"),
     "clouds": (
-        "clouds", "coverage", "cloud_base", "cloud_thickness", "cloud_type", "cirrus", "wind",
-        "cloud_seed", "weather_map",
+        "clouds", "coverage", "cloud_base", "cloud_thickness", "cloud_type", "cirrus", "halos",
+        "wind", "cloud_seed", "weather_map",
     ),
     "weather": (
         "weather", "humidity", "fog_top", "fog_droplet", "rain", "snow", "snow_cover", "shutter",

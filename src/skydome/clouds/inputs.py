@@ -49,7 +49,8 @@ class CloudInputs(ShaderInputs):
 class CloudTextures(ShaderInputs):
     """The clouds' textures: the multiple-scattering table, the droplets' phase function,
     the rain's and the droplets' by output channel, the weather map and the noises (None
-    where a pass marches a uniform cloud)."""
+    where a pass marches a uniform cloud), the cirrus crystals' halo table (None without
+    one)."""
 
     u_cloud_ms_table: object
     u_cloud_phase_table: object
@@ -59,6 +60,7 @@ class CloudTextures(ShaderInputs):
     u_shape_noise: object = None
     u_detail_noise: object = None
     u_curl_noise: object = None
+    u_halo_table: object = None
 
 
 @dataclass(frozen=True)

@@ -30,6 +30,7 @@ from skydome.clouds.inputs import (
     TemporalInputs,
     UpsampleInputs,
 )
+from skydome.clouds.halos import halo_table
 from skydome.clouds.ms_table import load_ms_table
 from skydome.clouds.noise import cloud_noise
 from skydome.clouds.params import (
@@ -179,6 +180,7 @@ class CloudLayer(Layer):
         self._census = None
         self._probe = None
         self._table = None  # (key, radiance, data, u_table_frame): a fog alone's march
+        self._halo = None  # (the halo table, its texture): the cirrus crystals' light
         self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
         self._outputs: dict = {}
         self.air: AirService | None = None
@@ -393,6 +395,8 @@ class CloudLayer(Layer):
             d["UNIFORM_CLOUD"] = 1
         elif not self.clouds.aloft:
             d["NO_ALOFT"] = 1
+        if self._halos_drawn():
+            d["HALOS"] = 1
         for name in extra:
             d[name] = 1
         return d
@@ -431,6 +435,29 @@ class CloudLayer(Layer):
             self._static = tuple(linear_clamped(t, ctx) for t in (ms, phase, *channels))
         return self._static
 
+    def _halos_drawn(self) -> bool:
+        """Whether the cirrus's crystals scatter by their halo table (a cirrus, crystals)."""
+        c = self.clouds
+        return c.cirrus > 0 and c.halos != "none" and not c.uniform
+
+    def _halo_texture(self):
+        """The cirrus crystals' phase function for the key light's elevation
+        (skydome.clouds.halos.halo_table, per output channel of the graph's basis) as an RGBA
+        texture: x the azimuth from the light (0-180 deg), y the elevation seen (-90 to 90),
+        linear filtering; traced at the first frame at each elevation and kept."""
+        key_dir, _ = self.key_light(self._air().lights())
+        basis = self.graph.basis
+        table = halo_table(self.clouds.halos, elevation_deg(key_dir), basis.wavelengths_nm,
+                           basis.to_output)  # fmt: skip
+        if self._halo is None or self._halo[0] is not table:
+            if self._halo is not None:
+                self._halo[1].release()
+            texels = np.ascontiguousarray(np.moveaxis(table, 0, -1), dtype=np.float32)
+            ctx = self.graph.ctx
+            tex = ctx.texture((texels.shape[1], texels.shape[0]), 4, texels.tobytes(), dtype="f4")
+            self._halo = (table, linear_clamped(tex, ctx))
+        return self._halo[1]
+
     def texture_inputs(self, noise: bool = True) -> CloudTextures:
         """The clouds' textures: the multiple-scattering and phase tables and (with ``noise``) the
         weather map at the last update's time and the noises."""
@@ -447,6 +474,7 @@ class CloudLayer(Layer):
             u_shape_noise=self.noise.shape,
             u_detail_noise=self.noise.detail,
             u_curl_noise=self.noise.curl,
+            u_halo_table=self._halo_texture() if self._halos_drawn() else None,
         )
 
     # ------------------------------------------------------------------ drawing
@@ -989,6 +1017,9 @@ class CloudLayer(Layer):
         for tex in self._static or ():
             tex.release()
         self._static = None
+        if self._halo is not None:
+            self._halo[1].release()
+            self._halo = None
         if self.weather is not None:
             self.weather.release()
             self.weather = None

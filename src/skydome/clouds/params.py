@@ -18,6 +18,7 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from skydome.clouds.halos import DEFAULT_HALOS, parse_halos
 from skydome.errors import ParameterError, check_wind
 from skydome.physics.droplets import droplet_extinction_per_m
 
@@ -134,6 +135,10 @@ class Clouds:
         rain_fraction: the share (0-1) of that extinction that is rain (water spheres,
             scattering by geometric optics: ``clouds.phase.RAIN_RENDER_PHASE``); the rest is
             snow, which scatters as the cloud droplets do.
+        halos: the cirrus's ice crystals (skydome.clouds.halos): "none" (they scatter as
+            the cloud droplets do), or a mixture of "random" (the 22 and 46 deg halos),
+            "plates" (sun dogs, the circumzenithal arc, the parhelic circle) and "columns"
+            (tangent arcs), with optional weights: "random:0.6,plates:0.4".
     """
 
     preset: str = "fair"
@@ -155,6 +160,7 @@ class Clouds:
     fog_extinction_per_m: float = 0.0
     precipitation_extinction_per_m: float = 0.0
     rain_fraction: float = 1.0
+    halos: str = DEFAULT_HALOS
 
     def __post_init__(self):
         if not isinstance(self.preset, str) or self.preset not in PRESETS:
@@ -203,6 +209,9 @@ class Clouds:
                 )
             object.__setattr__(self, "coverage", 1.0)
         self._check_ground_layer()
+        mixture = parse_halos(self.halos)
+        canonical = ",".join(f"{name}:{share:.6g}" for name, share in mixture) or "none"
+        object.__setattr__(self, "halos", canonical)
 
     def _check_ground_layer(self) -> None:
         """The fog and the precipitation under the main layer: numbers in range, the fog

@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from skydome.errors import ParameterError
+from skydome.physics.crystal_optics import interface_reflectance
 
 #: Water's real refractive index at 25 C (Hale & Querry 1973, Appl. Opt. 12, 555, table 1)
 #: at wavelengths (nm); absorption is negligible in the visible (k < 1e-8).
@@ -48,11 +49,7 @@ def fresnel_reflectance(cos_i, n: float) -> tuple[np.ndarray, np.ndarray]:
     """(R_perpendicular, R_parallel) of a ray entering water of index ``n`` (> 1) from air at
     an angle of incidence of cosine ``cos_i``; the same for the ray leaving at the refracted
     angle (Stokes' relations)."""
-    c = np.asarray(cos_i, dtype=float)
-    sin_r = np.sqrt(np.maximum(1.0 - c * c, 0.0)) / n
-    cos_r = np.sqrt(1.0 - sin_r * sin_r)
-    perpendicular = ((c - n * cos_r) / (c + n * cos_r)) ** 2
-    parallel = ((n * c - cos_r) / (n * c + cos_r)) ** 2
+    perpendicular, parallel, _ = interface_reflectance(cos_i, n)
     return perpendicular, parallel
 
 

@@ -37,6 +37,22 @@ vec4 droplet_phase(float nu) {
     return texture(u_droplet_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5));
 }
 
+#ifdef HALOS
+// The cirrus crystals' phase function per output channel (1/sr; skydome.clouds.halos.
+// halo_table, for the key light's elevation): over the direction seen `d`, by its elevation
+// (y: -90 to 90 deg) and its azimuth from the light's (x: 0 to 180 deg) about the local
+// vertical `up` (the crystals float level with it): halos, sun dogs, arcs.
+uniform sampler2D u_halo_table;
+
+vec4 halo_phase(vec3 d, vec3 light, vec3 up) {
+    float sin_el = clamp(dot(d, up), -1.0, 1.0);
+    vec3 across = d - sin_el * up, light_across = light - dot(light, up) * up;
+    float sine = length(cross(across, light_across)), cosine = dot(across, light_across);
+    float azimuth = sine + abs(cosine) > 1e-12 ? atan(sine, cosine) : 0.0;
+    return texture(u_halo_table, vec2(azimuth / PI, asin(sin_el) / PI + 0.5));
+}
+#endif
+
 // (I0, I1) of the diffuse field at scaled depth tau below the top of a slab of scaled
 // thickness tau_total lit at its top by a beam of cosine mu0 (unit irradiance normal to it),
 // over a ground of albedo A: the net flux F_up - F_down = mu0 exp(-tau/mu0) + c1 is constant

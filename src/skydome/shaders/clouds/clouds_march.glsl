@@ -120,9 +120,10 @@ const float UNDER_STEP_TAU = 0.5;
 #define STEP_SPLIT 1.0
 #endif
 // `under`: the shell of the fog and the precipitation under the clouds, lit through them
-// (the key light in their shadow; the sky's light as the clouds' probe measured it).
+// (the key light in their shadow; the sky's light as the clouds' probe measured it); `ice`:
+// the cirrus's, whose crystals scatter by the halo table (with HALOS).
 void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset, bool under,
-                 inout vec4 radiance, inout float transmittance, inout vec2 depth) {
+                 bool ice, inout vec4 radiance, inout float transmittance, inout vec2 depth) {
     float len = seg.y - seg.x;
     vec4 light0, sky0, light1, sky1;
     bool lit = false;  // the irradiances at the segment's ends, on its first cloud
@@ -237,7 +238,11 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
                 shadow = clouds_transmittance(p, L, 4);
                 j *= vec2(shadow, 1.0);
             }
+#ifdef HALOS
+            vec4 single = ice ? halo_phase(d, L, up) : (1.0 - rain) * droplet_phase(nu);
+#else
             vec4 single = (1.0 - rain) * droplet_phase(nu);
+#endif
             if (rain > 0.0) single += rain * rain_phase(nu);
             j_colour = (single - cloud_phase(nu)) * (exp(-tau_s) * shadow);
             have_j = true;
@@ -395,7 +400,7 @@ void main() {
                                  : vec2(max(segs[s].x, t_scene), segs[s].y);
             if (seg.y <= seg.x) continue;
             float before = transmittance;
-            march_shell(o, d, seg, radii[s].x, radii[s].y, offset, s == 0, radiance,
+            march_shell(o, d, seg, radii[s].x, radii[s].y, offset, s == 0, s == 2, radiance,
                         transmittance, depth);
             if (s == 0 && part == 0) fog_scene *= transmittance / before;
         }
