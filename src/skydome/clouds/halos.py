@@ -148,7 +148,11 @@ def _cell_solid_angles() -> np.ndarray:
 def _angle_from_light_deg(light_elevation_deg: float) -> np.ndarray:
     """The angle (deg) between each cell's centre and the light (EL, AZ)."""
     el, az = table_angles_deg()
-    elr, azr, e = np.radians(el)[:, None], np.radians(az)[None, :], math.radians(light_elevation_deg)
+    elr, azr, e = (
+        np.radians(el)[:, None],
+        np.radians(az)[None, :],
+        math.radians(light_elevation_deg),
+    )
     cos_angle = np.sin(elr) * math.sin(e) + np.cos(elr) * math.cos(e) * np.cos(azr)
     return np.degrees(np.arccos(np.clip(cos_angle, -1.0, 1.0)))
 
@@ -229,4 +233,3 @@ def halo_table(spec: str, light_elevation_deg: float, wavelengths_nm, to_output,
     while len(_CACHE) > CACHE_SIZE:
         _CACHE.popitem(last=False)
     return table
-
