@@ -340,7 +340,7 @@ def weather_views(w: int, h: int) -> None:
 def optics_views(w: int, h: int) -> None:
     """Optics (issue 24), full quality, auto exposure: the glory around the antisolar point
     seen from an aircraft 600 m above an overcast's top (the droplets' Mie phase function by
-    output channel)."""
+    output channel); ice halos in cirrostratus (the crystals' ray-traced table)."""
     from skydome.core.cameras import PerspectiveCamera as Cam
 
     with Sky(sun_elevation_deg=35.0, sun_azimuth_deg=200.0, clouds="overcast") as sky:
@@ -355,6 +355,25 @@ def optics_views(w: int, h: int) -> None:
     note = "the glory from 600 m above an overcast, the Sun 35 deg up behind"
     atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": note}))
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+    # ice halos in a cirrostratus: name: (sun elevation, halos, (pitch, fov), note)
+    views = {
+        "optics-halo-sundogs": (20.0, "random:0.6,plates:0.25,columns:0.15", (20, 110),
+                                "cirrostratus, the Sun 20 deg up: the 22 deg halo, sun dogs, "
+                                "the upper tangent arc"),
+        "optics-circumzenithal": (22.0, "plates:0.7,random:0.3", (62, 100),
+                                  "plates in cirrus, the Sun 22 deg up: the circumzenithal "
+                                  "arc 46 deg above it"),
+    }  # fmt: skip
+    from skydome.clouds.params import Clouds
+
+    for name, (el, halos, (pitch, fov), note) in views.items():
+        clouds = Clouds("cirrus", cirrus=0.9, halos=halos)
+        with Sky(sun_elevation_deg=el, sun_azimuth_deg=180.0, clouds=clouds) as sky:
+            frame = sky.render(Cam(fov_deg=fov, yaw_deg=180.0, pitch_deg=pitch), w, h,
+                               tonemap="filmic")  # fmt: skip
+        path = OUT / f"{name}.png"
+        atomic_write(path, lambda tmp, f=frame, n=note: write_png(tmp, f.image, {"views": n}))
+        print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
 def scene_views(w: int, h: int) -> None:

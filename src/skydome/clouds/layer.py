@@ -19,6 +19,7 @@ from math import lcm
 import numpy as np
 
 from skydome.clouds.direction_table import TABLE_SIZE, table_directions, table_frame
+from skydome.clouds.halos import halo_table
 from skydome.clouds.inputs import (
     CloudDataInputs,
     CloudInputs,
@@ -30,7 +31,6 @@ from skydome.clouds.inputs import (
     TemporalInputs,
     UpsampleInputs,
 )
-from skydome.clouds.halos import halo_table
 from skydome.clouds.ms_table import load_ms_table
 from skydome.clouds.noise import cloud_noise
 from skydome.clouds.params import (
