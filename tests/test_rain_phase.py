@@ -199,3 +199,57 @@ def test_look_antisun_aims_opposite_the_sun(tmp_path):
                 "-o", str(out))  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert out.exists()
+
+
+@pytest.mark.gl
+def test_moonlit_rain_shows_a_moonbow():
+    """Valletta, 2018-03-01 19:00 UTC: the Sun 25.7 deg down (night), the full Moon 28.5 deg up
+    in the east, the key light of the clouds. A uniform rain seen through Sky along the anti-lunar
+    vertical draws the primary bow within 1 deg of Descartes' angle from the Moon (137.9 deg),
+    brighter than Alexander's band outside it."""
+    import datetime as dt
+
+    from skydome import Sky
+    from skydome.atmosphere.layer import AtmosphereLayer
+    from skydome.clouds.layer import CloudLayer
+    from skydome.clouds.params import Clouds
+    from skydome.core.cameras import PerspectiveCamera
+    from tests.conftest import TINY_TABLES
+
+    rain = CloudLayer(Clouds("overcast", uniform=True, optical_depth=0.001,
+                             precipitation_extinction_per_m=1e-3))  # fmt: skip
+    time = dt.datetime(2018, 3, 1, 19, 0, tzinfo=dt.timezone.utc)
+    w, h = 4, 240
+    with Sky(place="valletta", time=time,
+             layers=[AtmosphereLayer("earth", config=TINY_TABLES), rain]) as sky:  # fmt: skip
+        moon = sky.state.moon
+        assert sky.state.sun.elevation_deg < -8.0 and moon.elevation_deg > 10.0
+        camera = PerspectiveCamera(
+            fov_deg=2 * math.degrees(math.atan(math.tan(math.radians(22.0)) * w / h)),
+            yaw_deg=(moon.azimuth_deg + 180.0) % 360.0, pitch_deg=42.0 - moon.elevation_deg,
+        )  # fmt: skip
+        frame = sky.render(camera, w, h, exposure=None)
+        dirs, _ = camera.directions(np.full(h, 2.0), np.arange(h) + 0.5, w, h)
+    e, a = math.radians(moon.elevation_deg), math.radians(moon.azimuth_deg)
+    towards = np.array([math.sin(a) * math.cos(e), math.cos(a) * math.cos(e), math.sin(e)])
+    theta = np.degrees(np.arccos(np.asarray(dirs) @ towards))[::-1]  # rows top first
+    light = frame.data[:, 2, 1]
+    primary = theta[np.argmax(np.where((theta > 133) & (theta < 145), light, 0))]
+    assert abs(primary - 137.9) < 1.0, primary
+    assert light.max() > 2.0 * light[(theta > 131) & (theta < 136)].mean()
+
+
+@pytest.mark.gl
+def test_no_rain_no_bow_the_frame_is_bit_identical():
+    """Clouds without rain: the frame is the same to the bit whether their precipitation
+    would be rain (scattering by the drops' optics, the bows) or snow: the rain's optics
+    touch nothing where no rain falls."""
+    from skydome import Sky
+    from skydome.clouds.params import Clouds
+
+    frames = []
+    for rain_fraction in (1.0, 0.0):
+        clouds = Clouds("fair", rain_fraction=rain_fraction)
+        with Sky(sun_elevation_deg=15.0, sun_azimuth_deg=270.0, clouds=clouds) as sky:
+            frames.append(sky.render(sky.camera("antisun", fov_deg=90), 64, 36, exposure=None))
+    assert np.array_equal(frames[0].data, frames[1].data)

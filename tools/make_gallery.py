@@ -340,7 +340,8 @@ def weather_views(w: int, h: int) -> None:
 def optics_views(w: int, h: int) -> None:
     """Optics (issue 24), full quality, auto exposure: the glory around the antisolar point
     seen from an aircraft 600 m above an overcast's top (the droplets' Mie phase function by
-    output channel); ice halos in cirrostratus (the crystals' ray-traced table)."""
+    output channel); a double rainbow at 18:00, a moonbow, a fogbow; ice halos in
+    cirrostratus (the crystals' ray-traced table)."""
     from skydome.core.cameras import PerspectiveCamera as Cam
 
     with Sky(sun_elevation_deg=35.0, sun_azimuth_deg=200.0, clouds="overcast") as sky:
@@ -353,6 +354,39 @@ def optics_views(w: int, h: int) -> None:
         )  # a sunlit deck is white, not mid-grey
     path = OUT / "optics-glory.png"
     note = "the glory from 600 m above an overcast, the Sun 35 deg up behind"
+    atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": note}))
+    print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+    # bows: name: (place, time UTC, weather, light ("sun"/"moon"), pitch, note)
+    import datetime as dt
+
+    from skydome.weather import Weather
+
+    bows = {
+        "optics-double-rainbow": (
+            "vienna", dt.datetime(2026, 9, 1, 16, 0, tzinfo=dt.timezone.utc),
+            Weather("rain", rain_mm_h=6, clouds="fair"), "sun", 16.0,
+            "Vienna, 2026-09-01 18:00 local, after a shower: both bows and Alexander's band",
+        ),
+        "optics-moonbow": (
+            "valletta", dt.datetime(2018, 3, 1, 19, 0, tzinfo=dt.timezone.utc),
+            Weather("rain", rain_mm_h=6, clouds="fair"), "moon", 12.0,
+            "Valletta, 2018-03-01 19:00 UTC: a moonbow under the full Moon (a long exposure)",
+        ),
+    }  # fmt: skip
+    for name, (place, time, weather, light, pitch, note) in bows.items():
+        with Sky(place=place, time=time, weather=weather) as sky:
+            body = sky.state.sun if light == "sun" else sky.state.moon
+            cam = Cam(fov_deg=110, yaw_deg=(body.azimuth_deg + 180.0) % 360.0, pitch_deg=pitch)
+            frame = sky.render(cam, w, h, tonemap="filmic")
+        path = OUT / f"{name}.png"
+        atomic_write(path, lambda tmp, f=frame, n=note: write_png(tmp, f.image, {"views": n}))
+        print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+    fog = Weather("fog", visibility_km=0.15, fog_top_m=40.0)
+    with Sky(sun_elevation_deg=12.0, sun_azimuth_deg=90.0, weather=fog) as sky:
+        frame = sky.render(sky.camera("antisun", fov_deg=110, pitch_deg=10), w, h,
+                           tonemap="filmic")  # fmt: skip
+    path = OUT / "optics-fogbow.png"
+    note = "a fogbow in 40 m of fog (150 m visibility), the Sun 12 deg up behind"
     atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": note}))
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
     # ice halos in a cirrostratus: name: (sun elevation, halos, (pitch, fov), note)
