@@ -280,8 +280,8 @@ def cloud_views(w: int, h: int) -> None:
         "clouds-above-10km": ("2021-06-21T09:00Z", Clouds("fair", coverage=0.55, seed=3),
                               (60, -20), 100, 10_000.0, None, "fair cumulus seen from 10 km"),
         "clouds-crepuscular-rays": (
-            "2021-06-21T17:50Z", Clouds("fair", coverage=0.6, seed=8), (0, 8), 80, None, True,
-            "light shafts through gaps: the shadowed air scatters no sunlight"),
+            "2021-06-21T17:50Z", Clouds("fair", coverage=0.15, seed=1), (0, 18), 100, None, True,
+            "crepuscular rays: the clouds' shadows in the air, converging on the low Sun"),
     }  # fmt: skip
     for name, (time, clouds, (dyaw, pitch), fov, alt, shafts, note) in views.items():
         sky = Sky(valletta, time, night=False,

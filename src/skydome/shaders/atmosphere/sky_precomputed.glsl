@@ -18,7 +18,7 @@ uniform vec4 u_light2_scale;       // per output channel: its irradiance in unit
                                    // params' solar spectrum times its colour
 #endif
 #ifdef HAS_SHADOW_MAP
-uniform sampler2D u_shadow_map;    // shadowed length along each view ray, km
+#include "atmosphere/shadow_map.glsl"
 #endif
 #ifdef HAS_DEPTH_MAP
 uniform sampler2D u_depth_map;     // distance to the user's scene along each ray, km (<= 0: none)
@@ -63,9 +63,9 @@ void main() {
 #endif
         return;
     }
-    float shadow_length = 0.0;
+    float shadow_length = 0.0, shadow_start = 0.0;
 #ifdef HAS_SHADOW_MAP
-    shadow_length = texelFetch(u_shadow_map, ivec2(gl_FragCoord.xy), 0).r;
+    shadow_map_at(ivec2(gl_FragCoord.xy), shadow_length, shadow_start);
 #endif
 #ifdef HAS_DEPTH_MAP
     float depth = texelFetch(u_depth_map, ivec2(gl_FragCoord.xy), 0).r;
@@ -105,7 +105,18 @@ void main() {
 #endif
 #else
     vec3 column;
-    frag = u_sun_scale * sky_radiance(u_camera_position, dir, shadow_length, u_sun_direction, column);
+    frag = u_sun_scale * sky_radiance(u_camera_position, dir, shadow_start > 0.0 ? 0.0 : shadow_length,
+                                      u_sun_direction, column);
+#ifdef HAS_SHADOW_MAP
+    // a shadow away from the camera (the clouds' shafts): the air between its start and end
+    // scatters no sunlight: its aerial perspective there taken off
+    if (shadow_start > 0.0) {
+        vec3 o = u_camera_position;
+        frag -= u_sun_scale * (sky_radiance_to_point(o, o + dir * (shadow_start + shadow_length), 0.0, u_sun_direction)
+                             - sky_radiance_to_point(o, o + dir * shadow_start, 0.0, u_sun_direction));
+        frag = max(frag, vec4(0.0));
+    }
+#endif
 #ifdef HAS_LIGHT2
     frag += u_light2_scale * sky_radiance(u_camera_position, dir, 0.0, u_light2_direction, column);
 #endif

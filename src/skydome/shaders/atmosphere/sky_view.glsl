@@ -36,7 +36,7 @@ layout(location = 0) out vec4 frag;
 #include "atmosphere/view_transmittance.glsl"
 #endif
 #ifdef HAS_SHADOW_MAP
-uniform sampler2D u_shadow_map;  // shadowed length along each view ray, km
+#include "atmosphere/shadow_map.glsl"
 #endif
 #if defined(HAS_DEPTH_MAP) || defined(HAS_SHADOW_MAP)
 #include "atmosphere/aerial_lookup.glsl"
@@ -86,14 +86,19 @@ void main() {
 #if defined(HAS_DEPTH_MAP) || defined(HAS_SHADOW_MAP)
     float ray_length_km = ray_length(r, dir.z, hits_ground);
 #endif
-    float shadow_length = 0.0;
+    float shadow_length = 0.0, shadow_start = 0.0;
 #ifdef HAS_SHADOW_MAP
-    shadow_length = texelFetch(u_shadow_map, ivec2(gl_FragCoord.xy), 0).r;
+    shadow_map_at(ivec2(gl_FragCoord.xy), shadow_length, shadow_start);
     if (shadow_length > 0.0) {
-        frag = max(frag - u_sun_scale * aerial_from_table(u_sun_aerial_scattering,
-                                                          u_sun_aerial_single_mie, sun_unit,
-                                                          sun_nu, shadow_length, ray_length_km),
-                   vec4(0.0));
+        // the aerial perspective of the shadowed segment: up to its end, less up to its start
+        // (none when it starts at the camera)
+        vec4 shadowed = aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
+                                          sun_unit, sun_nu, shadow_start + shadow_length,
+                                          ray_length_km);
+        if (shadow_start > 0.0)
+            shadowed -= aerial_from_table(u_sun_aerial_scattering, u_sun_aerial_single_mie,
+                                          sun_unit, sun_nu, shadow_start, ray_length_km);
+        frag = max(frag - u_sun_scale * max(shadowed, vec4(0.0)), vec4(0.0));
     }
 #endif
 #ifdef HAS_LIGHT2
