@@ -24,6 +24,33 @@ def test_bohren_huffman_worked_example():
     assert q_back == pytest.approx(2.92534, abs=1e-5)
 
 
+@pytest.mark.parametrize("x", [150.0, 1000.0, 5000.0, 20000.0])
+def test_first_coefficients_of_large_spheres_match_their_closed_form(x):
+    # a_1 and b_1 from the closed-form Riccati-Bessel functions of order 1 (Bohren & Huffman
+    # eqs. 4.53, 4.88): the downward recurrence of D_n must have forgotten its start by n = 1
+    # (started at |mx| + 16 it erred by 4 % at x = 1000: rain drops' size parameters are
+    # 1000-30000)
+    m = 1.333
+
+    def psi(z):
+        return np.sin(z) / z - np.cos(z)
+
+    def dpsi(z):
+        return np.cos(z) / z - np.sin(z) / z**2 + np.sin(z)
+
+    def xi(z):
+        return psi(z) - 1j * (np.cos(z) / z + np.sin(z))
+
+    def dxi(z):
+        return dpsi(z) - 1j * (-np.sin(z) / z - np.cos(z) / z**2 + np.cos(z))
+
+    mx = m * x
+    a1 = (m * psi(mx) * dpsi(x) - psi(x) * dpsi(mx)) / (m * psi(mx) * dxi(x) - xi(x) * dpsi(mx))
+    b1 = (psi(mx) * dpsi(x) - m * psi(x) * dpsi(mx)) / (psi(mx) * dxi(x) - m * xi(x) * dpsi(mx))
+    a, b = mie.mie_coefficients(complex(m, 0.0), [x])
+    assert abs(a[0, 0] - a1) < 1e-9 and abs(b[0, 0] - b1) < 1e-9
+
+
 def test_rayleigh_limit():
     # x << 1: Q_sca = 8/3 x^4 |K|^2 and Q_abs = 4 x Im K, K = (m^2 - 1) / (m^2 + 2) (BH eqs.
     # 5.8, 5.11); the next terms are O(x^2) relative: 1e-4 at x = 0.01.

@@ -33,8 +33,11 @@ def mie_coefficients(m: complex, x) -> tuple[np.ndarray, np.ndarray]:
     nstop = np.floor(x + 4.0 * np.cbrt(x) + 2.0).astype(int)
     n_max = int(nstop.max())
     mx = m * x
-    # D_n(mx) = psi_n'(mx) / psi_n(mx), stable downwards from well past both n_stop and |mx|.
-    n_start = int(max(n_max, np.abs(mx).max())) + 16
+    # D_n(mx) = psi_n'(mx) / psi_n(mx), stable downwards from well past both n_stop and |mx|:
+    # the recurrence forgets its start within ~|mx|^(1/3) terms past |mx| (started at |mx| + 16
+    # its D_1 erred by 4e-4 at x = 150 and 4 % at x = 1000; at |mx| + 8 |mx|^(1/3), < 1e-12)
+    z = float(np.abs(mx).max())
+    n_start = int(max(n_max, z + 8.0 * np.cbrt(z))) + 16
     d = np.zeros((n_start + 1, x.size), complex)
     for n in range(n_start, 0, -1):
         d[n - 1] = n / mx - 1.0 / (d[n] + n / mx)
