@@ -88,6 +88,8 @@ def weathered(
             fog_extinction_per_m=fog,
             precipitation_extinction_per_m=precip,
             rain_fraction=weather.rain_extinction_per_m / precip if precip > 0 else 1.0,
+            rain_mm_h=weather.rain_mm_h if weather.rain_mm_h > 0 else base.rain_mm_h,
+            rain_drop_radius_mm=weather.rain_drop_radius_mm,
         )
     if weather.snow_cover > 0:
         c = weather.snow_cover

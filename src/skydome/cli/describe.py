@@ -150,7 +150,7 @@ def atmosphere_from_flags(flags: SimpleNamespace):
 _WEATHER_FIELDS = {
     "visibility": "visibility_km", "humidity": "humidity_pct", "fog_top": "fog_top_m",
     "fog_droplet": "fog_droplet_um", "rain": "rain_mm_h", "snow": "snow_mm_h",
-    "snow_cover": "snow_cover",
+    "snow_cover": "snow_cover", "rain_drop": "rain_drop_radius_mm",
 }  # fmt: skip
 
 

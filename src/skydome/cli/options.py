@@ -120,6 +120,9 @@ FLAGS: dict[str, Flag] = {
                         "Effective radius of the fog's droplets, micrometres (1..50; default "
                         "10)."),
     "rain": Flag(float, None, ("--rain",), "Rain rate, mm/h (0..300)."),
+    "rain_drop": Flag(float, None, ("--rain-drop",),
+                      "Rain drops all of one radius, mm (0.1..0.5): narrow rainbows with "
+                      "supernumerary arcs (default: the rate's Marshall-Palmer sizes)."),
     "snow": Flag(float, None, ("--snow",), "Snowfall rate, mm/h of melted water (0..50)."),
     "snow_cover": Flag(float, None, ("--snow-cover",),
                        "Fraction of the ground under snow, 0..1 (its albedo goes to snow's)."),
@@ -159,7 +162,8 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "wind", "cloud_seed", "weather_map",
     ),
     "weather": (
-        "weather", "humidity", "fog_top", "fog_droplet", "rain", "snow", "snow_cover", "shutter",
+        "weather", "humidity", "fog_top", "fog_droplet", "rain", "rain_drop", "snow", "snow_cover",
+        "shutter",
     ),
     "camera": ("look", "camera", "fov", "yaw", "pitch", "altitude"),
     "display": ("compensation", "tonemap"),

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 from fractions import Fraction
+from functools import partial
 from math import lcm
 
 import numpy as np
@@ -415,9 +416,12 @@ class CloudLayer(Layer):
         z = the light's cosine, RGB = the azimuth Fourier coefficients; the phase functions
         the march uses, tabulated at RENDER_PHASE_TEXELS angles uniform from 0 to 180 deg,
         linear filtering: the droplets' (the same function as its TabulatedPhase), and the
-        rain's and the droplets' by output channel (RGBA: rain_channel_phases and
-        droplet_channel_phases for the graph's basis))."""
+        rain's (for its drops' sizes) and the droplets' by output channel (RGBA:
+        rain_channel_phases and droplet_channel_phases for the graph's basis))."""
         if self._static is None:
+            c = self.clouds  # the rain's drops: its rate's, or one size
+            radius_um = None if c.rain_drop_radius_mm is None else 1e3 * c.rain_drop_radius_mm
+            rain = partial(rain_channel_phases, rain_mm_h=c.rain_mm_h, drop_radius_um=radius_um)
             j = np.asarray(_ms_table().J, dtype=np.float32)  # (tau, mu0, depth, mu, 3)
             nt, nm0, nd, nmu, _ = j.shape
             texels = np.zeros((nm0, nt, nmu * nd, 4), dtype=np.float32)
@@ -428,7 +432,7 @@ class CloudLayer(Layer):
             phase = ctx.texture((values.size, 1), 1, values.tobytes(), dtype="f4")
             basis = self.graph.basis
             channels = []
-            for table in (rain_channel_phases, droplet_channel_phases):
+            for table in (rain, droplet_channel_phases):
                 values = table(basis.wavelengths_nm, basis.to_output)
                 values = np.ascontiguousarray(values.T, dtype=np.float32)  # (texels, 4)
                 channels.append(ctx.texture((values.shape[0], 1), 4, values.tobytes(), dtype="f4"))

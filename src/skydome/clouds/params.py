@@ -19,6 +19,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from skydome.clouds.halos import DEFAULT_HALOS, parse_halos
+from skydome.clouds.phase import DEFAULT_RAIN_MM_H
 from skydome.errors import ParameterError, check_wind
 from skydome.physics.droplets import droplet_extinction_per_m
 
@@ -135,6 +136,10 @@ class Clouds:
         rain_fraction: the share (0-1) of that extinction that is rain (water spheres,
             scattering by geometric optics: ``clouds.phase.RAIN_RENDER_PHASE``); the rest is
             snow, which scatters as the cloud droplets do.
+        rain_mm_h: the rain's rate (mm/h): its drops' sizes (Marshall-Palmer), which set its
+            bows' width and paleness (skydome.clouds.phase.RainBows).
+        rain_drop_radius_mm: drops of one size (radius mm, a 10 % spread; 0.1-0.5) instead:
+            narrow bows with supernumerary arcs inside the primary. None: Marshall-Palmer.
         halos: the cirrus's ice crystals (skydome.clouds.halos): "none" (they scatter as
             the cloud droplets do), or a mixture of "random" (the 22 and 46 deg halos),
             "plates" (sun dogs, the circumzenithal arc, the parhelic circle) and "columns"
@@ -160,6 +165,8 @@ class Clouds:
     fog_extinction_per_m: float = 0.0
     precipitation_extinction_per_m: float = 0.0
     rain_fraction: float = 1.0
+    rain_mm_h: float = DEFAULT_RAIN_MM_H
+    rain_drop_radius_mm: float | None = None
     halos: str = DEFAULT_HALOS
 
     def __post_init__(self):
@@ -226,6 +233,11 @@ class Clouds:
         object.__setattr__(self, "precipitation_extinction_per_m", precip)
         rain = _number("rain fraction", self.rain_fraction, 0.0, 1.0, "")
         object.__setattr__(self, "rain_fraction", rain)
+        rate = _number("rain rate", self.rain_mm_h, 0.01, 500.0, "mm/h")
+        object.__setattr__(self, "rain_mm_h", rate)
+        if self.rain_drop_radius_mm is not None:
+            radius = _number("rain drop radius", self.rain_drop_radius_mm, 0.1, 0.5, "mm")
+            object.__setattr__(self, "rain_drop_radius_mm", radius)
         if (top > 0) != (fog > 0):
             raise ParameterError("a fog needs both a top above the ground and an extinction")
         if top > 0 and self.coverage > 0 and top > self.base_m:

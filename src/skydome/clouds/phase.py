@@ -24,7 +24,7 @@ Both are normalised to 1 over the sphere (1/sr) and offer ``value``, ``sample``,
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cache, cached_property
 
 import numpy as np
 
@@ -54,6 +54,11 @@ __all__ = [
     "load_droplet_phases",
     "load_rain_phases",
     "rain_channel_phases",
+    "rain_phases_with_bows",
+    "RainBows",
+    "rain_bows",
+    "DEFAULT_RAIN_MM_H",
+    "load_rain_bows",
     "disk_smoothed",
     "SUN_RADIUS_DEG",
     "render_grid_deg",
@@ -350,15 +355,99 @@ def disk_smoothed(theta_deg, values, radius_deg: float = SUN_RADIUS_DEG):
     return fine, out.reshape(*np.shape(values)[:-1], fine.size)
 
 
-def rain_channel_phases(wavelengths_nm, to_output) -> np.ndarray:
+#: The rain's bows by Lorenz-Mie theory (``tools/build_rain_mie_phase.py``), the file's format
+#: version, where they replace the rays' table (deg) and over how many degrees at each end
+#: they take over from it.
+RAIN_MIE_NPZ = "rain_drop_mie_phase.npz"
+RAIN_MIE_FORMAT = 1
+BOWS_DEG = (125.0, 145.0)
+BOWS_BLEND_DEG = 1.0
+#: The rain rate (mm/h) a cloud layer's rain has unless told (moderate rain).
+DEFAULT_RAIN_MM_H = 4.0
+
+
+@dataclass(frozen=True)
+class RainBows:
+    """The rain's bows by Mie theory (1/sr, normalised as :data:`RAIN_PHASES`: by the drops'
+    geometric cross-section), at ``theta_deg`` (A; BOWS_DEG in 0.05 deg bins) and
+    ``wavelength_nm`` (W): Marshall-Palmer rain by ``rain_mm_h`` (R; ``by_rate`` (R, W, A)) and
+    drops of one size by ``radius_um`` (N; ``by_radius`` (N, W, A), a 10 % spread)."""
+
+    rain_mm_h: np.ndarray
+    radius_um: np.ndarray
+    wavelength_nm: np.ndarray
+    theta_deg: np.ndarray
+    by_rate: np.ndarray
+    by_radius: np.ndarray
+
+    def at(self, wavelengths_nm, rain_mm_h: float = DEFAULT_RAIN_MM_H,
+           drop_radius_um: float | None = None) -> np.ndarray:  # fmt: skip
+        """The bows (N, A) at ``wavelengths_nm`` (linear between the table's, held beyond) of
+        rain at ``rain_mm_h``, or of drops of one radius ``drop_radius_um`` (um); both
+        linear in their logarithm between the table's, held beyond."""
+        if drop_radius_um is None:
+            axis, table, value = self.rain_mm_h, self.by_rate, rain_mm_h
+        else:
+            axis, table, value = self.radius_um, self.by_radius, drop_radius_um
+        u = np.clip(np.log(float(value)), np.log(axis[0]), np.log(axis[-1]))
+        i = int(np.clip(np.searchsorted(np.log(axis), u) - 1, 0, axis.size - 2))
+        f = (u - np.log(axis[i])) / (np.log(axis[i + 1]) - np.log(axis[i]))
+        rows = (1.0 - f) * table[i] + f * table[i + 1]  # (W, A)
+        return SpectralPhases(self.wavelength_nm, self.theta_deg, rows).at(wavelengths_nm)
+
+
+def load_rain_bows() -> RainBows:
+    """The rain's Mie bows from the packaged ``rain_drop_mie_phase.npz``."""
+    phase, meta = read_packaged_npz(
+        RAIN_MIE_NPZ, "phase", RAIN_MIE_FORMAT, "rain bows", "tools/build_rain_mie_phase.py",
+    )  # fmt: skip
+    narrow, _ = read_packaged_npz(
+        RAIN_MIE_NPZ, "narrow", RAIN_MIE_FORMAT, "rain bows", "tools/build_rain_mie_phase.py",
+    )  # fmt: skip
+    return RainBows(
+        np.asarray(meta["rain_mm_h"], float), np.asarray(meta["narrow_radius_um"], float),
+        np.asarray(meta["wavelength_nm"], float), np.asarray(meta["theta_deg"], float),
+        np.asarray(phase, float), np.asarray(narrow, float),
+    )  # fmt: skip
+
+
+@cache
+def rain_bows() -> RainBows:
+    """The rain's bows by Mie theory (:func:`load_rain_bows`, read at first use: the tool that
+    builds them imports this module)."""
+    return load_rain_bows()
+
+
+def rain_phases_with_bows(wavelengths_nm, rain_mm_h: float = DEFAULT_RAIN_MM_H,
+                          drop_radius_um: float | None = None) -> np.ndarray:  # fmt: skip
+    """Rain's phase functions (N, A) at ``wavelengths_nm`` on :data:`RAIN_PHASES`' angles: its
+    rays', with the bows (BOWS_DEG) from Mie theory for the drops of ``rain_mm_h`` or of
+    ``drop_radius_um`` (:class:`RainBows`), taking over linearly within BOWS_BLEND_DEG of
+    each end."""
+    rows = RAIN_PHASES.at(wavelengths_nm)
+    theta = RAIN_PHASES.theta_deg
+    lo, hi = BOWS_DEG
+    inside = (theta > lo) & (theta < hi)
+    w = np.clip(np.minimum(theta - lo, hi - theta) / BOWS_BLEND_DEG, 0.0, 1.0)[inside]
+    table = rain_bows()
+    bows = table.at(wavelengths_nm, rain_mm_h, drop_radius_um)
+    mie = np.stack([np.interp(theta[inside], table.theta_deg, row) for row in bows])
+    rows[:, inside] = (1.0 - w) * rows[:, inside] + w * mie
+    return rows
+
+
+def rain_channel_phases(wavelengths_nm, to_output, rain_mm_h: float = DEFAULT_RAIN_MM_H,
+                        drop_radius_um: float | None = None) -> np.ndarray:  # fmt: skip
     """Rain's phase function per output channel (4, RENDER_PHASE_TEXELS) on the renderer's
-    grid: the wavelengths' phase functions seen in the Sun's disk (:func:`disk_smoothed`),
-    weighted as sunlight's share of each channel (``to_output`` (4, N): a SpectralBasis's,
-    per unit of the solar spectrum at ``wavelengths_nm``), cut flat at
-    :data:`TRUNCATION_DEG` as :data:`RAIN_RENDER_PHASE` and divided by the same kept share,
-    held >= 0 (a channel's weights may be negative)."""
+    grid: the wavelengths' phase functions (:func:`rain_phases_with_bows`: the rays', the
+    bows by Mie theory for the drops of ``rain_mm_h`` or ``drop_radius_um``) seen in the
+    Sun's disk (:func:`disk_smoothed`), weighted as sunlight's share of each channel
+    (``to_output`` (4, N): a SpectralBasis's, per unit of the solar spectrum at
+    ``wavelengths_nm``), cut flat at :data:`TRUNCATION_DEG` as :data:`RAIN_RENDER_PHASE` and
+    divided by the same kept share, held >= 0 (a channel's weights may be negative)."""
     m = np.asarray(to_output, dtype=float)
-    fine, per_wavelength = disk_smoothed(RAIN_PHASES.theta_deg, RAIN_PHASES.at(wavelengths_nm))
+    rows = rain_phases_with_bows(wavelengths_nm, rain_mm_h, drop_radius_um)
+    fine, per_wavelength = disk_smoothed(RAIN_PHASES.theta_deg, rows)
     t = render_grid_deg()
     table = np.stack([np.interp(np.maximum(t, TRUNCATION_DEG), fine, row)
                       for row in per_wavelength])  # fmt: skip
