@@ -117,6 +117,8 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
     ),
     "test_cli_scene.py": ("test_timelapse_killed_leaves_a_temporary_file_the_next_run_removes",),
     "test_cli_view.py": ("test_the_viewer_draws_clouds_interactively",),
+    "test_crepuscular_rays.py": ("test_crepuscular_rays_converge_on_the_sun",),
+    "test_crystal_optics.py": ("test_tracer_on_a_sphere_is_the_drops_geometric_optics",),
     "test_cloud_noise.py": ("test_default_textures_and_caches",),
     "test_cloud_phase.py": (
         "test_asymmetry_of_water_clouds",
@@ -166,6 +168,13 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
         "test_mc_double_scattering_matches_quadrature",
         "test_spectral_mis_matches_single_wavelength_runs",
     ),
+    "test_halos.py": (
+        "test_no_circumzenithal_arc_with_the_sun_above_32_degrees",
+        "test_sky_draws_the_22_degree_halo",
+        "test_sky_draws_sun_dogs_beside_the_sun",
+        "test_frames_without_cirrus_do_not_depend_on_the_halos",
+        "test_diamond_dust_draws_the_22_degree_halo_near_the_ground",
+    ),
     "test_point_sources.py": (
         "test_equirect_flux_is_the_illuminance_at_any_resolution[4096]",
         "test_pixel_weights_are_the_gaussian_integrals[0.8-180.02-4096]",
@@ -187,6 +196,12 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
         "test_sky_illuminance_is_continuous_in_altitude_near_the_ground",
     ),
     "test_properties.py": ("test_cli_renders", "test_sky_frames"),
+    "test_rain_mie.py": ("test_packaged_bows_are_what_the_tool_builds",),
+    "test_rain_phase.py": (
+        "test_moonlit_rain_shows_a_moonbow",
+        "test_no_rain_no_bow_the_frame_is_bit_identical",
+        "test_sky_draws_supernumeraries_for_drops_of_one_size",
+    ),
     "test_rayleigh_ozone.py": ("test_ozone_makes_the_twilight_zenith_blue",),
     "test_readme_snippets.py": ("test_cli_examples_run",),
     "test_real_earth.py": (

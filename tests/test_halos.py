@@ -184,3 +184,49 @@ def test_frames_without_cirrus_do_not_depend_on_the_halos():
     a, _ = _render("none", cirrus=0.0, clouds="fair")
     b, _ = _render(DEFAULT_HALOS, cirrus=0.0, clouds="fair")
     assert np.array_equal(a, b)
+
+
+def test_diamond_dust_is_a_layer_of_crystals():
+    from skydome.weather import Weather
+
+    assert Weather("diamond-dust").fog_ice is True and Weather("fog").fog_ice is False
+    with pytest.raises(ParameterError):
+        Weather("sunny", fog_ice=True)  # crystals need a layer
+    with pytest.raises(ParameterError):
+        Weather("fog", fog_ice="yes")
+
+
+@pytest.mark.gl
+def test_diamond_dust_draws_the_22_degree_halo_near_the_ground():
+    # the diamond-dust weather (crystals to 300 m, 12 km of visibility, no cloud): its frame
+    # over the same without halos rises at the 22 deg halo's inner edge within 0.5 deg
+    from skydome import Sky
+    from skydome.clouds.params import Clouds
+    from skydome.weather import Weather
+
+    frames = {}
+    for halos in ("random", "none"):
+        with Sky(sun_elevation_deg=SUN_DEG, sun_azimuth_deg=180.0, weather=Weather("diamond-dust"),
+                 clouds=Clouds("clear", halos=halos)) as sky:  # fmt: skip
+            camera = sky.camera("sun", fov_deg=FOV)
+            frames[halos] = sky.render(camera, W, H, exposure=None).data[..., 1]
+            x, y = np.meshgrid(np.arange(W) + 0.5, np.arange(H) + 0.5)
+            dirs = np.asarray(camera.directions(x, y, W, H)[0])[::-1]
+    angle = np.degrees(np.arccos(np.clip(dirs @ _sun_vector(), -1.0, 1.0)))
+    sky_pixels = dirs[..., 2] > 0.02
+    ratio = frames["random"] / frames["none"]
+    edge, medians = _steepest(angle[sky_pixels], ratio[sky_pixels], 17.0, 27.0)
+    assert edge == pytest.approx(minimum_deviation_deg(float(ice_index(550.0)), 60.0), abs=0.5)
+    assert medians.max() > 1.05 * medians[:8].mean()
+
+
+def test_cli_halos_with_a_weather_and_bad_crystals(tmp_path):
+    # --halos chooses diamond dust's crystals too; an unknown crystal: one line, status 2,
+    # nothing written
+    from tests.cli_helpers import run_cli
+
+    out = tmp_path / "bad.png"
+    r = run_cli("render", "--weather", "diamond-dust", "--halos", "cubes", "--size", "32x18",
+                "-o", str(out))  # fmt: skip
+    assert r.returncode == 2 and "halo crystals 'cubes'" in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and not out.exists()

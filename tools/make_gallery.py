@@ -340,8 +340,8 @@ def weather_views(w: int, h: int) -> None:
 def optics_views(w: int, h: int) -> None:
     """Optics (issue 24), full quality, auto exposure: the glory around the antisolar point
     seen from an aircraft 600 m above an overcast's top (the droplets' Mie phase function by
-    output channel); a double rainbow at 18:00, a moonbow, a fogbow; ice halos in
-    cirrostratus (the crystals' ray-traced table)."""
+    output channel); a double rainbow at 18:00, a moonbow, a fogbow; ice halos in diamond
+    dust and in cirrostratus (the crystals' ray-traced table)."""
     from skydome.core.cameras import PerspectiveCamera as Cam
 
     with Sky(sun_elevation_deg=35.0, sun_azimuth_deg=200.0, clouds="overcast") as sky:
@@ -387,6 +387,14 @@ def optics_views(w: int, h: int) -> None:
                            tonemap="filmic")  # fmt: skip
     path = OUT / "optics-fogbow.png"
     note = "a fogbow in 40 m of fog (150 m visibility), the Sun 12 deg up behind"
+    atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": note}))
+    print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+    with Sky(sun_elevation_deg=15.0, sun_azimuth_deg=180.0,
+             weather=Weather("diamond-dust")) as sky:  # fmt: skip
+        frame = sky.render(Cam(fov_deg=110, yaw_deg=180.0, pitch_deg=23.0), w, h,
+                           tonemap="filmic")  # fmt: skip
+    path = OUT / "optics-diamond-dust.png"
+    note = "diamond dust, the Sun 15 deg up: halos, sun dogs and arcs in clear air near the ground"
     atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": note}))
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
     # ice halos in a cirrostratus: name: (sun elevation, halos, (pitch, fov), note)

@@ -214,8 +214,15 @@ def clouds_from_flags(flags: SimpleNamespace):
 
     if flags.clouds is None:
         given = [name for name in GROUPS["clouds"][1:] if getattr(flags, name) is not None]
-        if given == ["wind"] and weather_from_flags(flags) is not None:
-            return None  # the wind of the weather's own clouds
+        weather = weather_from_flags(flags) if given else None
+        if weather is not None and set(given) <= {"wind", "halos"}:
+            if flags.halos is None:
+                return None  # the wind of the weather's own clouds
+            from skydome.clouds.params import Clouds
+
+            # the weather's own clouds (or none: its diamond dust's crystals), of these crystals
+            wind = parse_wind(flags.wind) if flags.wind is not None else weather.wind_m_s
+            return Clouds(weather.clouds or "clear", wind_m_s=wind, halos=flags.halos)
         if given:
             raise ParameterError(
                 f"{flag_name(given[0])} needs --clouds PRESET (e.g. --clouds fair)"

@@ -98,9 +98,10 @@ FLAGS: dict[str, Flag] = {
                        "stratus | stratocumulus | cumulus | cumulonimbus."),
     "cirrus": Flag(float, None, ("--cirrus",), "Cirrus sheet coverage 0..1 (with --clouds)."),
     "halos": Flag(str, None, ("--halos",),
-                  "The cirrus's ice crystals: none, or random (22/46 deg halos), plates (sun "
+                  "The ice crystals of the cirrus: none, or random (22/46 deg halos), plates (sun "
                   "dogs, circumzenithal arc), columns (tangent arcs) with optional weights, "
-                  "e.g. random:0.6,plates:0.4 (default random:0.6,plates:0.25,columns:0.15)."),
+                  "e.g. random:0.6,plates:0.4 (default random:0.6,plates:0.25,columns:0.15); "
+                  "also diamond dust's (--weather diamond-dust)."),
     "wind": Flag(str, None, ("--wind",),
                  "SPEED,FROM: wind speed (m/s) and the direction it blows from (degrees, 90 = "
                  "from the east), carrying the clouds (time-lapses animate them)."),
@@ -111,7 +112,7 @@ FLAGS: dict[str, Flag] = {
     # the weather
     "weather": Flag(str, None, ("--weather",),
                     "Weather preset: sunny | hazy | mist | fog | drizzle | rain | heavy-rain | "
-                    "snow | thunderstorm (brings its clouds unless --clouds is given)."),
+                    "snow | thunderstorm | diamond-dust (brings its clouds unless --clouds is given)."),
     "humidity": Flag(float, None, ("--humidity",),
                      "Relative humidity, % (0..100): the aerosol swells with it."),
     "fog_top": Flag(float, None, ("--fog-top",),

@@ -398,6 +398,8 @@ class CloudLayer(Layer):
             d["NO_ALOFT"] = 1
         if self._halos_drawn():
             d["HALOS"] = 1
+            if self.clouds.fog_ice:
+                d["FOG_ICE"] = 1
         for name in extra:
             d[name] = 1
         return d
@@ -440,9 +442,11 @@ class CloudLayer(Layer):
         return self._static
 
     def _halos_drawn(self) -> bool:
-        """Whether the cirrus's crystals scatter by their halo table (a cirrus, crystals)."""
+        """Whether ice crystals scatter by their halo table: a cirrus, or diamond dust (an
+        ice fog), of crystals."""
         c = self.clouds
-        return c.cirrus > 0 and c.halos != "none" and not c.uniform
+        ice = c.cirrus > 0 or (c.fog_ice and c.fog_top_m > 0)
+        return ice and c.halos != "none" and not c.uniform
 
     def _halo_texture(self):
         """The cirrus crystals' phase function for the key light's elevation
@@ -726,8 +730,11 @@ class CloudLayer(Layer):
 
     def _tabled(self, frame: DrawContext) -> bool:
         """Whether ``frame`` draws the march from a direction table: a fog with no clouds
-        over it (the same everywhere) and no user's scene (whose distances are the pixels')."""
-        return not self.clouds.aloft and not self.clouds.uniform and frame.depth_map is None
+        over it (the same everywhere) and no user's scene (whose distances are the pixels'),
+        of droplets (diamond dust's halos are sharper than the table's 1.4 deg texels)."""
+        c = self.clouds
+        ice = c.fog_ice and self._halos_drawn()
+        return not c.aloft and not c.uniform and frame.depth_map is None and not ice
 
     def _direction_table(self, frame: DrawContext):
         """A fog alone marched for a table of view directions from the camera's height

@@ -136,6 +136,8 @@ class Clouds:
         rain_fraction: the share (0-1) of that extinction that is rain (water spheres,
             scattering by geometric optics: ``clouds.phase.RAIN_RENDER_PHASE``); the rest is
             snow, which scatters as the cloud droplets do.
+        fog_ice: the fog layer is of ice crystals (diamond dust): its single scattering by the
+            halo table of ``halos`` (skydome.clouds.halos), as the cirrus's.
         rain_mm_h: the rain's rate (mm/h): its drops' sizes (Marshall-Palmer), which set its
             bows' width and paleness (skydome.clouds.phase.RainBows).
         rain_drop_radius_mm: drops of one size (radius mm, a 10 % spread; 0.1-0.5) instead:
@@ -165,6 +167,7 @@ class Clouds:
     fog_extinction_per_m: float = 0.0
     precipitation_extinction_per_m: float = 0.0
     rain_fraction: float = 1.0
+    fog_ice: bool = False
     rain_mm_h: float = DEFAULT_RAIN_MM_H
     rain_drop_radius_mm: float | None = None
     halos: str = DEFAULT_HALOS
@@ -233,6 +236,8 @@ class Clouds:
         object.__setattr__(self, "precipitation_extinction_per_m", precip)
         rain = _number("rain fraction", self.rain_fraction, 0.0, 1.0, "")
         object.__setattr__(self, "rain_fraction", rain)
+        if not isinstance(self.fog_ice, bool):
+            raise ParameterError(f"fog_ice must be True or False, got {self.fog_ice!r}")
         rate = _number("rain rate", self.rain_mm_h, 0.01, 500.0, "mm/h")
         object.__setattr__(self, "rain_mm_h", rate)
         if self.rain_drop_radius_mm is not None:

@@ -14,6 +14,8 @@ The presets (:data:`PRESETS`) set every knob; a knob given overrides its preset'
 - ``fog_top_m``, ``fog_droplet_um``: a layer of droplets from the ground to its top (fog,
   mist), of droplets of that effective radius. When the weather has one, the visibility is
   the droplets' to make; without, the aerosol's.
+- ``fog_ice``: the layer is of ice crystals (diamond dust), which scatter by the halo table of
+  the clouds' ``halos`` mixture (skydome.clouds.halos): halos in clear, cold air.
 - ``rain_mm_h`` (with ``rain_distribution``), ``snow_mm_h``: precipitation (snow as melted
   water), falling from the clouds' base where their weather map has precipitation.
 - ``rain_drop_radius_mm``: the rain's drops all of about one radius (0.1-0.5 mm, a 10 %
@@ -71,6 +73,8 @@ PRESETS: dict[str, dict[str, Any]] = {
     "heavy-rain": dict(humidity_pct=98.0, rain_mm_h=16.0, clouds="nimbostratus"),
     "snow": dict(humidity_pct=90.0, snow_mm_h=1.0, snow_cover=1.0, clouds="nimbostratus"),
     "thunderstorm": dict(humidity_pct=90.0, rain_mm_h=30.0, clouds="storm", wind_m_s=(10.0, 0.0)),
+    "diamond-dust": dict(visibility_km=12.0, humidity_pct=85.0, fog_top_m=300.0, fog_ice=True,
+                         wind_m_s=(1.0, 0.0)),
 }  # fmt: skip
 
 
@@ -87,6 +91,7 @@ class Weather:
     snow_mm_h: float | None = None
     rain_distribution: str = "marshall-palmer"
     rain_drop_radius_mm: float | None = None
+    fog_ice: bool | None = None
     wind_m_s: tuple[float, float] | None = None
     snow_cover: float | None = None
     clouds: str | None = None
@@ -115,6 +120,12 @@ class Weather:
                 f"{', '.join(DISTRIBUTIONS)}"
             )
         object.__setattr__(self, "wind_m_s", check_wind(self.wind_m_s))
+        if self.fog_ice is None:
+            object.__setattr__(self, "fog_ice", False)
+        if not isinstance(self.fog_ice, bool):
+            raise ParameterError(f"fog_ice must be True or False, got {self.fog_ice!r}")
+        if self.fog_ice and self.fog_top_m is None:
+            raise ParameterError("ice crystals at the ground (fog_ice) need a layer: a fog_top_m")
 
     def with_(self, **changes) -> Weather:
         return replace(self, **changes)

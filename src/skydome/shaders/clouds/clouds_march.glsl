@@ -232,14 +232,23 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             // single scattering per channel: the droplets' colours, and under the clouds
             // the rain's share of the extinction with its own phase function (the rainbows)
             float rain = 0.0, shadow = 1.0;
+            vec2 parts = vec2(0.0);  // the fog's and the precipitation's extinctions here
             if (under) {
-                vec2 parts = ground_layer_parts(p, length(p));
+                parts = ground_layer_parts(p, length(p));
                 rain = u_rain_share * parts.y / max(parts.x + parts.y, 1e-9);
                 shadow = clouds_transmittance(p, L, 4);
                 j *= vec2(shadow, 1.0);
             }
 #ifdef HALOS
             vec4 single = ice ? halo_phase(d, L, up) : (1.0 - rain) * droplet_phase(nu);
+#ifdef FOG_ICE
+            // diamond dust: the fog's share is ice crystals, scattering by the halo table
+            if (under) {
+                float crystals = parts.x / max(parts.x + parts.y, 1e-9);
+                single = crystals * halo_phase(d, L, up)
+                       + max(1.0 - rain - crystals, 0.0) * droplet_phase(nu);
+            }
+#endif
 #else
             vec4 single = (1.0 - rain) * droplet_phase(nu);
 #endif
