@@ -119,6 +119,7 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
     "test_cli_view.py": ("test_the_viewer_draws_clouds_interactively",),
     "test_crepuscular_rays.py": ("test_crepuscular_rays_converge_on_the_sun",),
     "test_crystal_optics.py": ("test_tracer_on_a_sphere_is_the_drops_geometric_optics",),
+    "test_fogbow.py": ("test_the_fogbow_follows_the_droplets_size",),
     "test_cloud_noise.py": ("test_default_textures_and_caches",),
     "test_cloud_phase.py": (
         "test_asymmetry_of_water_clouds",

@@ -134,26 +134,19 @@ def test_sunlit_rain_shows_its_rainbow(rain_fraction):
     from skydome.atmosphere.layer import AtmosphereLayer
     from skydome.clouds.layer import CloudLayer
     from skydome.clouds.params import Clouds
-    from skydome.core.cameras import PerspectiveCamera
+    from tests.antisolar_strip import antisolar_strip
     from tests.conftest import TINY_TABLES
 
     rain = CloudLayer(Clouds("overcast", uniform=True, optical_depth=0.001,
                              precipitation_extinction_per_m=1e-3, rain_fraction=rain_fraction))  # fmt: skip
     sky = Sky(sun_elevation_deg=10.0, sun_azimuth_deg=270.0,
               layers=[AtmosphereLayer("earth", config=TINY_TABLES), rain])  # fmt: skip
-    w, h = 4, 240
-    camera = PerspectiveCamera(
-        fov_deg=2 * math.degrees(math.atan(math.tan(math.radians(22.0)) * w / h)),
-        yaw_deg=90.0, pitch_deg=32.0,
-    )  # fmt: skip
+    camera, w, h, theta = antisolar_strip()  # the probe's rows are top first too
     try:
         sky.graph.update(sky.state)
         radiance, _ = rain.probe(camera, w, h, 2.0, test_irradiance=1.0)
     finally:
         sky.release()
-    dirs, _ = camera.directions(np.full(h, 2.0), np.arange(h) + 0.5, w, h)
-    sun = np.array([-math.cos(math.radians(10.0)), 0.0, math.sin(math.radians(10.0))])
-    theta = np.degrees(np.arccos(dirs @ sun))[::-1]  # the probe's rows are top first
     light = radiance[:, 2, 1]
     red, blue = radiance[:, 2, 0], radiance[:, 2, 2]
     primary = theta[np.argmax(np.where((theta > 133) & (theta < 145), light, 0))]
@@ -265,17 +258,10 @@ def test_sky_draws_supernumeraries_for_drops_of_one_size():
     from skydome.atmosphere.layer import AtmosphereLayer
     from skydome.clouds.layer import CloudLayer
     from skydome.clouds.params import Clouds
-    from skydome.core.cameras import PerspectiveCamera
+    from tests.antisolar_strip import antisolar_strip
     from tests.conftest import TINY_TABLES
 
-    w, h = 4, 480
-    camera = PerspectiveCamera(
-        fov_deg=2 * math.degrees(math.atan(math.tan(math.radians(22.0)) * w / h)),
-        yaw_deg=90.0, pitch_deg=32.0,
-    )  # fmt: skip
-    dirs, _ = camera.directions(np.full(h, 2.0), np.arange(h) + 0.5, w, h)
-    sun = np.array([-math.cos(math.radians(10.0)), 0.0, math.sin(math.radians(10.0))])
-    theta = np.degrees(np.arccos(np.asarray(dirs) @ sun))[::-1]  # rows top first
+    camera, w, h, theta = antisolar_strip(h=480)
     inside = np.where((theta > 138.0) & (theta < 142.5))[0]
     counts = []
     for radius in (0.2, None):

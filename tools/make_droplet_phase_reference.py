@@ -104,9 +104,12 @@ def droplet_optics(radii: int, theta_deg=THETA_DEG) -> dict:
     }
 
 
-def normalisation_check(x: float = 2.0 * np.pi * R_EFF_UM / WAVELENGTH_UM) -> float:
+def normalisation_check(x: float | None = None) -> float:
     """The integral over the sphere of miepython's norm="qsca" unpolarised intensity of one
-    sphere (size parameter ``x``) divided by its Q_sca: 1 if the convention holds."""
+    sphere (size parameter ``x``; default that of r_eff) divided by its Q_sca: 1 if the
+    convention holds."""
+    if x is None:
+        x = 2.0 * np.pi * R_EFF_UM / WAVELENGTH_UM
     mie = _miepython()
     theta = np.linspace(0.0, np.pi, 200001)
     s1, s2 = mie.S1_S2(M_WATER, x, np.cos(theta), norm="qsca")
@@ -129,8 +132,12 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument(
         "--index", type=float, default=M_WATER, help="water's refractive index there (real part)"
     )
+    ap.add_argument(
+        "--r-eff", type=float, default=R_EFF_UM, help="another effective radius (um; fog's)"
+    )
     args = ap.parse_args(argv)
-    globals().update(WAVELENGTH_UM=args.wavelength_um, M_WATER=args.index)
+    globals().update(WAVELENGTH_UM=args.wavelength_um, M_WATER=args.index, R_EFF_UM=args.r_eff,
+                     R_MIN_UM=args.r_eff / 40.0, R_MAX_UM=8.0 * args.r_eff)  # fmt: skip
     t0 = time.time()
     coarse = droplet_optics(args.radii)
     fine = droplet_optics(2 * args.radii)
@@ -167,7 +174,7 @@ def main(argv: list[str] | None = None) -> None:
                 "refractive_index": f"{M_WATER} + 0i",
                 "wavelength_um": WAVELENGTH_UM,
                 "size_distribution": "modified gamma (Hansen & Travis 1974 eq. 2.56), "
-                f"r_eff {R_EFF_UM} um, v_eff {V_EFF}: n(r) ~ r^7 exp(-r / 1 um)",
+                f"r_eff {R_EFF_UM} um, v_eff {V_EFF}: n(r) ~ r^7 exp(-r / {R_EFF_UM * V_EFF:g} um)",
                 "radius_range_um": [R_MIN_UM, R_MAX_UM],
                 "radii": f"{2 * args.radii} uniform over {R_MIN_UM}-{R_SPLIT_UM} um, "
                 f"{2 * args.radii // 10} uniform over {R_SPLIT_UM}-{R_MAX_UM} um",

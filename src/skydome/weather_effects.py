@@ -87,6 +87,7 @@ def weathered(
             fog_top_m=weather.fog_top_m if fog > 0 else 0.0,
             fog_extinction_per_m=fog,
             fog_ice=weather.fog_ice and fog > 0,
+            fog_droplet_um=weather.fog_droplet_um if fog > 0 else base.fog_droplet_um,
             precipitation_extinction_per_m=precip,
             rain_fraction=weather.rain_extinction_per_m / precip if precip > 0 else 1.0,
             rain_mm_h=weather.rain_mm_h if weather.rain_mm_h > 0 else base.rain_mm_h,

@@ -50,7 +50,7 @@ class CloudTextures(ShaderInputs):
     """The clouds' textures: the multiple-scattering table, the droplets' phase function,
     the rain's and the droplets' by output channel, the weather map and the noises (None
     where a pass marches a uniform cloud), the cirrus crystals' halo table (None without
-    one)."""
+    one), the fog droplets' phase function by output channel (None: the clouds')."""
 
     u_cloud_ms_table: object
     u_cloud_phase_table: object
@@ -61,6 +61,7 @@ class CloudTextures(ShaderInputs):
     u_detail_noise: object = None
     u_curl_noise: object = None
     u_halo_table: object = None
+    u_fog_phase_table: object = None
 
 
 @dataclass(frozen=True)

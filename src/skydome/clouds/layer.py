@@ -41,6 +41,7 @@ from skydome.clouds.params import (
     Clouds,
 )
 from skydome.clouds.phase import (
+    CLOUD_R_EFF_UM,
     MIE_PHASE,
     RAIN_PEAK_FRACTION,
     RENDER_PHASE_TEXELS,
@@ -182,6 +183,7 @@ class CloudLayer(Layer):
         self._probe = None
         self._table = None  # (key, radiance, data, u_table_frame): a fog alone's march
         self._halo = None  # (the halo table, its texture): the cirrus crystals' light
+        self._fog = None  # the fog droplets' phase function by channel (their own radius)
         self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
         self._outputs: dict = {}
         self.air: AirService | None = None
@@ -400,6 +402,8 @@ class CloudLayer(Layer):
             d["HALOS"] = 1
             if self.clouds.fog_ice:
                 d["FOG_ICE"] = 1
+        if self._fog_droplets_own():
+            d["FOG_PHASE"] = 1
         for name in extra:
             d[name] = 1
         return d
@@ -440,6 +444,25 @@ class CloudLayer(Layer):
                 channels.append(ctx.texture((values.shape[0], 1), 4, values.tobytes(), dtype="f4"))
             self._static = tuple(linear_clamped(t, ctx) for t in (ms, phase, *channels))
         return self._static
+
+    def _fog_droplets_own(self) -> bool:
+        """Whether the fog's droplets scatter by their own phase function (their effective
+        radius is not the clouds')."""
+        c = self.clouds
+        return c.fog_top_m > 0 and not c.fog_ice and c.fog_droplet_um != CLOUD_R_EFF_UM
+
+    def _fog_texture(self):
+        """The fog droplets' phase function per output channel (droplet_channel_phases for
+        their effective radius), as the droplets' texture; made once."""
+        if self._fog is None:
+            basis = self.graph.basis
+            values = droplet_channel_phases(basis.wavelengths_nm, basis.to_output,
+                                            self.clouds.fog_droplet_um)  # fmt: skip
+            values = np.ascontiguousarray(values.T, dtype=np.float32)
+            ctx = self.graph.ctx
+            tex = ctx.texture((values.shape[0], 1), 4, values.tobytes(), dtype="f4")
+            self._fog = linear_clamped(tex, ctx)
+        return self._fog
 
     def _halos_drawn(self) -> bool:
         """Whether ice crystals scatter by their halo table: a cirrus, or diamond dust (an
@@ -483,6 +506,7 @@ class CloudLayer(Layer):
             u_detail_noise=self.noise.detail,
             u_curl_noise=self.noise.curl,
             u_halo_table=self._halo_texture() if self._halos_drawn() else None,
+            u_fog_phase_table=self._fog_texture() if self._fog_droplets_own() else None,
         )
 
     # ------------------------------------------------------------------ drawing
@@ -1031,6 +1055,9 @@ class CloudLayer(Layer):
         if self._halo is not None:
             self._halo[1].release()
             self._halo = None
+        if self._fog is not None:
+            self._fog.release()
+            self._fog = None
         if self.weather is not None:
             self.weather.release()
             self.weather = None

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from skydome.clouds.halos import DEFAULT_HALOS, parse_halos
-from skydome.clouds.phase import DEFAULT_RAIN_MM_H
+from skydome.clouds.phase import CLOUD_R_EFF_UM, DEFAULT_RAIN_MM_H
 from skydome.errors import ParameterError, check_wind
 from skydome.physics.droplets import droplet_extinction_per_m
 
@@ -136,6 +136,9 @@ class Clouds:
         rain_fraction: the share (0-1) of that extinction that is rain (water spheres,
             scattering by geometric optics: ``clouds.phase.RAIN_RENDER_PHASE``); the rest is
             snow, which scatters as the cloud droplets do.
+        fog_droplet_um: the effective radius (um) of the fog's droplets, whose single
+            scattering takes their phase function (5-20 um tabulated: the fogbow's width and
+            radius, the glory's rings); their multiple scattering is the clouds' droplets'.
         fog_ice: the fog layer is of ice crystals (diamond dust): its single scattering by the
             halo table of ``halos`` (skydome.clouds.halos), as the cirrus's.
         rain_mm_h: the rain's rate (mm/h): its drops' sizes (Marshall-Palmer), which set its
@@ -167,6 +170,7 @@ class Clouds:
     fog_extinction_per_m: float = 0.0
     precipitation_extinction_per_m: float = 0.0
     rain_fraction: float = 1.0
+    fog_droplet_um: float = CLOUD_R_EFF_UM
     fog_ice: bool = False
     rain_mm_h: float = DEFAULT_RAIN_MM_H
     rain_drop_radius_mm: float | None = None
@@ -238,6 +242,8 @@ class Clouds:
         object.__setattr__(self, "rain_fraction", rain)
         if not isinstance(self.fog_ice, bool):
             raise ParameterError(f"fog_ice must be True or False, got {self.fog_ice!r}")
+        droplet = _number("fog droplet radius", self.fog_droplet_um, 1.0, 50.0, "um")
+        object.__setattr__(self, "fog_droplet_um", droplet)
         rate = _number("rain rate", self.rain_mm_h, 0.01, 500.0, "mm/h")
         object.__setattr__(self, "rain_mm_h", rate)
         if self.rain_drop_radius_mm is not None:

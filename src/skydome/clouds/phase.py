@@ -58,6 +58,7 @@ __all__ = [
     "RainBows",
     "rain_bows",
     "DEFAULT_RAIN_MM_H",
+    "CLOUD_R_EFF_UM",
     "load_rain_bows",
     "disk_smoothed",
     "SUN_RADIUS_DEG",
@@ -459,40 +460,56 @@ def rain_channel_phases(wavelengths_nm, to_output, rain_mm_h: float = DEFAULT_RA
 #: The rain drops' phase functions per wavelength.
 RAIN_PHASES: SpectralPhases = load_rain_phases()
 
-#: The cloud and fog droplets' Mie phase functions by wavelength
-#: (``tools/build_droplet_spectral_phase.py``), and the file's format version.
+#: The cloud and fog droplets' Mie phase functions by effective radius and wavelength
+#: (``tools/build_droplet_spectral_phase.py``), the file's format version, and the clouds'
+#: droplets' effective radius (um: the one every cloud has).
 DROPLET_PHASE_NPZ = "cloud_droplet_spectral_phase.npz"
-DROPLET_PHASE_FORMAT = 1
+DROPLET_PHASE_FORMAT = 2
+CLOUD_R_EFF_UM = 10.0
 
 
-def load_droplet_phases() -> SpectralPhases:
-    """The droplets' phase functions from the packaged ``cloud_droplet_spectral_phase.npz``
-    (from 5 deg; held flat below it, as the renderer cuts them)."""
+@cache
+def _droplet_family() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(effective radii (K,) um, wavelengths (W,) nm, angles (A + 1,) deg, phase (K, W, A + 1))
+    from the packaged file (from 5 deg; held flat below it, as the renderer cuts them)."""
     phase, meta = read_packaged_npz(
         DROPLET_PHASE_NPZ, "phase", DROPLET_PHASE_FORMAT, "droplet phase functions",
         "tools/build_droplet_spectral_phase.py",
     )  # fmt: skip
     theta = np.concatenate([[0.0], meta["theta_deg"]])
     phase = np.asarray(phase, dtype=float)
-    return SpectralPhases(
-        np.asarray(meta["wavelength_nm"], float), theta, np.concatenate([phase[:, :1], phase], 1)
-    )
+    return (np.asarray(meta["r_eff_um"], float), np.asarray(meta["wavelength_nm"], float),
+            theta, np.concatenate([phase[..., :1], phase], -1))  # fmt: skip
 
 
+def load_droplet_phases(r_eff_um: float = CLOUD_R_EFF_UM) -> SpectralPhases:
+    """The phase functions of droplets of effective radius ``r_eff_um`` (linear in its
+    logarithm between the packaged ones, held beyond: 5-20 um) by wavelength."""
+    r_eff, wavelength, theta, phase = _droplet_family()
+    u = np.clip(np.log(float(r_eff_um)), np.log(r_eff[0]), np.log(r_eff[-1]))
+    i = int(np.clip(np.searchsorted(np.log(r_eff), u) - 1, 0, r_eff.size - 2))
+    f = (u - np.log(r_eff[i])) / (np.log(r_eff[i + 1]) - np.log(r_eff[i]))
+    return SpectralPhases(wavelength, theta, (1.0 - f) * phase[i] + f * phase[i + 1])
+
+
+#: The clouds' droplets' phase functions by wavelength (r_eff 10 um).
 DROPLET_PHASES: SpectralPhases = load_droplet_phases()
 
 
-def droplet_channel_phases(wavelengths_nm, to_output) -> np.ndarray:
+def droplet_channel_phases(wavelengths_nm, to_output,
+                           r_eff_um: float = CLOUD_R_EFF_UM) -> np.ndarray:  # fmt: skip
     """The droplets' phase function per output channel (4, RENDER_PHASE_TEXELS) on the
-    renderer's grid: the wavelengths' Mie phase functions cut flat at :data:`TRUNCATION_DEG`,
-    weighted as sunlight's share of each channel (``to_output`` (4, N) of a SpectralBasis at
-    ``wavelengths_nm``), held >= 0 and each normalised over the sphere as
-    :data:`RENDER_PHASE` (whose extinction scale they share): the cloudbow's, the fogbow's and
-    the glory's colours."""
+    renderer's grid: the Mie phase functions of droplets of ``r_eff_um`` (the clouds', or a
+    fog's: :func:`load_droplet_phases`) at the wavelengths, cut flat at
+    :data:`TRUNCATION_DEG`, weighted as sunlight's share of each channel (``to_output``
+    (4, N) of a SpectralBasis at ``wavelengths_nm``), held >= 0 and each normalised over the
+    sphere as :data:`RENDER_PHASE` (whose extinction scale they share): the cloudbow's, the
+    fogbow's and the glory's colours."""
     m = np.asarray(to_output, dtype=float)
     t = render_grid_deg()
-    rows = DROPLET_PHASES.at(wavelengths_nm)
-    table = np.stack([np.interp(np.maximum(t, TRUNCATION_DEG), DROPLET_PHASES.theta_deg, r)
+    phases = DROPLET_PHASES if r_eff_um == CLOUD_R_EFF_UM else load_droplet_phases(r_eff_um)
+    rows = phases.at(wavelengths_nm)
+    table = np.stack([np.interp(np.maximum(t, TRUNCATION_DEG), phases.theta_deg, r)
                       for r in rows])  # fmt: skip
     channels = np.maximum(m @ table, 0.0)
     return np.stack([TabulatedPhase(t, c).values for c in channels])

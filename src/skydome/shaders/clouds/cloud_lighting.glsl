@@ -37,6 +37,19 @@ vec4 droplet_phase(float nu) {
     return texture(u_droplet_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5));
 }
 
+#ifdef FOG_PHASE
+// The fog's droplets' own per output channel (droplet_channel_phases for their effective
+// radius, not the clouds'): the fogbow's width and radius follow their size.
+uniform sampler2D u_fog_phase_table;
+
+vec4 fog_phase(float nu) {
+    float x = acos(clamp(nu, -1.0, 1.0)) / PI * float(CLOUD_PHASE_TEXELS - 1);
+    return texture(u_fog_phase_table, vec2((x + 0.5) / float(CLOUD_PHASE_TEXELS), 0.5));
+}
+#else
+vec4 fog_phase(float nu) { return droplet_phase(nu); }
+#endif
+
 #ifdef HALOS
 // The cirrus crystals' phase function per output channel (1/sr; skydome.clouds.halos.
 // halo_table, for the key light's elevation): over the direction seen `d`, by its elevation

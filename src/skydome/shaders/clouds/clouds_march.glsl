@@ -241,16 +241,22 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             }
 #ifdef HALOS
             vec4 single = ice ? halo_phase(d, L, up) : (1.0 - rain) * droplet_phase(nu);
-#ifdef FOG_ICE
-            // diamond dust: the fog's share is ice crystals, scattering by the halo table
-            if (under) {
-                float crystals = parts.x / max(parts.x + parts.y, 1e-9);
-                single = crystals * halo_phase(d, L, up)
-                       + max(1.0 - rain - crystals, 0.0) * droplet_phase(nu);
-            }
-#endif
 #else
             vec4 single = (1.0 - rain) * droplet_phase(nu);
+#endif
+#if defined(FOG_ICE) || defined(FOG_PHASE)
+            // the fog's share under the clouds by its own phase function: diamond dust's
+            // crystals by the halo table, or droplets of the fog's own size (the snow's
+            // share, if any, stays the clouds' droplets')
+            if (under) {
+                float fog = parts.x / max(parts.x + parts.y, 1e-9);
+#ifdef FOG_ICE
+                vec4 fog_single = halo_phase(d, L, up);
+#else
+                vec4 fog_single = fog_phase(nu);
+#endif
+                single = fog * fog_single + max(1.0 - rain - fog, 0.0) * droplet_phase(nu);
+            }
 #endif
             if (rain > 0.0) single += rain * rain_phase(nu);
             j_colour = (single - cloud_phase(nu)) * (exp(-tau_s) * shadow);
