@@ -25,6 +25,11 @@ import numpy as np
 
 #: Texels (azimuth, elevation) of the table at each cloud quality.
 TABLE_SIZE = {"best": (512, 256), "full": (256, 128), "interactive": (128, 64)}
+#: Diamond dust's tables are this many times finer each way: its halos' edges are a fraction
+#: of a degree sharp, the droplets' table's texels 1.4 deg across the horizon (full quality);
+#: twice as fine (0.7 deg) draws them as the per-pixel march does, 4 times costs 4 times as
+#: much again (a fresh table at full quality: 0.24 s, 0.83 s, 3.2 s on a 2-core CPU).
+ICE_TABLE_SCALE = 2
 
 
 def _diamond(t) -> np.ndarray:

@@ -19,7 +19,12 @@ from math import lcm
 
 import numpy as np
 
-from skydome.clouds.direction_table import TABLE_SIZE, table_directions, table_frame
+from skydome.clouds.direction_table import (
+    ICE_TABLE_SCALE,
+    TABLE_SIZE,
+    table_directions,
+    table_frame,
+)
 from skydome.clouds.halos import halo_table
 from skydome.clouds.inputs import (
     CloudDataInputs,
@@ -754,15 +759,14 @@ class CloudLayer(Layer):
 
     def _tabled(self, frame: DrawContext) -> bool:
         """Whether ``frame`` draws the march from a direction table: a fog with no clouds
-        over it (the same everywhere) and no user's scene (whose distances are the pixels'),
-        of droplets (diamond dust's halos are sharper than the table's 1.4 deg texels)."""
+        over it (the same everywhere) and no user's scene (whose distances are the pixels')."""
         c = self.clouds
-        ice = c.fog_ice and self._halos_drawn()
-        return not c.aloft and not c.uniform and frame.depth_map is None and not ice
+        return not c.aloft and not c.uniform and frame.depth_map is None
 
     def _direction_table(self, frame: DrawContext):
         """A fog alone marched for a table of view directions from the camera's height
-        (skydome.clouds.direction_table; TABLE_SIZE by quality): its (radiance, data) textures
+        (skydome.clouds.direction_table; TABLE_SIZE by quality, ICE_TABLE_SCALE times finer for
+        diamond dust's halos): its (radiance, data) textures
         and the table's (frame, size) (u_table_frame, u_table_size). Marched afresh only when the time, the lights,
         the clouds, the ground's albedo, the height or the quality change: a frame turned or
         of another camera reads the same table."""
@@ -772,6 +776,8 @@ class CloudLayer(Layer):
             return self._table[1:]
         air = self._air()
         size = TABLE_SIZE[self._pass_quality]
+        if self.clouds.fog_ice and self._halos_drawn():  # diamond dust: halos 0.5 deg sharp
+            size = (size[0] * ICE_TABLE_SCALE, size[1] * ICE_TABLE_SCALE)
         radius_km = math.sqrt(sum(v * v for v in air.camera_position_km(frame.altitude_m)))
         key_direction, _ = self.key_light(air.lights())
         frame_uniform = table_frame(key_direction, radius_km, air.bottom_radius_m / 1e3)
