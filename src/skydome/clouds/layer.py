@@ -444,11 +444,17 @@ class CloudLayer(Layer):
             basis = self.graph.basis
             channels = []
             for table in (rain, droplet_channel_phases):
-                values = table(basis.wavelengths_nm, basis.to_output)
-                values = np.ascontiguousarray(values.T, dtype=np.float32)  # (texels, 4)
-                channels.append(ctx.texture((values.shape[0], 1), 4, values.tobytes(), dtype="f4"))
-            self._static = tuple(linear_clamped(t, ctx) for t in (ms, phase, *channels))
+                channels.append(self._channel_texture(table(basis.wavelengths_nm, basis.to_output)))
+            self._static = (*(linear_clamped(t, ctx) for t in (ms, phase)), *channels)
         return self._static
+
+    def _channel_texture(self, values: np.ndarray):
+        """A phase function per output channel (4, RENDER_PHASE_TEXELS) as an RGBA texture one
+        texel high, linear filtering, clamped."""
+        texels = np.ascontiguousarray(np.asarray(values).T, dtype=np.float32)  # (texels, 4)
+        ctx = self.graph.ctx
+        tex = ctx.texture((texels.shape[0], 1), 4, texels.tobytes(), dtype="f4")
+        return linear_clamped(tex, ctx)
 
     def _fog_droplets_own(self) -> bool:
         """Whether the fog's droplets scatter by their own phase function (their effective
@@ -461,12 +467,9 @@ class CloudLayer(Layer):
         their effective radius), as the droplets' texture; made once."""
         if self._fog is None:
             basis = self.graph.basis
-            values = droplet_channel_phases(basis.wavelengths_nm, basis.to_output,
-                                            self.clouds.fog_droplet_um)  # fmt: skip
-            values = np.ascontiguousarray(values.T, dtype=np.float32)
-            ctx = self.graph.ctx
-            tex = ctx.texture((values.shape[0], 1), 4, values.tobytes(), dtype="f4")
-            self._fog = linear_clamped(tex, ctx)
+            self._fog = self._channel_texture(droplet_channel_phases(
+                basis.wavelengths_nm, basis.to_output, self.clouds.fog_droplet_um
+            ))  # fmt: skip
         return self._fog
 
     def _halos_drawn(self) -> bool:
@@ -477,10 +480,10 @@ class CloudLayer(Layer):
         return ice and c.halos != "none" and not c.uniform
 
     def _halo_texture(self):
-        """The cirrus crystals' phase function for the key light's elevation
-        (skydome.clouds.halos.halo_table, per output channel of the graph's basis) as an RGBA
-        texture: x the azimuth from the light (0-180 deg), y the elevation seen (-90 to 90),
-        linear filtering; traced at the first frame at each elevation and kept."""
+        """The ice crystals' phase function (the cirrus's, diamond dust's) for the key light's
+        elevation (skydome.clouds.halos.halo_table, per output channel of the graph's basis)
+        as an RGBA texture: x the azimuth from the light (0-180 deg), y the elevation seen
+        (-90 to 90), linear filtering; traced at the first frame at each elevation and kept."""
         key_dir, _ = self.key_light(self._air().lights())
         basis = self.graph.basis
         table = halo_table(self.clouds.halos, elevation_deg(key_dir), basis.wavelengths_nm,
