@@ -50,13 +50,17 @@ def main() -> None:
             for name, spec in (("without halos", "none"), ("with halos", halos.DEFAULT_HALOS))
         },
         "diamond dust": {
-            name: dict(sun_elevation_deg=15.0, weather=Weather("diamond-dust"),
-                       clouds=Clouds("clear", halos=spec))  # fmt: skip
+            name: dict(
+                sun_elevation_deg=15.0,
+                weather=Weather("diamond-dust"),
+                clouds=Clouds("clear", halos=spec),
+            )  # fmt: skip
             for name, spec in (("without halos", "none"), ("with halos", halos.DEFAULT_HALOS))
         },
         "fog 150 m, 300 m visibility": {
-            name: dict(sun_elevation_deg=10.0,
-                       weather=Weather("fog", visibility_km=0.3, fog_droplet_um=um))  # fmt: skip
+            name: dict(
+                sun_elevation_deg=10.0, weather=Weather("fog", visibility_km=0.3, fog_droplet_um=um)
+            )  # fmt: skip
             for name, um in (("10 um droplets", 10.0), ("5 um droplets", 5.0))
         },
     }
