@@ -113,6 +113,8 @@ class SkyDescription:
             and its rain or snow falls near the camera (``PrecipitationLayer``) as streaks
             of one exposure of ``shutter_s`` seconds.
         night_vision, overlays: the display (the image only, never the frame's data).
+        sun_disk: draw the Sun's disk (False: the sky without it, e.g. an environment map
+            for a renderer that lights with its own Sun lamp; the air is lit all the same).
     """
 
     observer: Observer | None = None
@@ -138,6 +140,7 @@ class SkyDescription:
     shutter_s: float = 1.0 / 60.0
     night_vision: bool = False
     overlays: tuple[str, ...] = ()
+    sun_disk: bool = True
 
     def __post_init__(self):
         if self.observer is not None and not isinstance(self.observer, Observer):
@@ -198,6 +201,13 @@ class SkyDescription:
                 "the single-scattering model renders a Sun alone: no place, clouds, night "
                 "vision or overlays (use the default model for those)"
             )
+        if not isinstance(self.sun_disk, bool):
+            raise ParameterError(f"sun_disk must be True or False, got {self.sun_disk!r}")
+        if not self.sun_disk and self.model == "single":
+            raise ParameterError(
+                "the single-scattering model draws its Sun's disk itself: sun_disk=False "
+                "needs the default model"
+            )
 
     # ------------------------------------------------------------------ from what users type
 
@@ -228,6 +238,7 @@ class SkyDescription:
         shutter_s: float = 1.0 / 60.0,
         night_vision: bool = False,
         overlays: Any = (),
+        sun_disk: bool = True,
     ) -> SkyDescription:
         """A description from what a user gives: ``place`` an ``Observer``, a gazetteer
         name, a ``Place`` or ``(lat_deg, lon_deg[, elevation_m])`` (None: a Sun alone at
@@ -285,6 +296,7 @@ class SkyDescription:
             shutter_s=shutter_s,
             night_vision=bool(night_vision),
             overlays=tuple(overlays),
+            sun_disk=sun_disk,
             **refraction,
         )
 
@@ -381,7 +393,7 @@ class SkyDescription:
         air = self.atmosphere_layer(progress)
         if self.model == "single":
             return [air]
-        layers: list[Layer] = [SunLayer()]
+        layers: list[Layer] = [SunLayer(enabled=self.sun_disk)]
         if not self.abstract:
             layers.append(MoonLayer())
             if self.night:

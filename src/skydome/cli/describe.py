@@ -315,6 +315,7 @@ def sky_description(
         "cloud_quality": cloud_quality,
         "night_vision": night_vision,
         "overlays": overlays,
+        "sun_disk": not getattr(flags, "no_sun_disk", False),
         "sky_view_size": sky_view_size,
         **cie,
     }

@@ -148,6 +148,9 @@ FLAGS: dict[str, Flag] = {
                      "place)."),
     # the display
     "compensation": Flag(float, 0.0, ("--exposure-compensation",), "EV added to the exposure."),
+    "no_sun_disk": Flag(bool, False, ("--no-sun-disk",),
+                        "Leave the Sun's disk out of the image (an environment map for a "
+                        "renderer with its own Sun lamp); the air stays sunlit."),
     "tonemap": Flag(str, "filmic", ("--tonemap",),
                     "filmic | reinhard | exponential | hvs | linear."),
 }  # fmt: skip
@@ -167,7 +170,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "shutter",
     ),
     "camera": ("look", "camera", "fov", "yaw", "pitch", "altitude"),
-    "display": ("compensation", "tonemap"),
+    "display": ("compensation", "tonemap", "no_sun_disk"),
 }  # fmt: skip
 
 
