@@ -13,15 +13,15 @@ optics add <= 10 % to a frame with weather, tables build in <= 30 s on llvmpipe.
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import time
+
+from timing import frame_args
 
 from skydome import Sky
 from skydome.clouds import halos
 from skydome.clouds.params import Clouds
 from skydome.core.basis import SpectralBasis
-from skydome.gpu import gl_info, shared_context
 from skydome.spectra import ACCURATE_NM
 from skydome.weather import Weather
 
@@ -35,12 +35,7 @@ def table_s(elevation_deg: float) -> float:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--size", default="1280x720")
-    args = ap.parse_args()
-    size = tuple(int(v) for v in args.size.split("x"))
-    print(gl_info(shared_context()))
+    repeats, size = frame_args(__doc__)
     print(f"halo table, first in the process (random crystals' phase function too): "
           f"{table_s(20.0):.1f} s")  # fmt: skip
     print(f"halo table, a new light elevation: {table_s(21.0):.1f} s")
@@ -65,7 +60,7 @@ def main() -> None:
         },
     }
     for label, settings in pairs.items():
-        times = interleaved(settings, size, args.repeats)
+        times = interleaved(settings, size, repeats)
         base = statistics.median(next(iter(times.values())))
         for name, values in times.items():
             ms = statistics.median(values)

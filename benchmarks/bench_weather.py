@@ -14,16 +14,15 @@ tables <= 2x the clear ones.
 
 from __future__ import annotations
 
-import argparse
 import time
 
-from timing import median_ms
+from timing import frame_args, median_ms
 
 from skydome import Sky
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.presets import preset
 from skydome.atmosphere.tables import load_tables
-from skydome.gpu import gl_info, shared_context
+from skydome.gpu import shared_context
 from skydome.weather import Weather
 from skydome.weather_effects import weathered
 
@@ -47,13 +46,7 @@ def frame_ms(size, repeats, *, particles: bool = True, fresh_table: bool = False
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--size", default="1280x720")
-    args = ap.parse_args()
-    size = tuple(int(v) for v in args.size.split("x"))
-    print(gl_info(shared_context()))
-    r = args.repeats
+    r, size = frame_args(__doc__)
     clear = frame_ms(size, r)
     print(f"clear sky: {clear:.0f} ms")
     for label, weather, sun in (("fog (200 m, 150 m deep)", "fog", 20.0),

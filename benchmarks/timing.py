@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import statistics
 import time
 from collections.abc import Callable
@@ -36,3 +37,16 @@ def draw_ms(sky, camera, size: tuple[int, int], repeats: int) -> float:
     finally:
         fbo.release()
         tex.release()
+
+
+def frame_args(doc: str, repeats: int = 3) -> tuple[int, tuple[int, int]]:
+    """The frame benchmarks' command line (``--repeats``, ``--size WxH``, described by the first
+    line of ``doc``), their values, after printing the GL device they run on."""
+    from skydome.gpu import gl_info, shared_context
+
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=repeats)
+    ap.add_argument("--size", default="1280x720")
+    args = ap.parse_args()
+    print(gl_info(shared_context()))
+    return args.repeats, tuple(int(v) for v in args.size.split("x"))

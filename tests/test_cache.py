@@ -7,7 +7,6 @@ from __future__ import annotations
 import ast
 import contextlib
 import gc
-import importlib.util
 import json
 import os
 import signal
@@ -38,6 +37,7 @@ from skydome.core.cache import (
 from skydome.errors import CacheError
 from skydome.io.lutfile import MAGIC, read_lut_file, write_lut_file
 from tests.conftest import TINY_TABLES
+from tests.tools_module import load_tool
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -275,12 +275,7 @@ def test_core_computes_no_key_from_imports():
 
 
 def manifest_tool():
-    spec = importlib.util.spec_from_file_location(
-        "cache_manifest", ROOT / "tools/cache_manifest.py"
-    )
-    tool = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(tool)
-    return tool
+    return load_tool("cache_manifest")
 
 
 def test_builder_manifest_is_current():

@@ -5,11 +5,9 @@ that mirrors the GLSL one (exact at the nodes, linear between them)."""
 
 from __future__ import annotations
 
-import importlib.util
 import io
 import math
 from functools import cache
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -25,18 +23,12 @@ from skydome.clouds.ms_table import (
 from skydome.clouds.phase import RENDER_PHASE
 from skydome.errors import SkydomeError
 from skydome.reference.clouds_mc import slab_radiance
-
-ROOT = Path(__file__).resolve().parents[1]
+from tests.tools_module import load_tool
 
 
 @cache
 def _tool():
-    spec = importlib.util.spec_from_file_location(
-        "build_cloud_ms_table", ROOT / "tools/build_cloud_ms_table.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("build_cloud_ms_table")
 
 
 def _peak(t: MSTable, cos_phi) -> np.ndarray:

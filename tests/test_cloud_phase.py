@@ -5,10 +5,8 @@ the tool that builds both packaged tables."""
 
 from __future__ import annotations
 
-import importlib.util
 from functools import cache
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,18 +24,12 @@ from skydome.clouds.phase import (
     TabulatedPhase,
 )
 from skydome.errors import ParameterError
-
-ROOT = Path(__file__).resolve().parents[1]
+from tests.tools_module import load_tool
 
 
 @cache
 def _tool():
-    spec = importlib.util.spec_from_file_location(
-        "build_cloud_phase", ROOT / "tools/build_cloud_phase.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("build_cloud_phase")
 
 
 @cache

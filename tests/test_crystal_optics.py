@@ -22,22 +22,18 @@ from skydome.physics.crystal_optics import (
     Orientation,
     Sphere,
     ice_index,
-    interface_reflectance,
     orientations,
     scatter,
     trace,
 )
+from skydome.physics.interfaces import interface_reflectance
 from skydome.physics.sphere_optics import (
     MAX_ORDER,
     descartes_angle_deg,
     geometric_phase,
     water_index,
 )
-
-
-def minimum_deviation_deg(n: float, apex_deg: float) -> float:
-    a = math.radians(apex_deg)
-    return math.degrees(2.0 * math.asin(n * math.sin(a / 2.0)) - a)
+from tests.optics_formulas import minimum_deviation_deg
 
 
 def steepest_rise_deg(values, weights, lo, hi, step, per=None):

@@ -91,24 +91,17 @@ def test_the_fogbow_shrinks_with_its_droplets():
     fogbow's radius about the antisolar point is smaller than the rainbow's."""
     import math
 
+    from tests.optics_formulas import AIRY_MAXIMA, airy_unit_deg
+
     basis = SpectralBasis.for_wavelengths(np.linspace(380.0, 755.0, 16))
     t = render_grid_deg()
     bow = (t > 136.0) & (t < 150.0)
-    n = 1.333
-    b = math.sqrt((4.0 - n * n) / 3.0)
-
-    def deviation(bb):
-        i, r = math.asin(bb), math.asin(bb / n)
-        return 2.0 * (i - r) + math.pi - 2.0 * r
-
-    h = 1e-4
-    curvature = abs(deviation(b + h) - 2.0 * deviation(b) + deviation(b - h)) / h**2
     peaks = []
     for r_eff in (5.0, 10.0, 20.0):
         green = droplet_channel_phases(basis.wavelengths_nm, basis.to_output, r_eff)[1]
         peak = t[bow][np.argmax(green[bow])]
         x = 2.0 * math.pi * r_eff / 0.55
-        airy = 137.92 + math.degrees(1.01879 * (curvature / 2.0) ** (1 / 3) / x ** (2 / 3))
+        airy = 137.92 + AIRY_MAXIMA[0] * airy_unit_deg(1.333, x)
         assert peak == pytest.approx(airy, abs=1.5), (r_eff, peak, airy)
         peaks.append(peak)
     assert peaks == sorted(peaks, reverse=True)

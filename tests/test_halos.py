@@ -25,18 +25,9 @@ from skydome.core.basis import SpectralBasis
 from skydome.errors import ParameterError
 from skydome.physics.crystal_optics import ice_index
 from skydome.spectra import ACCURATE_NM
+from tests.optics_formulas import minimum_deviation_deg, sun_dog_deg
 
 SUN_DEG = 20.0
-
-
-def minimum_deviation_deg(n: float, apex_deg: float) -> float:
-    a = math.radians(apex_deg)
-    return math.degrees(2.0 * math.asin(n * math.sin(a / 2.0)) - a)
-
-
-def sun_dog_deg(n: float, sun_deg: float) -> float:
-    e = math.radians(sun_deg)
-    return minimum_deviation_deg(math.sqrt(n * n - math.sin(e) ** 2) / math.cos(e), 60.0)
 
 
 def test_parse_halos():

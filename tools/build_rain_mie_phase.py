@@ -39,7 +39,6 @@ one size by radius) and ``meta_json``: the format version, the rain rates (mm/h)
 from __future__ import annotations
 
 import argparse
-import json
 import math
 from pathlib import Path
 
@@ -47,6 +46,7 @@ import numpy as np
 
 from skydome.atmosphere.mie import gamma_size_distribution, mie_coefficients
 from skydome.clouds.phase import RAIN_PHASES
+from skydome.io.packaged import write_packaged_npz
 from skydome.physics.sphere_optics import water_index
 
 OUTPUT = (
@@ -187,8 +187,7 @@ def main() -> None:
     ap.add_argument("--output", type=Path, default=OUTPUT)
     args = ap.parse_args()
     table = build()
-    np.savez_compressed(args.output, phase=table["phase"], narrow=table["narrow"],
-                        meta_json=np.array(json.dumps(table["meta"])))  # fmt: skip
+    write_packaged_npz(args.output, table.pop("meta"), **table)
     print(f"wrote {args.output} ({args.output.stat().st_size / 1e3:.0f} kB)")
 
 

@@ -27,11 +27,11 @@ angles (deg, the bins' centres) and this provenance.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import numpy as np
 
+from skydome.io.packaged import write_packaged_npz
 from skydome.physics.sphere_optics import MAX_ORDER, geometric_phase, water_index
 
 OUTPUT = Path(__file__).resolve().parents[1] / "src" / "skydome" / "data" / "rain_drop_phase.npz"
@@ -58,14 +58,15 @@ def build() -> dict:
         "wavelength_nm": [float(w) for w in WAVELENGTHS_NM],
         "theta_deg": [round(float(t), 4) for t in 0.5 * (EDGES_DEG[1:] + EDGES_DEG[:-1])],
     }
-    return {"phase": phase.astype(np.float32), "meta_json": np.array(json.dumps(meta))}
+    return {"phase": phase.astype(np.float32), "meta": meta}
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--output", type=Path, default=OUTPUT)
     args = ap.parse_args()
-    np.savez_compressed(args.output, **build())
+    table = build()
+    write_packaged_npz(args.output, table.pop("meta"), **table)
     print(f"wrote {args.output}")
 
 

@@ -367,6 +367,15 @@ BOWS_BLEND_DEG = 1.0
 DEFAULT_RAIN_MM_H = 4.0
 
 
+def _log_step(axis: np.ndarray, value: float) -> tuple[int, float]:
+    """Where ``value`` falls on the rising ``axis``, linear in the logarithm and held beyond
+    its ends: the node below (i) and the fraction of the way to the next (0-1)."""
+    log_axis = np.log(axis)
+    u = float(np.clip(np.log(float(value)), log_axis[0], log_axis[-1]))
+    i = int(np.clip(np.searchsorted(log_axis, u) - 1, 0, axis.size - 2))
+    return i, (u - log_axis[i]) / (log_axis[i + 1] - log_axis[i])
+
+
 @dataclass(frozen=True)
 class RainBows:
     """The rain's bows by Mie theory (1/sr, normalised as :data:`RAIN_PHASES`: by the drops'
@@ -390,9 +399,7 @@ class RainBows:
             axis, table, value = self.rain_mm_h, self.by_rate, rain_mm_h
         else:
             axis, table, value = self.radius_um, self.by_radius, drop_radius_um
-        u = np.clip(np.log(float(value)), np.log(axis[0]), np.log(axis[-1]))
-        i = int(np.clip(np.searchsorted(np.log(axis), u) - 1, 0, axis.size - 2))
-        f = (u - np.log(axis[i])) / (np.log(axis[i + 1]) - np.log(axis[i]))
+        i, f = _log_step(axis, value)
         rows = (1.0 - f) * table[i] + f * table[i + 1]  # (W, A)
         return SpectralPhases(self.wavelength_nm, self.theta_deg, rows).at(wavelengths_nm)
 
@@ -486,9 +493,7 @@ def load_droplet_phases(r_eff_um: float = CLOUD_R_EFF_UM) -> SpectralPhases:
     """The phase functions of droplets of effective radius ``r_eff_um`` (linear in its
     logarithm between the packaged ones, held beyond: 5-20 um) by wavelength."""
     r_eff, wavelength, theta, phase = _droplet_family()
-    u = np.clip(np.log(float(r_eff_um)), np.log(r_eff[0]), np.log(r_eff[-1]))
-    i = int(np.clip(np.searchsorted(np.log(r_eff), u) - 1, 0, r_eff.size - 2))
-    f = (u - np.log(r_eff[i])) / (np.log(r_eff[i + 1]) - np.log(r_eff[i]))
+    i, f = _log_step(r_eff, r_eff_um)
     return SpectralPhases(wavelength, theta, (1.0 - f) * phase[i] + f * phase[i + 1])
 
 

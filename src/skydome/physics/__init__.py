@@ -13,5 +13,8 @@ together.
 - :mod:`~skydome.physics.airmass`: the relative air mass (Kasten & Young);
 - :mod:`~skydome.physics.geometry`: ENU directions, rays in a spherical shell (distances to
   its spheres, the dip of their horizon), spheres seen from outside (the disks' geometry);
-- :mod:`~skydome.physics.packing`: spectral values packed 4 to a vec4 / mat4 for the shaders.
+- :mod:`~skydome.physics.packing`: spectral values packed 4 to a vec4 / mat4 for the shaders;
+- :mod:`~skydome.physics.interfaces`: Fresnel's reflectance, tabulated refractive indices;
+- :mod:`~skydome.physics.sphere_optics`: water drops' rays (the bows by geometric optics);
+- :mod:`~skydome.physics.crystal_optics`: ice crystals' rays, traced (the halos).
 """

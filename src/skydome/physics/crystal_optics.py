@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from skydome.errors import ParameterError
+from skydome.physics.interfaces import interface_reflectance, tabulated_index
 
 __all__ = [
     "HexagonalPrism",
@@ -39,7 +40,6 @@ __all__ = [
     "Sphere",
     "Traced",
     "ice_index",
-    "interface_reflectance",
     "orientations",
     "scatter",
     "trace",
@@ -58,25 +58,7 @@ ICE_INDEX = (1.3249, 1.3203, 1.3194, 1.3177, 1.3163, 1.3151, 1.3140, 1.3130, 1.3
 def ice_index(wavelength_nm) -> np.ndarray:
     """Ice's refractive index (real part) at ``wavelength_nm`` (350-800 nm, linear between
     Warren & Brandt's nodes)."""
-    wl = np.asarray(wavelength_nm, dtype=float)
-    if np.any(wl < ICE_INDEX_NM[0]) or np.any(wl > ICE_INDEX_NM[-1]):
-        raise ParameterError("ice's refractive index is tabulated for 350-800 nm")
-    return np.interp(wl, ICE_INDEX_NM, ICE_INDEX)
-
-
-def interface_reflectance(cos_i, relative_index):
-    """(R_perpendicular, R_parallel, cos_t) of light meeting an interface at an angle of
-    incidence of cosine ``cos_i`` (> 0) into a medium of ``relative_index`` n2 / n1 (Fresnel's
-    equations); total internal reflection gives R = 1 and cos_t = 0."""
-    c = np.asarray(cos_i, dtype=float)
-    m = np.asarray(relative_index, dtype=float)
-    sin2_t = (1.0 - c * c) / (m * m)
-    total = sin2_t >= 1.0
-    cos_t = np.sqrt(np.maximum(1.0 - sin2_t, 0.0))
-    perpendicular = ((c - m * cos_t) / (c + m * cos_t)) ** 2
-    parallel = ((m * c - cos_t) / (m * c + cos_t)) ** 2
-    return (np.where(total, 1.0, perpendicular), np.where(total, 1.0, parallel),
-            np.where(total, 0.0, cos_t))  # fmt: skip
+    return tabulated_index(wavelength_nm, ICE_INDEX_NM, ICE_INDEX, "ice")
 
 
 def _refracted(d, normal, cos_i, cos_t, m):

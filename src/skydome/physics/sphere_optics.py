@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from skydome.errors import ParameterError
-from skydome.physics.crystal_optics import interface_reflectance
+from skydome.physics.interfaces import interface_reflectance, tabulated_index
 
 #: Water's real refractive index at 25 C (Hale & Querry 1973, Appl. Opt. 12, 555, table 1)
 #: at wavelengths (nm); absorption is negligible in the visible (k < 1e-8).
@@ -39,10 +39,7 @@ MAX_ORDER = 7
 def water_index(wavelength_nm) -> np.ndarray:
     """Water's refractive index (real part) at ``wavelength_nm`` (350-800 nm, linear between
     Hale & Querry's nodes)."""
-    wl = np.asarray(wavelength_nm, dtype=float)
-    if np.any(wl < WATER_INDEX_NM[0]) or np.any(wl > WATER_INDEX_NM[-1]):
-        raise ParameterError("water's refractive index is tabulated for 350-800 nm")
-    return np.interp(wl, WATER_INDEX_NM, WATER_INDEX)
+    return tabulated_index(wavelength_nm, WATER_INDEX_NM, WATER_INDEX, "water")
 
 
 def fresnel_reflectance(cos_i, n: float) -> tuple[np.ndarray, np.ndarray]:
