@@ -19,6 +19,7 @@ def write_packaged_npz(path, meta: dict, **arrays) -> None:
     """Write ``arrays`` and ``meta`` (with its ``format_version``) to ``path`` as
     :func:`read_packaged_npz` reads them: a compressed NumPy archive whose ``meta_json`` holds
     the metadata; atomically (a killed tool leaves the old file)."""
+
     def write(tmp: Path) -> None:
         with open(tmp, "wb") as f:
             np.savez_compressed(f, meta_json=np.array(json.dumps(meta)), **arrays)
