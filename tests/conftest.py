@@ -10,16 +10,45 @@ built) without ``slow``, a name in SLOW_TESTS that no collected test has.
 
 from __future__ import annotations
 
+import atexit
 import os
+import shutil
 import tempfile
 import time
+from pathlib import Path
 
 import pytest
 
-# Tests never touch the user's cache: one fresh cache directory per test session.
-os.environ["SKYDOME_CACHE"] = tempfile.mkdtemp(prefix="skydome-test-cache-")
+_TEST_CACHE_PREFIX = "skydome-test-cache-"
 
-from skydome.gpu import shared_context
+
+def _remove_orphan_test_caches() -> None:
+    """Remove the test caches of sessions that are gone: each holds ~1 GB of tables, and a
+    session killed before its exit handler ran would otherwise leave its own behind for good
+    (a CI machine that fills its disk that way fails every later run)."""
+    for folder in Path(tempfile.gettempdir()).glob(_TEST_CACHE_PREFIX + "*"):
+        pid_text = folder.name[len(_TEST_CACHE_PREFIX) :].split("-", 1)[0]
+        if pid_text.isdigit():
+            try:
+                os.kill(int(pid_text), 0)
+                continue  # its session still runs
+            except ProcessLookupError:
+                pass
+            except PermissionError:
+                continue  # another user's live process
+        elif time.time() - folder.stat().st_mtime < 6 * 3600:
+            continue  # an old-style name: only when it cannot belong to a running session
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+# Tests never touch the user's cache: one fresh cache directory per test session, named by
+# this process's id, removed when the session ends.
+_remove_orphan_test_caches()
+_TEST_CACHE = tempfile.mkdtemp(prefix=f"{_TEST_CACHE_PREFIX}{os.getpid()}-")
+os.environ["SKYDOME_CACHE"] = _TEST_CACHE
+atexit.register(shutil.rmtree, _TEST_CACHE, ignore_errors=True)
+
+from skydome.gpu import shared_context  # noqa: E402 - after SKYDOME_CACHE is set
 
 
 def _tiny_tables():

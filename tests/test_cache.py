@@ -29,6 +29,7 @@ from skydome.core.cache import (
     CacheSpec,
     CacheWarning,
     cache_dir,
+    cache_max_bytes,
     cache_path,
     load_or_build,
     store,
@@ -234,6 +235,37 @@ def test_cache_dir_from_environment(monkeypatch, tmp_path):
     monkeypatch.delenv("SKYDOME_CACHE")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "x"))
     assert cache_dir() == tmp_path / "x" / "skydome"
+
+
+def test_cache_is_bounded_least_recently_used_first(tmp_path, monkeypatch):
+    # Four entries of ~1 MiB each under a 2.5 MiB bound: a store removes the least recently
+    # used (a load counts as a use), never the entry it has just written.
+    entry = {"a": np.zeros(2**18, np.float32)}  # 1 MiB
+    monkeypatch.setenv("SKYDOME_CACHE_MAX_MB", "2.5")
+    for i, key in enumerate(("k1", "k2")):
+        store(key, entry, directory=tmp_path)
+        os.utime(cache_path(key, directory=tmp_path), (1000 + i, 1000 + i))
+    assert try_load("k1", directory=tmp_path) is not None  # k1 now the most recently used
+    store("k3", entry, directory=tmp_path)
+    assert not cache_path("k2", directory=tmp_path).exists()
+    assert cache_path("k1", directory=tmp_path).exists()
+    assert cache_path("k3", directory=tmp_path).exists()
+    # A bound below one entry keeps just the entry written.
+    monkeypatch.setenv("SKYDOME_CACHE_MAX_MB", "0.5")
+    store("k4", entry, directory=tmp_path)
+    assert sorted(p.name for p in tmp_path.glob("*.lut")) == [
+        cache_path("k4", directory=tmp_path).name
+    ]
+
+
+def test_cache_bound_from_environment(monkeypatch):
+    monkeypatch.delenv("SKYDOME_CACHE_MAX_MB", raising=False)
+    assert cache_max_bytes() == 2048 * 2**20
+    monkeypatch.setenv("SKYDOME_CACHE_MAX_MB", "100")
+    assert cache_max_bytes() == 100 * 2**20
+    monkeypatch.setenv("SKYDOME_CACHE_MAX_MB", "lots")
+    with pytest.warns(CacheWarning, match="SKYDOME_CACHE_MAX_MB"):
+        assert cache_max_bytes() == 2048 * 2**20
 
 
 def test_cache_file_names_stay_in_the_cache(tmp_path):

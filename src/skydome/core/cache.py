@@ -12,7 +12,9 @@ modules import which). The Python behind a product is not hashed at run time: th
 Files live in ``$SKYDOME_CACHE`` or, by default, ``$XDG_CACHE_HOME/skydome`` (else
 ``~/.cache/skydome``), named ``<name>-<first 32 hex digits of the key>.lut``. They are
 written atomically; temporary files of writers that died are removed by the next load or
-store. A missing file is built silently; any fault while loading one (whatever it is: a
+store. The folder is bounded: after each store the least recently used entries are removed
+until it holds at most ``$SKYDOME_CACHE_MAX_MB`` (default 2048 MiB; a load counts as a use),
+so that many cloud seeds or a long batch of atmospheres cannot fill a disk. A missing file is built silently; any fault while loading one (whatever it is: a
 damaged file, a FIFO, a directory, arrays of the wrong shape) gives one CacheWarning, the
 entry is removed and the product rebuilt and stored again.
 """
@@ -48,6 +50,8 @@ _SUFFIX = ".lut"
 #: A table file's temporary copy unchanged for this long (s) is stale whoever wrote it: a
 #: store writes its tens of MB in well under a second.
 STALE_TEMP_S = 60.0
+#: The cache folder's default bound (MiB): a dozen atmospheres and cloud noises.
+DEFAULT_MAX_MB = 2048
 
 
 class CacheWarning(SkydomeWarning):
@@ -121,6 +125,44 @@ def cache_dir() -> Path:
     return Path(base) / "skydome"
 
 
+def cache_max_bytes() -> int:
+    """The cache folder's bound in bytes (``$SKYDOME_CACHE_MAX_MB``, default 2048 MiB)."""
+    text = os.environ.get("SKYDOME_CACHE_MAX_MB", "").strip()
+    try:
+        max_mb = float(text) if text else DEFAULT_MAX_MB
+    except ValueError:
+        warnings.warn(
+            f"SKYDOME_CACHE_MAX_MB={text!r} is not a number; using {DEFAULT_MAX_MB}",
+            CacheWarning,
+            stacklevel=2,
+        )
+        max_mb = DEFAULT_MAX_MB
+    return max(0, int(max_mb * 2**20))
+
+
+def prune(directory: str | os.PathLike, max_bytes: int, *, keep: Path | None = None) -> int:
+    """Remove the least recently used cache entries (oldest modification time first) of
+    ``directory`` until its entries total at most ``max_bytes``; ``keep`` is never removed.
+    Returns the number of entries removed."""
+    entries = []
+    for path in Path(directory).glob(f"*{_SUFFIX}"):
+        with contextlib.suppress(OSError):
+            st = path.stat()
+            entries.append((st.st_mtime, st.st_size, path))
+    total = sum(size for _, size, _ in entries)
+    removed = 0
+    for _, size, path in sorted(entries, key=lambda e: e[0]):
+        if total <= max_bytes:
+            break
+        if keep is not None and path == keep:
+            continue
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+            removed += 1
+        total -= size
+    return removed
+
+
 def cache_path(key: str, name: str = "tables", directory: str | os.PathLike | None = None) -> Path:
     """Where the arrays of ``key`` are cached (``name`` made safe for a file name)."""
     safe = re.sub(r"[^A-Za-z0-9_.-]", "_", name).lstrip(".")
@@ -153,6 +195,8 @@ def try_load(
     except Exception as exc:  # noqa: BLE001 - any fault at all: never trusted, never raised
         _reject(path, exc)
         return None
+    with contextlib.suppress(OSError):
+        os.utime(path)  # a use: the bound removes the least recently used entries first
     return arrays
 
 
@@ -169,7 +213,9 @@ def store(
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         remove_stale_temps(path.parent, _SUFFIX, max_age_s=STALE_TEMP_S)
-        return write_lut_file(path, key, arrays, meta)
+        written = write_lut_file(path, key, arrays, meta)
+        prune(path.parent, cache_max_bytes(), keep=written)
+        return written
     except Exception as exc:  # noqa: BLE001 - a cache write failure must not fail a render
         warnings.warn(f"cannot write the table cache {path}: {exc}", CacheWarning, stacklevel=2)
         return None
