@@ -73,11 +73,13 @@ test-fast: $(DEV_STAMP)
 gallery: $(STAMP)
 	$(PY) tools/make_gallery.py && $(PY) tools/make_gallery.py --model single
 	$(PY) tools/make_gallery.py --clouds --size 1280x720 && $(PY) tools/make_gallery.py --weather --size 1280x720
-	$(PY) tools/make_gallery.py --optics --size 1280x720
+	$(PY) tools/make_gallery.py --optics --size 1280x720 && $(PY) tools/make_gallery.py --ground --size 640x320
 
-# The documentation site into site/ (MkDocs, warnings are errors); the CLI page first.
+# The documentation site into site/ (MkDocs, warnings are errors); the CLI page and the
+# example notebooks' pages (run afresh) first.
 docs: $(DEV_STAMP)
 	$(PY) tools/make_cli_docs.py
+	$(PY) tools/run_notebooks.py
 	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict -d site
 
 bench: $(STAMP)

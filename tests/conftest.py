@@ -121,6 +121,7 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
         "test_ground_illuminance_matches_the_renderer[hazy-5.0-0.0-0.01]",
     ),
     "astro/test_planet_deflection.py": ("test_deflection_adds_no_error_near_conjunction",),
+    "test_solar_eclipse.py": ("test_direct_sunlight_factor_through_the_partial_phase_vs_de421",),
     "astro/test_stars.py": ("test_packaged_files_are_what_the_tool_builds",),
     "test_aerosols.py": ("test_higher_asymmetry_type_has_brighter_aureole",),
     "test_atmosphere_knobs.py": ("test_more_aerosol_dims_the_sun_and_whitens_the_sky",),
@@ -179,6 +180,7 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
         "test_example_runs_and_writes_sane_files[tour.py]",
         "test_example_runs_and_writes_sane_files[tour_cli.sh]",
         "test_site_builds_strict",
+        "test_the_example_notebook_runs_and_shows_its_outputs",
     ),
     "test_frames_vs_mc.py": (
         "test_frames_match_monte_carlo",
@@ -247,6 +249,7 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
     "test_sky_view.py": ("test_sky_view_matches_direct_lookups_for_other_atmospheres",),
     "test_smooth_layers.py": ("test_reduced_light_alone_equals_the_field[equirect-tiled]",),
     "test_stars.py": ("test_flux_is_the_illuminance[camera1-4096-2048]",),
+    "test_viewer_panel.py": ("test_the_clouds_and_the_bortle_class_from_the_panel",),
     "test_viewer_soak.py": ("test_soak_keeps_memory_flat_and_leaks_no_gl_objects",),
 }  # fmt: skip
 

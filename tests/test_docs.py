@@ -32,7 +32,7 @@ EXPECTED = {
     "tour.py": ["tour-sunset.png", "tour-sunset.exr", "tour-night-allsky.png", "tour-sun5.*"],
     "tour_cli.sh": ["cli-sunset.png", "cli-sunset.exr", "cli-sun8.png"],
     "place_and_time.py": ["place-moon.png", "place-moon.exr", "place-east.png", "place-1200.png"],
-    "blender_cli.sh": ["sky.exr", "sky.hdr", "sky-preview.png"],
+    "blender_cli.sh": ["sky.exr", "sky.hdr", "sky-preview.png", "sky-black-ground.exr"],
     "blender_hdri.py": ["sky-no-sun.exr", "sky-with-sun.exr", "blender-settings.json"],
     "timelapse.sh": ["dusk.mp4", "dusk-frames/frame_*.exr", "dusk-ev8/frame_*.png"],
     "eye_adaptation.py": ["eye-dusk-strip.png"],
@@ -45,6 +45,14 @@ EXPECTED = {
         "weather-fog-sea.png",
         "weather-rain.png",
         "weather-snow-dusk.png",
+    ],
+    "exposure_glare.sh": [
+        "night-eye.png",
+        "night-camera.png",
+        "moon-center.png",
+        "sunset-glare.png",
+        "sunset.exr",
+        "sunset-no-glare.png",
     ],
     "clouds.py": [
         "clouds-fair.png",
@@ -250,3 +258,25 @@ def test_site_builds_strict(tmp_path):
     api = (site / "api" / "scene.html").read_text(encoding="utf-8")
     assert "skydome.sky.Sky" in api and "def render" not in api  # rendered, not source
     assert (site / "gallery" / "night-milky-way.png").exists()
+
+
+@pytest.mark.gl
+def test_the_example_notebook_runs_and_shows_its_outputs(tmp_path):
+    # docs/examples/notebook.ipynb run in a fresh kernel (tools/run_notebooks.py, what `make
+    # docs` does) gives a page with its three pictures (the equirect repr, the Moon, the
+    # HDRI) that are pictures, and the HDRI's black ground (0.0 cd/m^2 below the horizon)
+    pytest.importorskip("nbclient", reason="the docs extra runs the notebooks")
+    pytest.importorskip("ipykernel", reason="the docs extra runs the notebooks")
+    from PIL import Image
+
+    from tests.tools_module import load_tool
+
+    assert load_tool("run_notebooks").main(["notebook.ipynb", "--out", str(tmp_path)]) == 0
+    text = (tmp_path / "notebook.md").read_text()
+    assert "below the horizon: max 0.0 cd/m^2" in text
+    assert "*(a live widget: run the notebook to look around)*" in text
+    pictures = sorted(tmp_path.glob("notebook-*.png"))
+    assert len(pictures) == 3
+    for p in pictures:
+        assert np.asarray(Image.open(p).convert("RGB")).std() > 2.0, p
+        assert f"]({p.name})" in text

@@ -393,6 +393,10 @@ SETUPS: dict[str, dict[str, Setup]] = {
     "common/atmosphere_common.glsl:ray_sphere": {"": Setup(atol=0.05, mask=_ray_sphere_mask)},
     # Directions within 2 solar radii of a disk's centre. sin(theta) from a cross product of
     # float32 unit vectors: ~1e-7 absolute.
+    # The lens of two disks in float32: 6e-6 of the disk's area near tangency and
+    # containment, where the half-angles are computed from small differences of the radii
+    # (1e-7 rad of 5e-3 rad); the fractions used (the Sun's, the Earth's shadow) need 1e-4.
+    "common/eclipse.glsl:disk_overlap_fraction": {"": Setup(atol=2e-5)},
     "common/sphere_disk.glsl:sin_offset": {
         "": Setup(inputs=lambda: _as_f32(_near_sphere()), atol=2e-7)
     },

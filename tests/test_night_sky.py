@@ -93,10 +93,12 @@ def test_night_layers_off_are_bit_identical_to_a_sky_without_them(dark_sky):
 
 def test_display_passes_change_the_image_not_the_frame(dark_sky):
     cam, w, h = PerspectiveCamera(fov_deg=60.0, pitch_deg=60.0), 160, 90
-    base = dark_sky.render(cam, w, h, exposure="auto", tonemap="filmic")
+    # the camera's metering ("average"): the frame's physical colours; the default "eye"
+    # metering shows the dark-adapted eye's colours already (tests/test_metering.py)
+    base = dark_sky.render(cam, w, h, exposure="auto", tonemap="filmic", metering="average")
     dark_sky.night_vision = True
     try:
-        seen = dark_sky.render(cam, w, h, exposure="auto", tonemap="filmic")
+        seen = dark_sky.render(cam, w, h, exposure="auto", tonemap="filmic", metering="average")
     finally:
         dark_sky.night_vision = False
     assert np.array_equal(seen.data, base.data)
@@ -111,7 +113,7 @@ def test_display_passes_change_the_image_not_the_frame(dark_sky):
         return float(rg.std(axis=0).max())
 
     assert spread(seen.image) < 0.3 * spread(base.image), (spread(seen.image), spread(base.image))
-    again = dark_sky.render(cam, w, h, exposure="auto", tonemap="filmic")
+    again = dark_sky.render(cam, w, h, exposure="auto", tonemap="filmic", metering="average")
     assert np.array_equal(again.image, base.image)  # off again: as before
 
 

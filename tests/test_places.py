@@ -9,8 +9,10 @@ import math
 import re
 import subprocess
 import sys
+from datetime import datetime, timezone
 from importlib import resources
 from pathlib import Path
+from zoneinfo import ZoneInfo
 
 import pytest
 
@@ -18,6 +20,7 @@ from skydome.astro import Observer
 from skydome.astro import places as P
 from skydome.astro.places import Place, find_place, normalise, parse_place, places, search
 from skydome.errors import ParameterError, SkydomeError
+from tests.tools_module import load_tool
 
 #: Mean Earth radius (IUGG), km. A sphere is enough here: it is within 0.5 % of the
 #: ellipsoid's distances, 0.1 km at the 25 km bound.
@@ -66,13 +69,25 @@ def test_csv_header_and_four_decimals():
     comments = [line for line in lines if line.startswith("#")]
     assert lines[: len(comments)] == comments  # comments only at the top
     header = " ".join(comments)
-    for word in ("public", "Wikipedia", "GeoNames", "ephem", "zone.tab"):
-        assert word in header
+    for word in (
+        "public",
+        "Wikipedia",
+        "GeoNames",
+        "ephem",
+        "zone.tab",
+        "tz database",
+        "build_place_zones",
+        "timezonefinder",
+        "Urbanization Prospects",
+        "Bortle",
+    ):
+        assert word in header, word
     assert lines[len(comments)] == (
-        "name,aliases,country,kind,latitude_deg,longitude_deg,elevation_m"
+        "name,aliases,country,kind,latitude_deg,longitude_deg,elevation_m,timezone,population,"
+        "bortle"
     )
     for line in lines[len(comments) + 1 :]:
-        lat, lon = line.split(",")[-3:-1]
+        lat, lon = line.split(",")[-6:-4]
         assert re.fullmatch(r"-?\d+\.\d{4}", lat) and re.fullmatch(r"-?\d+\.\d{4}", lon), line
 
 
@@ -186,6 +201,101 @@ def test_cities_agree_with_tz_database():
         assert d < 25.0, f"{zone}: zone.tab ({lat:.4f}, {lon:.4f}) is {d:.1f} km from {place}"
     print(f"\ntz database: {matched} cities matched; farthest {worst}")
     assert matched >= 100  # measured: 151, farthest Asia/Muscat 20.5 km
+
+
+# ---------------------------------------------------------------- time zones
+
+
+@pytest.mark.parametrize("place", places(), ids=lambda p: p.name)
+def test_every_place_has_a_zone_that_zoneinfo_knows(place):
+    """Every place names an IANA zone that zoneinfo loads (the tzdata wheel on Windows), and
+    its clock, in January and in July 2025, is within 3 h of the place's mean solar time
+    (longitude / 15 h): a zone of another continent or hemisphere is 5-12 h off, while
+    China's one zone is 1.9 h ahead of Lhasa's sun, Spain's 2.2 h ahead of La Palma's and
+    Greenland's summer time 2.5 h ahead of Nuuk's. The poles (all meridians) are left out."""
+    assert place.timezone and place.zone == ZoneInfo(place.timezone)
+    if abs(place.latitude_deg) > 85.0:
+        return
+    for month in (1, 7):
+        noon = datetime(2025, month, 1, 12, tzinfo=timezone.utc)
+        offset_h = noon.astimezone(place.zone).utcoffset().total_seconds() / 3600.0
+        ahead = (offset_h - place.longitude_deg / 15.0 + 12.0) % 24.0 - 12.0
+        assert abs(ahead) < 3.0, (place.name, place.timezone, month, ahead)
+
+
+#: Places whose zone is not one zone.tab lists for their country: Antarctic stations keep
+#: their suppliers' time; Hong Kong (HK) and Svalbard (SJ) are countries of their own in the
+#: tz database (and ISO 3166).
+_ZONE_ELSEWHERE = {
+    "Concordia Station": "Australia/Perth",
+    "Hong Kong": "Asia/Hong_Kong",
+    "Longyearbyen": "Arctic/Longyearbyen",
+}
+
+
+def test_zones_are_those_the_tz_database_gives_the_country():
+    """Each place's zone is one that zone.tab lists for the place's country (iso3166.tab's
+    name), but for _ZONE_ELSEWHERE."""
+    zone_dir = _zone_dir()
+    if zone_dir is None:
+        pytest.skip("no zone.tab (tz database) on this machine")
+    code_of = {}
+    for line in (zone_dir / "iso3166.tab").read_text(encoding="utf-8").splitlines():
+        if line and not line.startswith("#"):
+            code, name = line.split("\t")
+            code_of[name.replace("\u2019", "'")] = code  # newer tables' curly apostrophe
+    zones: dict[str, set[str]] = {}
+    for line in (zone_dir / "zone.tab").read_text(encoding="utf-8").splitlines():
+        if line and not line.startswith("#"):
+            code, _, zone = line.split("\t")[:3]
+            zones.setdefault(code, set()).add(zone)
+    for place in places():
+        if place.name in _ZONE_ELSEWHERE:
+            assert place.timezone == _ZONE_ELSEWHERE[place.name]
+            continue
+        code = code_of[_TZ_COUNTRY.get(place.country, place.country)]
+        assert place.timezone in zones[code], (place.name, place.timezone, sorted(zones[code]))
+
+
+# The multi-zone countries, by hand (each a fact of the place's law or practice: New
+# Mexico keeps Mountain time with DST, Arizona without; west Texas' Jeff Davis County
+# Central; Alberta Mountain; the Northern Territory +09:30 without DST; the Canaries WET).
+HAND_ZONES = [
+    ("Valletta", "Europe/Malta"), ("Paris", "Europe/Paris"), ("Madrid", "Europe/Madrid"),
+    ("Roque de los Muchachos", "Atlantic/Canary"), ("Teide", "Atlantic/Canary"),
+    ("Calar Alto", "Europe/Madrid"), ("Lisbon", "Europe/Lisbon"),
+    ("Mauna Kea", "Pacific/Honolulu"), ("Paranal", "America/Santiago"),
+    ("La Silla", "America/Santiago"), ("Punta Arenas", "America/Punta_Arenas"),
+    ("Dallas", "America/Chicago"), ("Denver", "America/Denver"), ("Phoenix", "America/Phoenix"),
+    ("Kitt Peak", "America/Phoenix"), ("Apache Point", "America/Denver"),
+    ("McDonald Observatory", "America/Chicago"), ("Seattle", "America/Los_Angeles"),
+    ("Green Bank", "America/New_York"), ("Calgary", "America/Edmonton"),
+    ("Mont Mégantic Observatory", "America/Toronto"), ("Alice Springs", "Australia/Darwin"),
+    ("Perth", "Australia/Perth"), ("Siding Spring", "Australia/Sydney"),
+    ("Lhasa", "Asia/Shanghai"), ("Hong Kong", "Asia/Hong_Kong"),
+    ("Novosibirsk", "Asia/Novosibirsk"), ("Special Astrophysical Observatory", "Europe/Moscow"),
+    ("Astana", "Asia/Almaty"), ("Manaus", "America/Manaus"),
+    ("Ushuaia", "America/Argentina/Ushuaia"), ("Quito", "America/Guayaquil"),
+    ("Kinshasa", "Africa/Kinshasa"), ("Ulaanbaatar", "Asia/Ulaanbaatar"),
+    ("Jakarta", "Asia/Jakarta"), ("Mexico City", "America/Mexico_City"),
+    ("San Pedro Mártir", "America/Tijuana"), ("Longyearbyen", "Arctic/Longyearbyen"),
+    ("South Pole", "Antarctica/McMurdo"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("name, zone", HAND_ZONES, ids=[h[0] for h in HAND_ZONES])
+def test_zones_of_multi_zone_countries(name, zone):
+    assert find_place(name).timezone == zone
+
+
+def test_zone_column_is_what_the_tool_builds(capsys):
+    """tools/build_place_zones.py --check recomputes every zone (nearest zone.tab point of
+    the country, then its hand-checked list) and finds the table's column the same."""
+    if _zone_dir() is None:
+        pytest.skip("no zone.tab (tz database) on this machine")
+    tool = load_tool("build_place_zones")
+    assert tool.main(["--check"]) == 0, capsys.readouterr().out
+    assert "0 rows differ" in capsys.readouterr().out
 
 
 # Published values, by hand; 0.01 deg (1.1 km) allows for where on a site the position is
@@ -310,11 +420,16 @@ def test_ambiguous_name_is_not_silently_picked(monkeypatch):
 
 
 def test_bad_table_rows_are_reported_with_their_line():
-    head = "# comment\nname,aliases,country,kind,latitude_deg,longitude_deg,elevation_m\n"
+    head = (
+        "# comment\nname,aliases,country,kind,latitude_deg,longitude_deg,elevation_m,timezone,"
+        "population,bortle\n"
+    )
     with pytest.raises(SkydomeError, match="line 3"):
-        P._parse_csv(head + "X,,Y,city,95.0000,0.0000,0\n")
-    with pytest.raises(SkydomeError, match="line 4: expected 7 fields"):
-        P._parse_csv(head + "X,,Y,city,1.0000,0.0000,0\nZ,,Y,city,1.0000\n")
+        P._parse_csv(head + "X,,Y,city,95.0000,0.0000,0,UTC,1000,\n")
+    with pytest.raises(SkydomeError, match="line 4: expected 10 fields"):
+        P._parse_csv(head + "X,,Y,city,1.0000,0.0000,0,UTC,1000,\nZ,,Y,city,1.0000\n")
+    with pytest.raises(SkydomeError, match="line 3"):
+        P._parse_csv(head + "X,,Y,observatory,1.0000,0.0000,0,UTC,,12\n")  # no Bortle 12
     with pytest.raises(SkydomeError, match="columns"):
         P._parse_csv("name,country\nX,Y\n")
 

@@ -187,6 +187,11 @@ def test_the_sunrise_button_jumps_to_the_next_sunrise(window):
     sun = scene.sky().state.sun
     assert math.degrees(math.asin(sun.direction_true[2])) == pytest.approx(-0.8333, abs=0.01)
     assert sun.direction_true[0] > 0.5  # rising in the east
+    # and the camera turned to it: its azimuth, the horizon in view (pitch 2 deg)
+    state = scene.controls.state
+    assert state.projection == "perspective"
+    assert abs((state.yaw_deg - sun.azimuth_deg + 180.0) % 360.0 - 180.0) < 0.01
+    assert state.pitch_deg == pytest.approx(2.0)
     scene.release()
 
 
@@ -319,4 +324,49 @@ def test_hidpi_pointer_in_window_units_and_screenshots_in_pixels(
         ctx.__exit__(None, None, None)
         wide_window.make_current()
     assert np.abs(shown - frame.image.astype(int)).max() <= 1
+    scene.release()
+
+
+def test_a_wide_window_docks_the_panel_beside_the_picture(x_display, tmp_path, monkeypatch):  # noqa: F811
+    """At 1024 x 600 the panel is a column at the right edge, the full height, and the
+    picture is the rest: the screen's left 1024 - 340 px are the sky, never the panel, and
+    a screenshot is that picture; "with the panel" saves the whole window instead."""
+    from PIL import Image
+
+    from skydome.viewer.app import ViewerWindow
+    from skydome.viewer.panel import PANEL_WIDTH
+
+    monkeypatch.chdir(tmp_path)
+    win = ViewerWindow(1024, 600, visible=False, panel=True)
+    try:
+        scene = _scene(win)
+        shots = [tmp_path / "view.png"]
+        win.run(scene, frames=4, screenshot=shots)
+        x0, y0, x1, y1 = win.panel.rects["panel"]
+        assert (x0, y0) == (1024 - PANEL_WIDTH, 0.0) and (x1, y1) == (1024.0, 600.0)
+        assert Image.open(shots[0]).size == (1024 - int(PANEL_WIDTH), 600)
+        # what the "with the panel" box and the screenshot button set (both at the foot of
+        # the "Frame times" section, below the fold of a 600 px column)
+        win.panel.screenshot_with_panel = True
+        win.panel.screenshot_requested = "skydome-test"
+        win.run(scene, frames=2)
+        saved = sorted(tmp_path.glob("skydome-*.png"))
+        assert len(saved) == 1 and Image.open(saved[0]).size == (1024, 600)
+        scene.release()
+    finally:
+        win.close()
+
+
+def test_the_clouds_and_the_bortle_class_from_the_panel(window):
+    """The Weather section's "clouds" combo builds the sky with a cloud preset, and its
+    Bortle slider (0-9, a click at its middle: 4 or 5) with that light pollution."""
+    scene = _scene(window)
+    old = scene.base
+    _run_until_clicked(window, scene, ["header:Time", "header:Weather", "clouds", "clouds:fair"])
+    assert scene.base is not old, window.panel.message
+    clouds = scene.base.description.clouds
+    assert clouds is not None and clouds.preset == "fair"
+    _run_until_clicked(window, scene, [("bortle", 0.5)])
+    assert scene.base.description.light_pollution in (4, 5), window.panel.message
+    window.run(scene, frames=2)
     scene.release()

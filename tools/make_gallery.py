@@ -77,6 +77,7 @@ def main() -> None:
     ap.add_argument("--clouds", action="store_true", help="only the cloud views")
     ap.add_argument("--weather", action="store_true", help="only the weather views")
     ap.add_argument("--optics", action="store_true", help="only the optics views")
+    ap.add_argument("--ground", action="store_true", help="only the ground's kinds")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     OUT.mkdir(parents=True, exist_ok=True)
@@ -91,6 +92,9 @@ def main() -> None:
         return
     if args.optics:
         optics_views(w, h)
+        return
+    if args.ground:
+        ground_views(w)
         return
     if args.scene or args.night:
         if args.scene:
@@ -301,6 +305,25 @@ def cloud_views(w: int, h: int) -> None:
     path = OUT / "clouds-moonlit-night.png"
     atomic_write(path, lambda tmp: write_png(tmp, frame.image, {"views": "moonlit cumulus"}))
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+
+
+def ground_views(w: int) -> None:
+    """The ground's kinds (issue 26) in equirect maps of Valletta at dusk (the Sun 3 deg
+    down), one exposure for the three: the default grey ground, none (the air's glow in
+    front of a ground that reflects nothing), black (zero below the horizon)."""
+    from skydome.core.cameras import EquirectCamera
+
+    where = {"place": "Valletta", "time": "2018-03-01T17:05Z"}
+    ev100 = None
+    for kind in ("default", "none", "black"):
+        with Sky(ground=None if kind == "default" else kind, **where) as sky:
+            frame = sky.render(EquirectCamera(), w, w // 2, exposure=None)
+        if ev100 is None:
+            ev100 = auto_exposure(frame, clip_percentile=99.5)
+        ldr = tonemap(frame, "filmic", ev100)
+        path = OUT / f"ground-{kind}.png"
+        write_outputs([path], frame.data, ldr, metadata=frame.info)
+        print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
 def weather_views(w: int, h: int) -> None:

@@ -21,8 +21,9 @@ from typing import Any
 import numpy as np
 
 from skydome.astro import Observer, Time, to_time
-from skydome.astro.places import parse_place
+from skydome.astro.places import Place, parse_place, time_zone
 from skydome.atmosphere.cie_layer import CieSkyLayer
+from skydome.atmosphere.ground import BlackGroundLayer, ground_albedo, parse_ground
 from skydome.atmosphere.layer import MODELS, AtmosphereLayer, atmosphere_params
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
@@ -68,6 +69,30 @@ def observer_for(place: Any, pressure_hPa=None, temperature_C=None) -> Observer:
     return parse_place(place).observer(**weather)
 
 
+def place_of(place: Any) -> Place | None:
+    """The ``Place`` a place is given as (a name, a Place, a position as numbers), or None
+    for an ``Observer`` (which carries no time zone or light pollution)."""
+    return None if isinstance(place, Observer) else parse_place(place)
+
+
+def place_timezone(place: Any) -> str:
+    """The IANA zone whose local time a naive time given with ``place`` is read in: a
+    gazetteer place's (``Place.timezone``); "" (UTC) for a position given as numbers or an
+    Observer."""
+    p = place_of(place)
+    return "" if p is None else p.timezone
+
+
+def auto_light_pollution(place: Any, model: str = "precomputed", night: bool = True):
+    """The light pollution a sky takes by default (``light_pollution="auto"``): a gazetteer
+    place's own (``LightPollution.for_place``: a city's estimate from its population, an
+    observatory's class) with the default model and the night sky on; else None."""
+    p = place_of(place)
+    if p is None or model != "precomputed" or not night:
+        return None
+    return LightPollution.for_place(p)
+
+
 def light_pollution_value(value: Any) -> int | LightPollution | None:
     """None, a Bortle class (1-9) or a LightPollution, checked."""
     if value is None or isinstance(value, LightPollution):
@@ -89,6 +114,9 @@ class SkyDescription:
     Attributes:
         observer: the place (with its weather), or None for a Sun alone.
         time: the instant (``skydome.astro.Time``), None without a place.
+        timezone: the IANA zone of the place (``"Europe/Malta"``), in whose local time
+            :meth:`of` and :meth:`with_` read a time given without an offset; "" for UTC (a
+            position given as numbers, or ``utc=True``).
         sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (apparent, degrees).
         pressure_hPa, temperature_C: the abstract mode's weather (refraction; pressure 0
             bends no light). With a place, the observer's.
@@ -115,10 +143,14 @@ class SkyDescription:
         night_vision, overlays: the display (the image only, never the frame's data).
         sun_disk: draw the Sun's disk (False: the sky without it, e.g. an environment map
             for a renderer that lights with its own Sun lamp; the air is lit all the same).
+        ground: what lies below the horizon (``skydome.atmosphere.ground``): None, the
+            atmosphere's own ground; an albedo 0-1; "none", a ground that reflects nothing
+            (the air in front of it only); "black", zero wherever a ray meets the ground.
     """
 
     observer: Observer | None = None
     time: Time | None = None
+    timezone: str = ""
     sun_elevation_deg: float = 30.0
     sun_azimuth_deg: float = 180.0
     pressure_hPa: float = STANDARD_PRESSURE_HPA
@@ -141,8 +173,10 @@ class SkyDescription:
     night_vision: bool = False
     overlays: tuple[str, ...] = ()
     sun_disk: bool = True
+    ground: str | float | None = None
 
     def __post_init__(self):
+        object.__setattr__(self, "ground", parse_ground(self.ground))
         if self.observer is not None and not isinstance(self.observer, Observer):
             raise ParameterError(f"observer must be an Observer, got {self.observer!r}")
         if self.observer is not None and any(np.ndim(v) for v in astuple(self.observer)):
@@ -158,6 +192,8 @@ class SkyDescription:
             not isinstance(self.time, Time) or np.shape(self.time.jd_utc) != ()
         ):
             raise ParameterError("time must be one instant (skydome.astro.Time)")
+        if self.timezone:
+            time_zone(self.timezone)  # a zone zoneinfo knows
         for name, lo, hi, unit in (
             ("sun_elevation_deg", -90.0, 90.0, "deg"),
             ("sun_azimuth_deg", -360.0, 360.0, "deg"),
@@ -208,6 +244,8 @@ class SkyDescription:
                 "the single-scattering model draws its Sun's disk itself: sun_disk=False "
                 "needs the default model"
             )
+        if self.ground is not None and self.model == "single":
+            raise ParameterError("ground needs the default model (or the cie model)")
 
     # ------------------------------------------------------------------ from what users type
 
@@ -230,7 +268,7 @@ class SkyDescription:
         samples: int = 16,
         sky_view_size: tuple[int, int] | None = None,
         night: bool = True,
-        light_pollution: Any = None,
+        light_pollution: Any = "auto",
         clouds: Clouds | str | None = None,
         cloud_quality: str = "full",
         cloud_shafts: bool | None = None,
@@ -239,13 +277,20 @@ class SkyDescription:
         night_vision: bool = False,
         overlays: Any = (),
         sun_disk: bool = True,
+        ground: str | float | None = None,
+        utc: bool = False,
     ) -> SkyDescription:
         """A description from what a user gives: ``place`` an ``Observer``, a gazetteer
         name, a ``Place`` or ``(lat_deg, lon_deg[, elevation_m])`` (None: a Sun alone at
         ``sun_elevation_deg``); ``time`` anything ``skydome.astro.to_time`` accepts (ISO
-        8601; naive is UTC); ``atmosphere`` a preset name or ``AtmosphereParams``;
-        ``clouds`` a preset name or a ``Clouds``; ``weather`` a preset name ("fog", "rain",
-        ...) or a ``Weather``; ``overlays`` names or a comma list."""
+        8601 with an offset or Z; without one, a gazetteer place's local time, in its
+        ``timezone``, and UTC for a position given as numbers, an Observer, or with
+        ``utc=True``; a wall-clock time the zone skips or repeats raises
+        ``skydome.astro.time.LocalTimeError``); ``atmosphere`` a preset name or
+        ``AtmosphereParams``; ``clouds`` a preset name or a ``Clouds``; ``weather`` a preset
+        name ("fog", "rain", ...) or a ``Weather``; ``overlays`` names or a comma list;
+        ``light_pollution`` "auto" (the default: a gazetteer place's own,
+        :func:`auto_light_pollution`), None (none), a Bortle class or a ``LightPollution``."""
         abstract = place is None
         if abstract and time is not None:
             raise ParameterError("a time needs a place: give place=(lat, lon) or a place name")
@@ -259,6 +304,9 @@ class SkyDescription:
             raise ParameterError("a place needs a time (ISO 8601, e.g. 2018-03-01T19:00Z)")
         refraction = {}
         observer = instant = None
+        zone = ""
+        if isinstance(light_pollution, str) and light_pollution == "auto":
+            light_pollution = None if abstract else auto_light_pollution(place, model, night)
         if abstract:
             if pressure_hPa is not None:
                 refraction["pressure_hPa"] = pressure_hPa
@@ -266,7 +314,8 @@ class SkyDescription:
                 refraction["temperature_C"] = temperature_C
         else:
             observer = observer_for(place, pressure_hPa, temperature_C)
-            instant = to_time(time)
+            zone = "" if utc else place_timezone(place)
+            instant = to_time(time, zone=time_zone(zone) if zone else None)
             if instant.shape != ():
                 raise ParameterError(f"a sky is for one instant; got {instant.shape} times")
         if isinstance(clouds, str):
@@ -277,6 +326,7 @@ class SkyDescription:
         return cls(
             observer=observer,
             time=instant,
+            timezone=zone,
             sun_elevation_deg=30.0 if sun_elevation_deg is None else sun_elevation_deg,
             sun_azimuth_deg=sun_azimuth_deg,
             atmosphere=atmosphere_params(atmosphere),
@@ -297,13 +347,17 @@ class SkyDescription:
             night_vision=bool(night_vision),
             overlays=tuple(overlays),
             sun_disk=sun_disk,
+            ground=ground,
             **refraction,
         )
 
     def with_(self, **changes) -> SkyDescription:
         """A copy with ``changes``: fields of the description, or what :meth:`of` takes for
         them (``time="2018-03-01T23:00Z"``, ``atmosphere="hazy"``, ``clouds="fair"``,
-        ``place="Paranal"``)."""
+        ``place="Paranal"``). A new ``place`` brings its ``timezone`` (unless one is given);
+        a time without an offset is read in the (new) ``timezone``, as :meth:`of` does. The
+        light pollution stays as it is unless given (``light_pollution="auto"``: the place's
+        own)."""
         names = {f.name for f in fields(self)}
         unknown = set(changes) - names - {"place"}
         if unknown:
@@ -311,15 +365,24 @@ class SkyDescription:
                 f"unknown sky setting {sorted(unknown)[0]!r}; the settings are "
                 f"{', '.join(sorted(names))}"
             )
+        place = self.observer
         if "place" in changes:
             place = changes.pop("place")
             changes["observer"] = None if place is None else observer_for(place)
+            if "timezone" not in changes:
+                changes["timezone"] = "" if place is None else place_timezone(place)
+        if isinstance(changes.get("light_pollution"), str) and changes["light_pollution"] == "auto":
+            model, night = changes.get("model", self.model), changes.get("night", self.night)
+            changes["light_pollution"] = (
+                None if place is None else auto_light_pollution(place, model, night)
+            )
         if isinstance(changes.get("time"), (str, int, float)) or (
             "time" in changes
             and changes["time"] is not None
             and not isinstance(changes["time"], Time)
         ):
-            changes["time"] = to_time(changes["time"])
+            zone = changes.get("timezone", self.timezone)
+            changes["time"] = to_time(changes["time"], zone=time_zone(zone) if zone else None)
         if isinstance(changes.get("atmosphere"), str):
             changes["atmosphere"] = preset(changes["atmosphere"])
         if isinstance(changes.get("clouds"), str):
@@ -352,7 +415,9 @@ class SkyDescription:
     def effective(self) -> tuple[AtmosphereParams, Clouds | None, PrecomputeConfig]:
         """The air, the clouds and the tables the sky is drawn with: the description's, with
         its weather (``skydome.weather_effects.weathered``)."""
-        return weathered(self.weather, self.atmosphere, self.clouds, self.config)
+        albedo = ground_albedo(self.ground)
+        air = self.atmosphere if albedo is None else self.atmosphere.with_albedo(albedo)
+        return weathered(self.weather, air, self.clouds, self.config)
 
     @property
     def visibility_km(self) -> float:
@@ -379,7 +444,7 @@ class SkyDescription:
             self.cie_type,
             zenith_luminance=self.cie_zenith_luminance,
             horizontal_illuminance=self.cie_illuminance,
-            ground_albedo=float(np.mean(self.atmosphere.ground_albedo.values)),
+            ground_albedo=float(np.mean(self.effective[0].ground_albedo.values)),
         )
 
     def layers(self, progress=None) -> list[Layer]:
@@ -389,7 +454,7 @@ class SkyDescription:
         model is the atmosphere alone (it draws its own Sun); the cie model the CIE sky
         alone."""
         if self.model == "cie":
-            return [self.cie_layer()]
+            return [self.cie_layer()] + ([BlackGroundLayer()] if self.ground == "black" else [])
         air = self.atmosphere_layer(progress)
         if self.model == "single":
             return [air]
@@ -413,6 +478,8 @@ class SkyDescription:
         glow = self.light_pollution_layer()
         if glow is not None:
             layers.append(glow)
+        if self.ground == "black":
+            layers.append(BlackGroundLayer())
         return layers
 
     def light_pollution_layer(self) -> LightPollutionLayer | None:

@@ -22,7 +22,8 @@ from skydome.core.frame import Frame
 from skydome.core.layer import Layer
 from skydome.core.lights import SkyState
 from skydome.description import NIGHT_LAYERS, SkyDescription
-from skydome.display.exposure import COMPENSATION_RANGE, ev100_to_scale
+from skydome.display.exposure import COMPENSATION_RANGE, DEFAULT_METERING, ev100_to_scale
+from skydome.display.glare import DEFAULT_GLARE
 from skydome.errors import ParameterError, check_range
 from skydome.night.glow_layer import LightPollutionLayer
 from skydome.scene.graph import FrameGraph
@@ -111,7 +112,10 @@ class Sky:
         place: a :class:`~skydome.description.SkyDescription` (then no other settings), an
             ``Observer``, a gazetteer name (``skydome places``), a ``Place`` or a
             ``(lat_deg, lon_deg[, elevation_m])`` tuple; None for the abstract mode.
-        time: anything ``skydome.astro.to_time`` accepts (ISO 8601; naive is UTC).
+        time: anything ``skydome.astro.to_time`` accepts: ISO 8601 with an offset or Z, or
+            without one the local time of a gazetteer place (its IANA ``timezone``: ``Sky(
+            "Valletta", "2018-03-01T20:00")`` is 19:00 UTC), UTC for a position given as
+            numbers, an ``Observer``, or with ``utc=True``.
         atmosphere: a preset name or ``AtmosphereParams``.
         sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (apparent, degrees).
         pressure_hPa, temperature_C: the weather that bends the light (refraction).
@@ -120,8 +124,10 @@ class Sky:
             model's samples per view ray.
         night: with a place, draw the night sky (stars, planets, Milky Way, zodiacal light,
             airglow).
-        light_pollution: a Bortle class (1-9), a ``skydome.LightPollution``, or a
-            ``LightPollutionLayer``.
+        light_pollution: "auto" (the default: a gazetteer city's glow estimated from its
+            population, an observatory's Bortle class; none for a position given as numbers:
+            ``skydome.description.auto_light_pollution``), None (none), a Bortle class
+            (1-9), a ``skydome.LightPollution``, or a ``LightPollutionLayer``.
         clouds: a preset name ("fair", "broken", "overcast", "nimbostratus", "storm",
             "cirrus", "clear"), a
             ``skydome.Clouds`` or a ``CloudLayer``: drawn just after the atmosphere.
@@ -152,7 +158,7 @@ class Sky:
         progress=None,
         ctx=None,
         clouds: Any = None,
-        light_pollution: Any = None,
+        light_pollution: Any = "auto",
         **settings: Any,
     ):
         extra = list(extra_layers)
@@ -162,6 +168,9 @@ class Sky:
         if isinstance(light_pollution, LightPollutionLayer):
             extra.append(light_pollution)
             light_pollution = None
+        if isinstance(light_pollution, str) and light_pollution == "auto":
+            if layers is not None or isinstance(place, SkyDescription):
+                light_pollution = None  # the layers, or the description, say it all
         if layers is not None and (clouds is not None or light_pollution is not None):
             raise ParameterError(
                 "light_pollution and clouds add to the default layers: with layers=[...] add "
@@ -334,6 +343,8 @@ class Sky:
         tonemap: str | None = None,
         depth_m=None,
         shadow_length_m=None,
+        metering: str = DEFAULT_METERING,
+        glare: str | None = DEFAULT_GLARE,
     ) -> Frame:
         """A frame in cd/m^2 (read back once). Without a ``camera``, a 90 deg perspective one
         aimed by ``look`` (:func:`aim_camera`; default: :func:`default_look`). ``exposure``:
@@ -346,7 +357,15 @@ class Sky:
         scatters, and ``frame.info["transmittance"]`` the (H, W, 3) RGB transmittance to
         it, so that ``scene * transmittance + frame`` is your scene seen through the air
         (aerial perspective). ``shadow_length_m``: an (H, W) image of the length (m) of each
-        ray, from the camera, in the shadow of something of yours (light shafts)."""
+        ray, from the camera, in the shadow of something of yours (light shafts).
+
+        ``metering`` (how "auto" measures): "average" (every pixel, key 0.18), "center"
+        (centre-weighted), "spot" (the central 2.5 % of the frame: what the camera looks
+        at), or "eye" (default: the key of a dark-adapted observer, which falls below
+        1.25 cd/m^2 (Krawczyk et al. 2005), and the eye's mesopic colours below 5 cd/m^2;
+        brighter scenes as "average"). ``glare``: "eye" (default: the eye's point spread
+        function, CIE 146:2002), "lens" (a camera lens's veiling glare) or "off"; on the
+        image only, ``frame.data`` is the same."""
         self._check_alive()
         check_camera(camera, optional=True)
         cam = camera or self.camera(look or default_look(self.state))
@@ -362,6 +381,8 @@ class Sky:
             tonemap=tonemap,
             depth_m=depth_m,
             shadow_length_m=shadow_length_m,
+            metering=metering,
+            glare=glare,
         )
         frame.info.update(self.state.summary())
         if self.state.time is not None:
@@ -383,13 +404,15 @@ class Sky:
         tonemap: str = "filmic",
         measure: bool = False,
         read_back: bool = False,
+        metering: str = DEFAULT_METERING,
+        glare: str | None = DEFAULT_GLARE,
     ) -> float | None:
         """Draw into ``framebuffer`` (e.g. a window's ``ctx.screen``), tone-mapped on the GPU,
         with no read-back. ``exposure``: "auto" or an EV100 number; with ``measure`` an EV
         frame's log-average luminance is measured too (``graph.exposure_pass().read()``,
         cd/m^2: for an eye adapting over time); with "auto" and ``read_back`` the measured
         exposure is read back and applied as a fixed scale (cheaper on a CPU rasterizer).
-        Returns the exposure scale used (m^2/cd, compensation included) when known on the
+        ``metering`` and ``glare`` as in :meth:`render`. Returns the exposure scale used (m^2/cd, compensation included) when known on the
         CPU, else None."""
         self._check_alive()
         check_camera(camera)
@@ -405,6 +428,8 @@ class Sky:
             tonemap=tonemap,
             measure=measure,
             read_back=read_back,
+            metering=metering,
+            glare=glare,
         )
 
     def _repr_png_(self) -> bytes:

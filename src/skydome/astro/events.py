@@ -15,7 +15,10 @@ Definitions (those of the Astronomical Almanac and of skyfield's ``almanac``):
   ("dawn" when rising through it, "dusk" when setting);
 * transit: upper culmination (topocentric apparent hour angle 0);
 * Moon phases: the geocentric apparent ecliptic longitude of the Moon minus the Sun's
-  equals 0 (new), 90 (first quarter), 180 (full), 270 deg (last quarter).
+  equals 0 (new), 90 (first quarter), 180 (full), 270 deg (last quarter);
+* eclipses (:func:`eclipse_events`, :mod:`skydome.astro.eclipses`): a solar eclipse's
+  contacts at the place (C1..C4) and a lunar eclipse's (P1, U1..U4, P4), when the Sun or
+  the Moon is up at one of them, with a note on the kind and the body's altitude.
 
 Days without an event (a UTC day of the search, from its start) are events too, dated at
 the start of the day: ``sun_never_sets`` / ``sun_never_rises`` (and the Moon's) when the
@@ -35,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from skydome.astro import moon, sun
+from skydome.astro import eclipses, moon, sun
 from skydome.astro.observer import BODIES, Observer
 from skydome.astro.time import Time, to_time
 from skydome.errors import ParameterError
@@ -51,6 +54,7 @@ __all__ = [
     "TWILIGHT_DEPRESSION_DEG",
     "ALL_DAY_DESCRIPTIONS",
     "all_day",
+    "eclipse_events",
 ]
 
 SUN_HORIZON_DEG = -0.8333
@@ -84,6 +88,8 @@ class Events:
     jd_utc: np.ndarray
     kind: np.ndarray
     body: np.ndarray
+    #: A few words on an event ("" for none): an eclipse's kind and the body's altitude.
+    notes: np.ndarray | None = None
 
     def iso(self) -> list[str]:
         """UTC times as ISO 8601 strings (to the second)."""
@@ -93,10 +99,13 @@ class Events:
         """``[{"time": iso, "event": kind, "body": body}, ...]``; whole-day events (dated at
         the start of their day) also carry ``"description"`` and ``"all_day": True``."""
         rows = []
-        for t, k, b in zip(self.iso(), self.kind, self.body, strict=True):
+        notes = self.notes if self.notes is not None else [""] * len(self)
+        for t, k, b, n in zip(self.iso(), self.kind, self.body, notes, strict=True):
             row = {"time": t, "event": str(k), "body": str(b)}
             if k in ALL_DAY_DESCRIPTIONS:
                 row.update(description=ALL_DAY_DESCRIPTIONS[k], all_day=True)
+            if n:
+                row["note"] = str(n)
             rows.append(row)
         return rows
 
@@ -311,10 +320,47 @@ def events(observer: Observer, start: Any, days: float = 1.0) -> Events:
     jd.append(ph)
     kind.append(np.array([PHASE_NAMES[i] for i in k], dtype=object))
     body.append(np.full(ph.size, "moon", dtype=object))
+    notes = [np.full(x.size, "", dtype=object) for x in jd]
+    eclipse_rows = eclipse_events(observer, start, days)  # solar and lunar eclipses seen here
+    for row in eclipse_rows:
+        jd.append(np.array([row[0]]))
+        kind.append(np.array([row[1]], dtype=object))
+        body.append(np.array([row[2]], dtype=object))
+        notes.append(np.array([row[3]], dtype=object))
     all_jd = np.concatenate(jd)
     order = np.argsort(all_jd, kind="stable")
     return Events(
         all_jd[order],
         np.concatenate(kind)[order].astype(str),
         np.concatenate(body)[order].astype(str),
+        np.concatenate(notes)[order].astype(str),
     )
+
+
+def eclipse_events(observer: Observer, start: Any, days: float) -> list[tuple]:
+    """Eclipses seen from ``observer`` in [start, start + days) as (jd_utc, kind, body, note)
+    rows (``skydome.astro.eclipses``): a solar eclipse's contacts C1, C2, C3, C4 and greatest
+    eclipse (``solar_eclipse_C1``..., body "sun") when the Sun's centre is above the horizon
+    (-0.833 deg) at one of them, a lunar eclipse's P1, U1..U4, P4 and greatest eclipse
+    (``lunar_eclipse_P1``..., body "moon") when the Moon is up at one of them; the note says
+    the eclipse's kind and the body's altitude (deg, airless) at that instant."""
+    from_jd = float(np.ravel(to_time(start).jd_utc)[0])
+    out = []
+    for e in eclipses.find_solar_eclipses(observer, from_jd - 0.5, days + 1.0):
+        if max(e.sun_alt_deg.values()) < SUN_HORIZON_DEG:
+            continue
+        for name, t in e.contacts().items():
+            if from_jd <= t < from_jd + days:
+                alt = e.sun_alt_deg[name]
+                note = f"{e.kind}, magnitude {e.magnitude:.3f}, Sun at {alt:.1f} deg"
+                out.append((t, f"solar_eclipse_{name}", "sun", note))
+    for e in eclipses.find_lunar_eclipses(from_jd - 0.5, days + 1.0, observer):
+        if max(e.moon_alt_deg.values()) < REFRACTION_HORIZON_DEG:
+            continue
+        for name, t in e.contacts().items():
+            if from_jd <= t < from_jd + days:
+                alt = e.moon_alt_deg[name]
+                note = f"{e.kind}, umbral magnitude {e.umbral_magnitude:.3f}"
+                note += f", Moon at {alt:.1f} deg"
+                out.append((t, f"lunar_eclipse_{name}", "moon", note))
+    return out

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
 from typing import TYPE_CHECKING, Any, NamedTuple
+from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
 
 from skydome.errors import ParameterError, SkydomeError, check_range
 
@@ -45,6 +46,7 @@ __all__ = [
     "parse_place",
     "places",
     "search",
+    "time_zone",
 ]
 
 #: The packaged table, in ``skydome/data``.
@@ -52,7 +54,10 @@ PLACES_FILE = "places.csv"
 #: What a place is: a row of the table is a city or an observatory; a position given as
 #: numbers (:func:`parse_place` of a tuple) is "coordinates".
 KINDS = ("city", "observatory", "coordinates")
-_COLUMNS = ["name", "aliases", "country", "kind", "latitude_deg", "longitude_deg", "elevation_m"]
+_COLUMNS = [
+    "name", "aliases", "country", "kind", "latitude_deg", "longitude_deg", "elevation_m",
+    "timezone", "population", "bortle",
+]  # fmt: skip
 #: The elevation range accepted, the same as :class:`skydome.astro.Observer`'s (m).
 _ELEVATION_RANGE_M = (-1000.0, 100000.0)
 #: difflib's similarity ratio below which a name is not offered as a suggestion.
@@ -74,6 +79,11 @@ class Place:
         longitude_deg: longitude, degrees, east positive, in [-180, 180).
         elevation_m: height above sea level, metres.
         aliases: other names it is found by (native spellings, telescopes on the site, ...).
+        timezone: the IANA time zone its clocks keep (``"Europe/Malta"``); empty for a
+            position given as numbers (its times are UTC unless they carry an offset).
+        population: a city's urban-area population (people), or None; it sets the city's
+            estimated light pollution (``skydome.night.light_pollution.place_light_pollution``).
+        bortle: an observatory's Bortle class (1-9), or None.
     """
 
     name: str
@@ -83,6 +93,9 @@ class Place:
     longitude_deg: float
     elevation_m: float = 0.0
     aliases: tuple[str, ...] = field(default=())
+    timezone: str = ""
+    population: float | None = None
+    bortle: int | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
@@ -102,6 +115,26 @@ class Place:
                 f"Place aliases must be a sequence of strings, got {self.aliases!r}"
             )
         object.__setattr__(self, "aliases", tuple(self.aliases))
+        if not isinstance(self.timezone, str):
+            raise ParameterError(f"Place timezone must be a string, got {self.timezone!r}")
+        if self.population is not None:
+            pop = _number("population", self.population)
+            object.__setattr__(self, "population", check_range("population", pop, 0.0, 1e9))
+        if self.bortle is not None and (
+            isinstance(self.bortle, bool) or self.bortle not in range(1, 10)
+        ):
+            raise ParameterError(f"Place bortle = {self.bortle!r} must be a class from 1 to 9")
+
+    @property
+    def zone(self) -> ZoneInfo | None:
+        """The place's time zone (``zoneinfo.ZoneInfo``), or None when it has none.
+
+        Raises:
+            ParameterError: for a zone name the system's and ``tzdata``'s tables lack.
+        """
+        if not self.timezone:
+            return None
+        return time_zone(self.timezone)
 
     @property
     def label(self) -> str:
@@ -129,6 +162,25 @@ class Place:
             elevation_m=self.elevation_m,
             **weather,
         )
+
+
+@cache
+def time_zone(name: str) -> ZoneInfo:
+    """The IANA time zone ``name`` (``"Europe/Paris"``) as a ``zoneinfo.ZoneInfo``.
+
+    Raises:
+        ParameterError: for a name that neither the system's tables nor ``tzdata`` know.
+    """
+    if not isinstance(name, str) or not name:
+        raise ParameterError(
+            f"a time zone must be an IANA name such as 'Europe/Paris', got {name!r}"
+        )
+    try:
+        return ZoneInfo(name)
+    except (ZoneInfoNotFoundError, ValueError):
+        raise ParameterError(
+            f"time zone {name!r} is unknown to zoneinfo (install the tzdata package)"
+        ) from None
 
 
 # ---------------------------------------------------------------- names
@@ -192,6 +244,9 @@ def _parse_csv(text: str) -> tuple[Place, ...]:
                     longitude_deg=float(row["longitude_deg"]),
                     elevation_m=float(row["elevation_m"]),
                     aliases=tuple(a.strip() for a in row["aliases"].split(";") if a.strip()),
+                    timezone=row["timezone"],
+                    population=float(row["population"]) if row["population"] else None,
+                    bortle=int(row["bortle"]) if row["bortle"] else None,
                 )
             )
         except (ValueError, TypeError, AttributeError) as exc:

@@ -3,12 +3,19 @@
 Inputs accepted by :func:`to_time` (always vectorized, never a Python loop over times
 except to parse strings or ``datetime`` objects):
 
-* timezone-aware :class:`datetime.datetime` (converted to UTC), naive ones are UTC;
+* timezone-aware :class:`datetime.datetime` (converted to UTC), naive ones are UTC, or the
+  local time of ``zone`` when one is given (a place's: see below);
 * ISO 8601 strings (``"2024-03-20T03:06:00Z"``, ``"2003-10-17 12:30:30-07:00"``, a bare
-  date; years outside 1..9999 such as ``"-0500-03-01"`` are read by NumPy);
+  date; years outside 1..9999 such as ``"-0500-03-01"`` are read by NumPy, always as UTC);
+  without an offset they are UTC, or ``zone``'s local time;
 * :class:`numpy.datetime64` scalars or arrays (naive, i.e. UTC);
 * numbers: Julian Dates in UTC;
 * lists or arrays of any of these, or a :class:`Time` (returned unchanged).
+
+Local time: ``to_time("2018-03-01T20:00", zone=ZoneInfo("Europe/Malta"))`` is 19:00 UTC. A
+wall-clock time the zone skips (the hour lost when clocks go forward) or repeats (the hour
+when they go back) raises :class:`LocalTimeError`, which says so and asks for an offset: no
+instant is guessed. ``datetime64`` values and Julian Dates are instants, never local.
 
 Calendar dates are proleptic Gregorian for all of these; :func:`julian_date` also takes
 Julian-calendar dates (Meeus ch. 7).
@@ -43,7 +50,9 @@ from skydome.physics.constants import ARCSEC_RAD, J2000_JD
 
 __all__ = [
     "J2000",
+    "LocalTimeError",
     "Time",
+    "format_local",
     "to_time",
     "julian_date",
     "calendar_date",
@@ -357,13 +366,55 @@ class Time:
         return f"Time(shape={self.shape}, JD_TT {self.jd_tt.min():.4f}..{self.jd_tt.max():.4f})"
 
 
-def _parse_one(value: Any) -> float:
-    """UTC Julian Date of one datetime/str/datetime64/number."""
+class LocalTimeError(ParameterError):
+    """A wall-clock time that a time zone skips or repeats (a daylight-saving change)."""
+
+
+def _offset(delta: _dt.timedelta) -> str:
+    """``UTC+01:00`` for a UTC offset."""
+    minutes = round(delta.total_seconds() / 60)
+    sign = "-" if minutes < 0 else "+"
+    return f"UTC{sign}{abs(minutes) // 60:02d}:{abs(minutes) % 60:02d}"
+
+
+def _localize(naive: _dt.datetime, zone: _dt.tzinfo) -> float:
+    """The UTC Julian Date of ``naive`` read as a wall-clock time of ``zone`` (years 1-9999,
+    also where UTC falls outside them); LocalTimeError where the zone's clocks skip it or
+    show it twice."""
+    first, second = naive.replace(tzinfo=zone, fold=0), naive.replace(tzinfo=zone, fold=1)
+    o1, o2 = first.utcoffset(), second.utcoffset()
+    if o1 != o2:
+        name = getattr(zone, "key", str(zone))
+        shown = naive.isoformat(timespec="minutes" if naive.second == 0 else "seconds")
+        back = first.astimezone(_dt.timezone.utc).astimezone(zone).replace(tzinfo=None)
+        if back != naive:
+            raise LocalTimeError(
+                f"time {shown} does not exist in {name}: the clocks skip it going from "
+                f"{_offset(o1)} to {_offset(o2)}; give another time or an offset "
+                f"(e.g. {shown}{_offset(o1)[3:]})"
+            )
+        raise LocalTimeError(
+            f"time {shown} is ambiguous in {name}: the clocks show it twice, at "
+            f"{_offset(o1)} and then at {_offset(o2)}; add the offset "
+            f"(e.g. {shown}{_offset(o1)[3:]} or {shown}{_offset(o2)[3:]})"
+        )
+    # in datetime64 microseconds, as a UTC time is read: the same instant, the same bits
+    shift = np.timedelta64(o1 // _dt.timedelta(microseconds=1), "us")
+    return float(_datetime64_to_jd(np.datetime64(naive, "us") - shift))
+
+
+def _parse_one(value: Any, zone: _dt.tzinfo | None = None) -> float:
+    """UTC Julian Date of one datetime/str/datetime64/number (naive datetimes and strings
+    in ``zone``'s local time when it is given)."""
     if isinstance(value, _dt.datetime):
         if value.tzinfo is not None:
             value = value.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+        elif zone is not None:
+            return _localize(value, zone)
         return _datetime64_to_jd(np.datetime64(value, "us"))
     if isinstance(value, _dt.date):
+        if zone is not None:
+            return _parse_one(_dt.datetime(value.year, value.month, value.day), zone)
         return _datetime64_to_jd(np.datetime64(value, "us"))
     if isinstance(value, np.datetime64):
         return _datetime64_to_jd(value)
@@ -371,9 +422,15 @@ def _parse_one(value: Any) -> float:
         s = value.strip()
         try:
             d = _dt.datetime.fromisoformat(s.replace("Z", "+00:00") if s.endswith("Z") else s)
-            return _parse_one(d)
         except ValueError:
             pass
+        else:
+            return _parse_one(d, zone)
+        if zone is not None and not s.endswith("Z"):
+            raise ParameterError(
+                f"time {value!r} is not an ISO 8601 date/time of years 1-9999 that a local "
+                "time can be read from; give it in UTC with a Z (e.g. -0500-03-01T12:00Z)"
+            )
         try:
             return _datetime64_to_jd(np.datetime64(s.rstrip("Z")))
         except ValueError:
@@ -398,11 +455,15 @@ def _datetime64_to_jd(a) -> np.ndarray:
     return UNIX_EPOCH_JD + us / (SECONDS_PER_DAY * 1e6)
 
 
-def to_time(times: Any, *, delta_t: Any = None, ut1_utc: Any = None) -> Time:
+def to_time(
+    times: Any, *, delta_t: Any = None, ut1_utc: Any = None, zone: _dt.tzinfo | None = None
+) -> Time:
     """Convert ``times`` (see module doc) to a :class:`Time`.
 
     ``delta_t`` (TT - UT1, s) and ``ut1_utc`` (UT1 - UTC, s) override the built-in
-    tables; they broadcast against the times.
+    tables; they broadcast against the times. ``zone`` (a ``tzinfo``, e.g.
+    ``zoneinfo.ZoneInfo("Europe/Paris")``): strings and datetimes without an offset are its
+    local time (LocalTimeError for one its clocks skip or repeat); None: they are UTC.
     """
     if isinstance(times, Time):
         if delta_t is None and ut1_utc is None:
@@ -413,14 +474,32 @@ def to_time(times: Any, *, delta_t: Any = None, ut1_utc: Any = None) -> Time:
     elif isinstance(times, np.ndarray) and np.issubdtype(times.dtype, np.number):
         jd = times.astype(float)
     elif isinstance(times, (str, _dt.date, np.datetime64, int, float, np.number)):
-        jd = np.asarray(_parse_one(times))
+        jd = np.asarray(_parse_one(times, zone))
     elif isinstance(times, Iterable):
         items = list(np.asarray(times, dtype=object).ravel())
         shape = np.shape(np.asarray(times, dtype=object))
-        jd = np.array([_parse_one(v) for v in items], dtype=float).reshape(shape)
+        jd = np.array([_parse_one(v, zone) for v in items], dtype=float).reshape(shape)
     else:
-        jd = np.asarray(_parse_one(times))
+        jd = np.asarray(_parse_one(times, zone))
     return Time.from_utc(jd, delta_t=delta_t, ut1_utc=ut1_utc)
+
+
+def format_local(time: Time, zone: _dt.tzinfo | None) -> str:
+    """One instant as a reader wants it: ``"2018-03-01 20:00:00 CET (UTC+01:00)"`` in
+    ``zone``'s local time (its abbreviation and offset), ``"2018-03-01 19:00:00 UTC"`` without
+    a zone or outside the years 1-9999 (to the second)."""
+    if np.shape(time.jd_utc) != ():
+        raise ParameterError("format_local takes one instant")
+    sec = int(np.round((float(time.jd_utc) - UNIX_EPOCH_JD) * SECONDS_PER_DAY))
+    utc_text = str(np.datetime64(sec, "s")).replace("T", " ") + " UTC"
+    if zone is None:
+        return utc_text
+    try:
+        utc = _dt.datetime(1970, 1, 1, tzinfo=_dt.timezone.utc) + _dt.timedelta(seconds=sec)
+        local = utc.astimezone(zone)
+    except (OverflowError, ValueError):
+        return utc_text
+    return f"{local:%Y-%m-%d %H:%M:%S} {local.tzname()} ({_offset(local.utcoffset())})"
 
 
 # ---------------------------------------------------------------------- sidereal time

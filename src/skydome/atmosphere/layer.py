@@ -19,8 +19,11 @@ an :class:`~skydome.core.services.AirService`.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from skydome.astro.eclipses import sky_sunlit_weight, sun_visible_at
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.precomputed import PrecomputedSky, camera_position_km
@@ -30,7 +33,7 @@ from skydome.atmosphere.sky_view import check_sky_view_size
 from skydome.core.basis import SpectralBasis
 from skydome.core.layer import DrawContext, Layer, LayerHost
 from skydome.core.lights import SkyState
-from skydome.core.services import AirLights, AirService, LookupTables
+from skydome.core.services import AirLights, AirService, EclipseSkyInputs, LookupTables
 from skydome.errors import ParameterError, check_choice
 from skydome.gpu.textures import release_all
 from skydome.physics.constants import AU_KM
@@ -153,12 +156,35 @@ class AtmosphereLayer(Layer):
             ratio = moon.illuminance_lux / self._solar_lux() / self.params.solar_scale
             moon_direction = tuple(float(v) for v in moon.direction_true)
             moon_scale = tuple(float(v) for v in ratio * self._moon_tint(moon))
+        sun_scale = (AU_KM / sun.distance_km) ** 2  # the tables hold the Sun at 1 au
+        eclipse = None
+        if state.solar_eclipse is not None and self.model == "precomputed":
+            # The clouds and the ground get the eclipsed Sun; the sky passes weigh the
+            # uneclipsed Sun's light per direction (atmosphere/eclipse_sky.glsl).
+            ecl = state.solar_eclipse
+            per_direction, correction = eclipse_sky_mode(
+                self.params, ecl, sun.direction_true, sun.angular_radius_rad, state.ground_m
+            )
+            if per_direction:
+                eclipse = EclipseSkyInputs(
+                    u_eclipse_moon_km=tuple(float(v) for v in ecl.moon_km),
+                    u_eclipse_moon_radius_km=float(ecl.moon_radius_km),
+                    u_eclipse_sun_radius=float(sun.angular_radius_rad),
+                    u_eclipse_sky_scale=sun_scale * correction,
+                    u_eclipse_air=eclipse_air(self.params),
+                    u_eclipse_channels=eclipse_channels(self.spectral_basis),
+                )
+            sun_scale *= ecl.visible_fraction
+        elif state.solar_eclipse is not None:
+            sun_scale *= state.solar_eclipse.visible_fraction
+        if state.lunar_eclipse is not None and moon_direction is not None:
+            moon_scale = tuple(v * state.lunar_eclipse.moon_light_factor for v in moon_scale)
         self._lights = AirLights(
             sun_direction=tuple(float(v) for v in direction),
-            # The tables hold the Sun at 1 au: scale by the true distance.
-            sun_scale=(AU_KM / sun.distance_km) ** 2,
+            sun_scale=sun_scale,
             moon_direction=moon_direction,
             moon_scale=moon_scale,
+            eclipse=eclipse,
         )
 
     def lights(self) -> AirLights:
@@ -197,7 +223,8 @@ class AtmosphereLayer(Layer):
         moon, moon_scale = lights.moon_direction, lights.moon_scale
         if moon is not None and elevation_deg(moon) < dark:
             moon, moon_scale = None, (0.0,) * 4
-        return AirLights(sun, scale, moon, moon_scale)
+        eclipse = None if elevation_deg(lights.sun_direction) < dark else lights.eclipse
+        return AirLights(sun, scale, moon, moon_scale, eclipse)
 
     def draw(self, frame: DrawContext) -> None:
         if self.model == "single":
@@ -275,3 +302,77 @@ class _AirOfLayer(AirService):
 
     def aerial_perspective(self, radius_km: float, lights: AirLights):
         return self._layer.sky.aerial_perspective(radius_km, lights)
+
+
+def eclipse_air(params) -> tuple[float, float, float, float]:
+    """The air's extinction for a solar eclipse's sky weights (``atmosphere/eclipse_sky.glsl``):
+    Rayleigh scattering (1/km) at the ground and its scale height (km), aerosol extinction
+    (1/km) and its scale height (km), at 550 nm, the heights fitted over the lowest 4 km
+    (Rayleigh) and 1 km (aerosol) of the params' density profiles."""
+    c = params.coefficients(np.array([550.0]))
+
+    def fit(profile, beta, height_m):
+        rho0 = float(profile.density(0.0))
+        rho1 = float(profile.density(height_m))
+        h = height_m / math.log(rho0 / rho1) if rho0 > rho1 > 0 else 8000.0
+        return float(beta) * rho0 * 1000.0, h / 1000.0
+
+    br, hr = fit(params.rayleigh_density, c["rayleigh_scattering"][0], 4000.0)
+    bm, hm = fit(params.mie_density, c["mie_extinction"][0], 1000.0)
+    return (br, hr, bm, hm)
+
+
+#: Effective wavelengths (nm) of the R, G, B and scotopic channels for the eclipse's weights.
+RGBS_EFFECTIVE_NM = (612.0, 549.0, 465.0, 507.0)
+
+
+def eclipse_channels(basis: SpectralBasis) -> tuple[float, float, float, float]:
+    """Rayleigh extinction of each output channel relative to 550 nm's (lambda^-4), for the
+    eclipse's sky weights: the effective wavelengths of R, G, B and the scotopic channel, or
+    the spectral basis's own 4 wavelengths."""
+    wl = RGBS_EFFECTIVE_NM if basis.output == "rgbs" else tuple(basis.wavelengths_nm[:4])
+    return tuple(float((550.0 / w) ** 4) for w in wl)
+
+
+#: Directions (unit ENU) where :func:`eclipse_sky_mode` samples the sky's weights: the
+#: zenith and elevations 1, 5, 15 and 40 deg at 8 azimuths.
+_MODE_DIRS = np.array(
+    [[0.0, 0.0, 1.0]]
+    + [
+        [math.cos(e) * math.sin(a), math.cos(e) * math.cos(a), math.sin(e)]
+        for e in np.radians([1.0, 5.0, 15.0, 40.0])
+        for a in np.radians(np.arange(0.0, 360.0, 45.0))
+    ]
+)
+#: Relative spread of the sky's weights below which a solar eclipse's sky is scaled as a
+#: whole (no per-direction pass): 5 % of the sky's light, at the horizon, is hardly seen;
+#: at Dallas on 2024-04-08 the sky is weighed per direction from 18:28 to 19:02 UTC
+#: (totality 18:40:47-18:44:44), each frame then costing ~7x an ordinary one on llvmpipe.
+UNIFORM_SKY_TOLERANCE = 0.05
+
+
+def eclipse_sky_mode(params, eclipse, sun_direction, sun_radius_rad, ground_m=0.0):
+    """How a solar eclipse dims the sky: ``(per_direction, correction)``.
+
+    Far from the Moon's umbra (most of a partial eclipse) every view ray's air sees the same
+    part of the Sun as the observer: the sky is the uneclipsed one times the limb-darkened
+    visible fraction, like the direct sunlight (``per_direction`` False). Where the sky's
+    weights (``skydome.astro.eclipses.sky_sunlit_weight``, uniform disks) at a few
+    directions differ from the observer's uniform-disk fraction by more than
+    UNIFORM_SKY_TOLERANCE, the sky passes weigh each direction
+    (``atmosphere/eclipse_sky.glsl``); ``correction`` = the limb-darkened fraction over the
+    uniform one (faded to 1 towards totality) keeps the two modes continuous where they
+    meet."""
+    bottom = params.bottom_radius_m / 1000.0
+    top = params.top_radius_m / 1000.0
+    r_km = bottom + max(float(ground_m), 0.0) / 1000.0
+    args = (eclipse.moon_km, eclipse.moon_radius_km, sun_direction, sun_radius_rad)
+    weights = sky_sunlit_weight(r_km, _MODE_DIRS, *args, eclipse_air(params), bottom, top)
+    uniform = float(sun_visible_at(np.zeros(3), *args))
+    spread = float(np.max(np.abs(weights - uniform)))
+    if spread <= UNIFORM_SKY_TOLERANCE * max(uniform, 1e-9):
+        return False, 1.0
+    # the limb-darkened over the uniform fraction, faded to 1 as the Sun's last 2 % goes
+    ratio = eclipse.visible_fraction / uniform if uniform > 0.0 else 1.0
+    correction = 1.0 + (np.clip(ratio, 0.25, 4.0) - 1.0) * min(uniform / 0.02, 1.0)
+    return True, float(correction)

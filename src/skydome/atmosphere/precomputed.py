@@ -200,6 +200,8 @@ class PrecomputedSky:
         position = camera_position_km(self.params, altitude_m)
         light_inputs = lights.inputs(position, self.params.solar_scale)
         extra = ["HAS_LIGHT2"] if lights.has_moon else []
+        if lights.eclipse is not None:
+            extra.append("HAS_ECLIPSE")
         if shadow:
             extra.append("HAS_SHADOW_MAP")
         if depth:

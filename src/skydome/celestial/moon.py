@@ -36,6 +36,8 @@ from skydome.core.lights import SkyState
 from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.constants import AU_KM
 from skydome.physics.packing import mat3
+from skydome.spectra import SRGB_LUMINANCE
+from skydome.spectra.colour import conversion_matrix
 
 #: Gauss-Legendre nodes per dimension of each piece of the CPU disk integral (6 ms a call).
 #: With the albedo map, against a 3000 x 3000 ray-traced grid at phase angles 6, 83, 128 and
@@ -167,6 +169,33 @@ class MoonInputs(ShaderInputs):
     u_albedo_map: object
 
 
+@dataclass(frozen=True)
+class LunarEclipseInputs(ShaderInputs):
+    """``celestial/moon.glsl`` with LUNAR_ECLIPSE: the Sun's, the Earth's and the Moon's
+    centres from the observer (km, ENU), the radii (km: the Moon's, the Earth's shadow-casting
+    one, the Sun's), and the refracted light's table (output channels per cd/m^2 of
+    uneclipsed moonlight at distances 0, step, 2 step... km from the shadow's axis)."""
+
+    u_ecl_sun_km: tuple[float, float, float]
+    u_ecl_earth_km: tuple[float, float, float]
+    u_ecl_moon_km: tuple[float, float, float]
+    u_ecl_radii_km: tuple[float, float, float]
+    u_ecl_umbra_step_km: float
+    u_ecl_umbra: list[float]
+
+
+def umbra_channels(basis, eclipse, albedo) -> np.ndarray:
+    """The refracted light of ``eclipse`` (a ``LunarEclipseView``) in ``basis``'s output
+    channels per unit luminance of the uneclipsed Moon's light (spectral ``albedo`` at the
+    basis's wavelengths): (N, 4)."""
+    wl = basis.wavelengths_nm
+    f = np.stack(
+        [np.interp(wl, eclipse.wavelengths_nm, row) for row in eclipse.umbra_light]
+    )  # (N, W)
+    y = float(SRGB_LUMINANCE @ (conversion_matrix(wl, "rgbs") @ albedo)[:3])
+    return (f * albedo) @ basis.to_output.T / y
+
+
 class MoonLayer(Layer):
     """The Moon's disk. ``earthshine=False`` leaves the night side black; ``albedo_map=False``
     draws a uniform grey Moon of the same brightness."""
@@ -185,6 +214,7 @@ class MoonLayer(Layer):
         self._info: dict = {}
         self._colour = None
         self._cache = None  # the last disk integrals and the geometry they were taken for
+        self._eclipse: LunarEclipseInputs | None = None
 
     def prepare(self, graph) -> None:
         super().prepare(graph)
@@ -236,6 +266,25 @@ class MoonLayer(Layer):
             "moon_illuminated_fraction": view.illuminated_fraction,
             "moon_earthshine_lux": view.earthshine_lux,
         }
+        self._eclipse = None
+        ecl = state.lunar_eclipse
+        if ecl is not None:
+            albedo = moon_spectral_albedo(basis.wavelengths_nm)
+            table = umbra_channels(basis, ecl, albedo)
+            q = ecl.umbra_distances_km
+            self._eclipse = LunarEclipseInputs(
+                u_ecl_sun_km=tuple(float(v) for v in ecl.sun_km),
+                u_ecl_earth_km=tuple(float(v) for v in ecl.earth_km),
+                u_ecl_moon_km=tuple(float(v) for v in u * moon.distance_km),
+                u_ecl_radii_km=(
+                    moon.distance_km * sin_r,
+                    float(ecl.earth_radius_km),
+                    state.sun.distance_km * math.sin(state.sun.angular_radius_rad),
+                ),
+                u_ecl_umbra_step_km=float(q[1] - q[0]),
+                u_ecl_umbra=table.ravel().tolist(),
+            )
+            self._info["moon_eclipse_factor"] = ecl.moon_light_factor
 
     def _integrals(self, u, sin_r, to_sun, enu_to_moon) -> tuple[float, float]:
         """disk_integrals, reused while the geometry that decides them has not moved: the
@@ -262,13 +311,22 @@ class MoonLayer(Layer):
     def draw(self, frame: DrawContext) -> None:
         if self._inputs is None:
             return
-        fpass = self.full_screen_pass(
-            frame.ctx, self.shader, (CameraInputs, MoonInputs), frame.camera
-        )
+        if self._eclipse is None:
+            fpass = self.full_screen_pass(
+                frame.ctx, self.shader, (CameraInputs, MoonInputs), frame.camera
+            )
+            inputs = (frame.view, self._inputs)
+        else:
+            samples = len(self._eclipse.u_ecl_umbra) // 4
+            fpass = self.full_screen_pass(
+                frame.ctx, self.shader, (CameraInputs, MoonInputs, LunarEclipseInputs),
+                frame.camera, {"LUNAR_ECLIPSE": 1, "UMBRA_SAMPLES": samples},
+            )  # fmt: skip
+            inputs = (frame.view, self._inputs, self._eclipse)
         self.draw_small(
             frame,
             fpass,
-            (frame.view, self._inputs),
+            inputs,
             self._moon.direction,
             1.1 * self._moon.angular_radius_rad,
         )

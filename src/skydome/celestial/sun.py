@@ -34,6 +34,9 @@ class SunInputs(ShaderInputs):
     u_limb: list[float]
     u_limb_norm: list[float]
     u_refraction_scale: float
+    u_moon_direction_true: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    u_moon_sin_radius: float = 0.0
+    u_corona_scale: float = 0.0
 
 
 def limb_uniforms(wavelengths_nm, angular_radius_rad: float, darkened: bool = True) -> dict:
@@ -65,6 +68,8 @@ class SunLayer(Layer):
         super().__init__(enabled=enabled)
         self.limb_darkening = bool(limb_darkening)
         self._inputs: SunInputs | None = None
+        self._reach = 1.1
+        self._hidden: float | None = None
         self._key = None
 
     def update(self, state: SkyState) -> None:
@@ -74,6 +79,18 @@ class SunLayer(Layer):
         if key == self._key:
             return
         alpha = float(sun.angular_radius_rad)
+        eclipse = {}
+        self._reach = 1.1  # the pass's reach, in the disk's radii
+        self._hidden = None if state.solar_eclipse is None else state.solar_eclipse.hidden_fraction
+        if state.solar_eclipse is not None and state.moon is not None:
+            # The Moon hides the disk; the corona shows (out to 6 radii, where it is 1e-4 of
+            # its value at the limb).
+            eclipse = {
+                "u_moon_direction_true": tuple(float(v) for v in state.moon.direction_true),
+                "u_moon_sin_radius": float(np.sin(state.moon.angular_radius_rad)),
+                "u_corona_scale": 1.0 / (2.0 * np.pi * (1.0 - np.cos(alpha))),
+            }
+            self._reach = 6.0
         self._inputs = SunInputs(
             u_sun_direction_true=tuple(float(v) for v in sun.direction_true),
             u_sin_angular_radius=float(np.sin(alpha)),
@@ -82,6 +99,7 @@ class SunLayer(Layer):
             u_spectral_to_rgbs=basis.group_matrices(),
             **limb_uniforms(basis.wavelengths_nm, alpha, self.limb_darkening),
             u_refraction_scale=state.refraction_scale,
+            **eclipse,
         )
         self._key = key
         self._sun = sun
@@ -98,13 +116,16 @@ class SunLayer(Layer):
             fpass,
             (frame.view, self._inputs),
             self._sun.direction,
-            1.1 * self._sun.angular_radius_rad,
+            self._reach * self._sun.angular_radius_rad,
         )
 
     def info(self) -> dict:
         if self._inputs is None:
             return {}
-        return {
+        out = {
             "sun_angular_diameter_deg": float(np.degrees(2 * self._sun.angular_radius_rad)),
             "sun_distance_au": self._sun.distance_km / AU_KM,
         }
+        if self._hidden is not None:  # a solar eclipse: the part of the Sun's flux hidden
+            out["sun_eclipse_fraction"] = float(self._hidden)
+        return out

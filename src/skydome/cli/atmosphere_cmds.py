@@ -21,10 +21,13 @@ from skydome.errors import check_range
 
 def register(app: typer.Typer) -> None:
     @app.command()
-    @with_flags("air", "weather")
+    @with_flags("place", "sun", "air", "weather")
     def illuminance(
-        sun_elevation: float = typer.Option(
-            ..., "--sun-elevation", help="Sun elevation, degrees (-90..90)."
+        when: str = typer.Option(
+            None,
+            "--time",
+            help="ISO 8601 date and time with a place (as for render): without an offset or "
+            "Z, the --place's local time (its IANA time zone), UTC with --lat/--lon or --utc.",
         ),
         altitude: float = typer.Option(
             0.0, "--altitude", help="Observer altitude above the ground, metres."
@@ -33,13 +36,23 @@ def register(app: typer.Typer) -> None:
         flags=None,
     ) -> None:
         """Horizontal illuminance from the Sun and the sky (lx) and the zenith luminance
-        (cd/m^2); with a weather, under its clouds, fog, rain or snow."""
+        (cd/m^2), for a Sun at --sun-elevation, or at a place (--place, or --lat and --lon)
+        and --time, a solar eclipse included (eclipse_fraction: the part of the Sun's
+        limb-darkened flux the Moon hides); with a weather, under its clouds, fog, rain or
+        snow."""
         from rich.console import Console
 
         from skydome.atmosphere.illuminance import horizontal_illuminance
+        from skydome.cli.describe import place_time_sun
+        from skydome.errors import ParameterError
         from skydome.weather_effects import ground_visibility_km
 
-        check_range("--sun-elevation", sun_elevation, -90.0, 90.0, "deg")
+        pts = place_time_sun(flags, when)
+        if pts.abstract and flags.sun_elevation is None:
+            raise ParameterError(
+                "illuminance needs --sun-elevation, or a place (--place or --lat/--lon) and --time"
+            )
+        sun_elevation = pts.sun_elevation_deg
         params, clouds, config = weathered_air_from_flags(flags)
         weather = weather_from_flags(flags)
         check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
@@ -49,7 +62,21 @@ def register(app: typer.Typer) -> None:
             from skydome.gpu import shared_context
 
             load_tables(shared_context(), params, config, progress=report)
-        if clouds is None:
+        eclipse = {}
+        if not pts.abstract:
+            from skydome.cli.describe import report_time
+            from skydome.eclipse_illuminance import place_illuminance
+
+            report_time(pts.time, pts.zone)
+            placed = place_illuminance(
+                pts.observer, pts.time, atmosphere=params, config=config, altitude_m=altitude
+            )
+            sun_elevation = placed["sun_elevation_deg"]
+            eclipse = {"eclipse_fraction": placed.pop("eclipse_fraction")}
+            placed.pop("sky_eclipse_ratio", None)
+        if clouds is None and not pts.abstract:
+            res = placed
+        elif clouds is None:
             (res,) = horizontal_illuminance(
                 sun_elevation, altitude_m=altitude, atmosphere=params, config=config
             )
@@ -60,6 +87,11 @@ def register(app: typer.Typer) -> None:
             res = weather_illuminance(
                 sun_elevation, altitude, weather, atmosphere_from_flags(flags)
             )
+            if eclipse:  # under clouds: every light scaled by the Sun's uneclipsed part
+                keep = 1.0 - eclipse["eclipse_fraction"]
+                res = {k: v * keep if k.endswith(("_lux", "_cd_m2", "luminance")) else v
+                       for k, v in res.items()}  # fmt: skip
+        res = {**res, **eclipse}
         visibility = ground_visibility_km(params, clouds)
         if as_json:
             out = {"atmosphere": params.name, "visibility_km": visibility}
@@ -78,6 +110,10 @@ def register(app: typer.Typer) -> None:
             f"diffuse horizontal illuminance (sky): {res.diffuse_horizontal_lux:12.5g} lx"
         )
         console.print(f"total horizontal illuminance:         {res.total_horizontal_lux:12.5g} lx")
+        if eclipse:
+            console.print(
+                f"solar eclipse: {100 * res.eclipse_fraction:.4g} % of the Sun's flux hidden"
+            )
         console.print(
             f"zenith luminance:                     {res.zenith_luminance_cd_m2:12.5g} cd/m^2"
         )

@@ -20,6 +20,75 @@ ELEVATION_RANGE_M = (-1000.0, 100000.0)
 LOOKS = ("sun", "moon", "antisun", "zenith", "north", "east", "south", "west")
 
 
+def place_from_flags(flags: SimpleNamespace):
+    """The gazetteer ``Place`` of ``--place`` (its time zone and light pollution), or None
+    (no place, or ``--lat``/``--lon``)."""
+    if getattr(flags, "place", None) is None:
+        return None
+    from skydome.astro.places import find_place
+
+    try:
+        return find_place(flags.place)
+    except ParameterError as exc:
+        raise ParameterError(f"--place: {exc}") from None
+
+
+def time_zone_from_flags(flags: SimpleNamespace):
+    """The zone a ``--time`` without an offset is read in: the ``--place``'s (a
+    ``zoneinfo.ZoneInfo``), or None (UTC) with ``--lat``/``--lon``, without a place, or with
+    ``--utc``."""
+    place = place_from_flags(flags)
+    if place is None or getattr(flags, "utc", False):
+        return None
+    return place.zone
+
+
+def time_line(t, zone, end=None) -> str:
+    """The one line every command prints (on stderr) about the instant it used (or the
+    span from ``t`` to ``end``): local and UTC with a zone (``time: 2018-03-01 20:00:00 CET
+    (UTC+01:00, Europe/Malta) = 2018-03-01 19:00:00 UTC``), else UTC."""
+    from skydome.astro.time import format_local
+
+    def both(when) -> str:
+        utc = format_local(when, None)
+        if zone is None:
+            return utc
+        return f"{format_local(when, zone)[:-1]}, {zone.key}) = {utc}"
+
+    text = both(t) if end is None else f"{both(t)} to {both(end)}"
+    return "time: " + text + (" (a time without an offset is UTC here)" if zone is None else "")
+
+
+def report_time(t, zone, end=None) -> None:
+    """Print :func:`time_line` on stderr (stdout stays the command's: JSON, tables)."""
+    import typer
+
+    typer.echo(time_line(t, zone, end), err=True)
+
+
+def report_light_pollution(description, place, bortle) -> None:
+    """One line on stderr: the light pollution a sky with a place is drawn with, and where
+    its value comes from (``--bortle``, the place's estimate, or none)."""
+    import typer
+
+    lp = description.light_pollution
+    if description.abstract or description.model == "cie":
+        return
+    if bortle is not None:
+        from skydome.night.light_pollution import LightPollution
+
+        text = LightPollution.from_bortle(bortle).summary().replace("given", "--bortle")
+    elif lp is not None:
+        text = lp.summary() + "; --bortle overrides"
+    elif place is not None and place.bortle is not None:
+        text = f"none: {place.name} is a dark site (Bortle {place.bortle}); --bortle adds some"
+    elif place is not None and not description.night:
+        text = "none (no night sky); --bortle adds some"
+    else:
+        text = "none (a place given as numbers has no estimate); --bortle adds some"
+    typer.echo(f"light pollution: {text}", err=True)
+
+
 def observer_from_flags(flags: SimpleNamespace):
     """The Observer the place flags describe, or None when none of them is given (the
     abstract mode). Raises ParameterError naming the flag for bad or conflicting values."""
@@ -62,6 +131,8 @@ class PlaceTimeSun:
     Attributes:
         observer: the Observer of the place flags, or None (the abstract mode).
         time: the instant (``skydome.astro.Time``), None in the abstract mode.
+        place: the gazetteer ``Place`` of ``--place``, or None.
+        zone: the zone a time without an offset was read in (``ZoneInfo``), None for UTC.
         sun_elevation_deg, sun_azimuth_deg: the abstract mode's Sun (deg; 30 and 180 by
             default, checked also with a place, where they are unused).
         look: the ``--look`` target, or None.
@@ -72,6 +143,8 @@ class PlaceTimeSun:
     sun_elevation_deg: float
     sun_azimuth_deg: float
     look: str | None
+    place: Any = None
+    zone: Any = None
 
     @property
     def abstract(self) -> bool:
@@ -92,6 +165,7 @@ def place_time_sun(flags: SimpleNamespace, when: str | None, *, default_now: boo
     if abstract and when is not None:
         raise ParameterError("--time needs a place: add --place NAME or --lat and --lon")
     t = None
+    zone = time_zone_from_flags(flags)
     if not abstract:
         if when is None and not default_now:
             raise ParameterError("a place needs --time, e.g. --time 2018-03-01T19:00Z")
@@ -99,7 +173,7 @@ def place_time_sun(flags: SimpleNamespace, when: str | None, *, default_now: boo
             from datetime import datetime, timezone
 
             when = datetime.now(timezone.utc).isoformat()
-        t = parse_time("--time", when)
+        t = parse_time("--time", when, zone)
     look = getattr(flags, "look", None)
     if look is not None:
         check_choice("--look", look, LOOKS, "view")
@@ -109,7 +183,7 @@ def place_time_sun(flags: SimpleNamespace, when: str | None, *, default_now: boo
     az = 180.0 if sun_azimuth is None else sun_azimuth
     check_range("--sun-elevation", el, -90.0, 90.0, "deg")
     check_range("--sun-azimuth", az, -360.0, 360.0, "deg")
-    return PlaceTimeSun(observer, t, float(el), float(az), look)
+    return PlaceTimeSun(observer, t, float(el), float(az), look, place_from_flags(flags), zone)
 
 
 def atmosphere_from_flags(flags: SimpleNamespace):
@@ -144,6 +218,23 @@ def atmosphere_from_flags(flags: SimpleNamespace):
         angstrom=flags.angstrom,
         ozone_du=flags.ozone,
     )
+
+
+def ground_from_flags(flags: SimpleNamespace) -> str | float | None:
+    """``--ground`` checked (None when not given); with ``--albedo`` too, a ParameterError."""
+    from skydome.atmosphere.ground import parse_ground
+
+    ground = getattr(flags, "ground", None)
+    if ground is None:
+        return None
+    if getattr(flags, "albedo", None) is not None:
+        raise ParameterError("--ground and --albedo both set the ground: give one of them")
+    try:
+        return parse_ground(ground)
+    except ParameterError:
+        raise ParameterError(
+            f"--ground {ground} must be none, black or an albedo 0..1 (e.g. 0.2)"
+        ) from None
 
 
 #: The weather flags that set a ``Weather``'s knobs, by the flag's parameter name.
@@ -308,7 +399,7 @@ def sky_description(
         "model": model,
         "samples": samples,
         "night": night,
-        "light_pollution": bortle,
+        "light_pollution": bortle if bortle is not None else auto_glow(pts, model, night),
         "clouds": clouds,
         "weather": weather,
         **({} if shutter is None else {"shutter_s": shutter}),
@@ -316,6 +407,7 @@ def sky_description(
         "night_vision": night_vision,
         "overlays": overlays,
         "sun_disk": not getattr(flags, "no_sun_disk", False),
+        "ground": ground_from_flags(flags),
         "sky_view_size": sky_view_size,
         **cie,
     }
@@ -327,7 +419,19 @@ def sky_description(
             sun_azimuth_deg=pts.sun_azimuth_deg,
             **settings,
         )
-    return SkyDescription(observer=pts.observer, time=pts.time, **settings)
+    zone = "" if pts.zone is None else pts.zone.key
+    return SkyDescription(observer=pts.observer, time=pts.time, timezone=zone, **settings)
+
+
+def auto_glow(pts: PlaceTimeSun, model: str, night: bool):
+    """The light pollution of a sky without ``--bortle``: the ``--place``'s own (a city's
+    estimate, an observatory's class: ``skydome.description.auto_light_pollution``), none
+    with ``--lat``/``--lon`` or no place."""
+    if pts.place is None or pts.abstract:
+        return None
+    from skydome.description import auto_light_pollution
+
+    return auto_light_pollution(pts.place, model, night)
 
 
 def describe_state(state) -> list[str]:

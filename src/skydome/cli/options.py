@@ -44,6 +44,8 @@ FLAGS: dict[str, Flag] = {
     "lon": Flag(float, None, ("--lon",), "Longitude, degrees east (-180..360)."),
     "elevation": Flag(float, None, ("--elevation",),
                       "Elevation above sea level, metres (default: the place's, or 0)."),
+    "utc": Flag(bool, False, ("--utc",),
+                "Read a time without an offset as UTC, not as the --place's local time."),
     # the Sun without a place
     "sun_elevation": Flag(float, None, ("--sun-elevation",),
                           "Sun elevation above the horizon, degrees (-90..90; default 30), "
@@ -80,7 +82,8 @@ FLAGS: dict[str, Flag] = {
     # the night
     "bortle": Flag(int, None, ("--bortle",),
                    "Light pollution of a Bortle class, 1 (darkest) to 9 (inner city), with a "
-                   "place (default: none)."),
+                   "place (default: the --place's own: a city's estimated from its population, "
+                   "an observatory's dark sky; none with --lat/--lon)."),
     "night_vision": Flag(bool, False, ("--night-vision",),
                          "Show the image as a dark-adapted eye sees it: colour fades, blur, "
                          "noise (the image only; EXR/HDR/NPY keep the physical frame)."),
@@ -148,15 +151,27 @@ FLAGS: dict[str, Flag] = {
                      "place)."),
     # the display
     "compensation": Flag(float, 0.0, ("--exposure-compensation",), "EV added to the exposure."),
+    "metering": Flag(str, "eye", ("--metering",),
+                     "How --exposure auto measures: eye (default: a dark-adapted eye's key, "
+                     "Krawczyk et al. 2005, dark night skies in the eye's blue-grey; above "
+                     "1.25 cd/m^2 as average) | average | center (centre-weighted) | spot (the "
+                     "central 2.5 %: what the camera looks at, e.g. the Moon)."),
+    "glare": Flag(str, "eye", ("--glare",),
+                  "Glare on the image (not on EXR/HDR/NPY data): eye (default: the eye's point "
+                  "spread function, CIE 146:2002) | lens (a camera lens's veiling glare) | off."),
     "no_sun_disk": Flag(bool, False, ("--no-sun-disk",),
                         "Leave the Sun's disk out of the image (an environment map for a "
                         "renderer with its own Sun lamp); the air stays sunlit."),
+    "ground": Flag(str, None, ("--ground",),
+                   "Below the horizon: none (a ground that reflects nothing: the air in "
+                   "front of it only) | black (zero: HDRIs lit with a ground of your own) | "
+                   "an albedo 0..1 (default: the atmosphere's, 0.3)."),
     "tonemap": Flag(str, "filmic", ("--tonemap",),
                     "filmic | reinhard | exponential | hvs | linear."),
 }  # fmt: skip
 
 GROUPS: dict[str, tuple[str, ...]] = {
-    "place": ("place", "lat", "lon", "elevation"),
+    "place": ("place", "lat", "lon", "elevation", "utc"),
     "sun": ("sun_elevation", "sun_azimuth"),
     "air": ("atmosphere", "albedo", "aod", "visibility", "angstrom", "ozone"),
     "tables": ("orders", "spectral"),
@@ -170,7 +185,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "shutter",
     ),
     "camera": ("look", "camera", "fov", "yaw", "pitch", "altitude"),
-    "display": ("compensation", "tonemap", "no_sun_disk"),
+    "display": ("compensation", "tonemap", "no_sun_disk", "ground", "metering", "glare"),
 }  # fmt: skip
 
 

@@ -56,16 +56,22 @@ def parse_exposure(text: str) -> float | None:
     return check_range("--exposure", ev, -20.0, 40.0, "EV")
 
 
-def parse_time(flag: str, text: str):
-    """An instant (skydome.astro.Time) from ISO 8601 text (an offset or Z; naive is UTC)."""
-    from skydome.astro import to_time
+def parse_time(flag: str, text: str, zone=None):
+    """An instant (skydome.astro.Time) from ISO 8601 text: with an offset or Z as it says;
+    without one, the local time of ``zone`` (a ``tzinfo``: the place's), or UTC when it is
+    None. A local time the zone skips or repeats (daylight saving) is refused, naming the
+    flag."""
+    from skydome.astro.time import LocalTimeError, to_time
 
     try:
-        t = to_time(text)
+        t = to_time(text, zone=zone)
+    except LocalTimeError as exc:
+        raise ParameterError(f"{flag}: {exc}") from None
     except ParameterError:
+        without = "the place's local time" if zone is not None else "UTC"
         raise ParameterError(
             f"{flag} {text!r} must be an ISO 8601 date and time, e.g. 2018-03-01T19:00Z "
-            "(an offset or Z; without one it is UTC)"
+            f"(an offset or Z; without one it is {without})"
         ) from None
     if t.shape != ():
         raise ParameterError(f"{flag} {text!r} must be one instant")

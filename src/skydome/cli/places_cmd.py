@@ -25,10 +25,10 @@ def register(app: typer.Typer) -> None:
         if not found:
             console.print(f"no place matches {query!r}")
             return
-        table = Table("name", "country", "kind", "lat", "lon", "elevation (m)")
+        table = Table("name", "country", "kind", "lat", "lon", "elevation (m)", "time zone")
         for p in found:
             table.add_row(
                 p.name, p.country, p.kind, f"{p.latitude_deg:.4f}", f"{p.longitude_deg:.4f}",
-                f"{p.elevation_m:.0f}",
+                f"{p.elevation_m:.0f}", p.timezone,
             )  # fmt: skip
         console.print(table)

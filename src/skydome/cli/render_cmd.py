@@ -8,6 +8,8 @@ from skydome.cli.describe import (
     describe_state,
     place_time_sun,
     precompute_progress,
+    report_light_pollution,
+    report_time,
     sky_description,
 )
 from skydome.cli.options import with_flags
@@ -49,8 +51,9 @@ def register(app: typer.Typer) -> None:
         when: str = typer.Option(
             None,
             "--time",
-            help="ISO 8601 date and time, e.g. 2018-03-01T19:00Z (an offset or Z; naive is "
-            "UTC). With a place: the Sun and the Moon where they are.",
+            help="ISO 8601 date and time, e.g. 2018-03-01T20:00 or 2018-03-01T19:00Z. Without "
+            "an offset or Z it is the --place's local time (its IANA time zone, daylight "
+            "saving included), UTC with --lat/--lon or --utc.",
         ),
         size: str = typer.Option(
             "1280x720", "--size", help="WIDTHxHEIGHT in pixels (cubemap: face size from HEIGHT)."
@@ -108,6 +111,8 @@ def register(app: typer.Typer) -> None:
         )
         from skydome.description import SKY_MODELS
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
+        from skydome.display.exposure import METERINGS
+        from skydome.display.glare import GLARES
         from skydome.io import WRITERS, check_output_path, write_outputs
         from skydome.sky import Sky, default_look
 
@@ -120,6 +125,8 @@ def register(app: typer.Typer) -> None:
         if flags.altitude is not None:
             check_range("--altitude", flags.altitude, 0.0, MAX_ALTITUDE_M, "m")
         check_choice("--tonemap", flags.tonemap, TONEMAPS, "tone map")
+        check_choice("--metering", flags.metering, METERINGS, "metering")
+        check_choice("--glare", flags.glare, GLARES, "glare")
         check_choice("--model", model, SKY_MODELS, "model")
         cie = cie_settings(model, cie_type, cie_illuminance, cie_zenith, flags)
         check_choice("--camera", flags.camera, CAMERAS, "camera")
@@ -179,6 +186,8 @@ def register(app: typer.Typer) -> None:
                 exposure="auto" if ev is None else ev,
                 compensation_ev=flags.compensation,
                 tonemap=flags.tonemap if want_ldr else None,
+                metering=flags.metering,
+                glare=flags.glare,
             )
         scale = ev100_to_scale(frame.info["exposure_ev100"])
         metadata = {
@@ -187,6 +196,9 @@ def register(app: typer.Typer) -> None:
             "tonemap": flags.tonemap,
         }
         written = write_outputs(paths, frame.data, frame.image, metadata=metadata)
+        if not abstract:  # on stderr, once the frame is made (a failure prints one line)
+            report_time(pts.time, pts.zone)
+            report_light_pollution(description, pts.place, flags.bortle)
         h, w = frame.shape
         for p in written:
             console.print(f"wrote [bold]{p}[/bold] ({w}x{h})")
@@ -194,7 +206,7 @@ def register(app: typer.Typer) -> None:
             f"frame {frame.info['render_ms']:.1f} ms ({model}, {flags.camera}, "
             + (f"type {cie_type}" if model == "cie" else description.atmosphere.name)
             + f"), exposure EV100 {scale_to_ev100(scale):.2f}"
-            + (" (auto)" if ev is None else "")
+            + (f" (auto, {flags.metering} metering)" if ev is None else "")
         )
         if model == "cie":
             console.print(

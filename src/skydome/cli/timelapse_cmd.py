@@ -12,8 +12,12 @@ from skydome.cli.describe import (
     LOOKS,
     PlaceTimeSun,
     observer_from_flags,
+    place_from_flags,
     precompute_progress,
+    report_light_pollution,
+    report_time,
     sky_description,
+    time_zone_from_flags,
 )
 from skydome.cli.options import with_flags
 from skydome.cli.parsing import parse_exposure, parse_size, parse_step, parse_time
@@ -49,8 +53,15 @@ def register(app: typer.Typer) -> None:
     @app.command()
     @with_flags("place", "camera", "air", "display", "clouds", "weather")
     def timelapse(
-        start: str = typer.Option(..., "--start", help="First frame's time, ISO 8601."),
-        end: str = typer.Option(..., "--end", help="Last frame's time (at most), ISO 8601."),
+        start: str = typer.Option(
+            ...,
+            "--start",
+            help="First frame's time, ISO 8601 (without an offset or Z: the --place's local "
+            "time, UTC with --lat/--lon or --utc).",
+        ),
+        end: str = typer.Option(
+            ..., "--end", help="Last frame's time (at most), ISO 8601 (read as --start)."
+        ),
         step: str = typer.Option("1min", "--step", help="Time between frames: 30s, 1min, 2h..."),
         fps: float = typer.Option(30.0, "--fps", help="Frames per second of the MP4 (1..240)."),
         output: str = typer.Option(
@@ -102,6 +113,8 @@ def register(app: typer.Typer) -> None:
             make_camera,
         )
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
+        from skydome.display.exposure import DEFAULT_KEY, METERINGS
+        from skydome.display.glare import GLARES
         from skydome.io.video import (
             FrameSequenceWriter,
             Mp4Writer,
@@ -114,7 +127,8 @@ def register(app: typer.Typer) -> None:
         observer = observer_from_flags(flags)
         if observer is None:
             raise ParameterError("a time-lapse needs a place: --place NAME or --lat and --lon")
-        t0, t1 = parse_time("--start", start), parse_time("--end", end)
+        zone = time_zone_from_flags(flags)
+        t0, t1 = parse_time("--start", start, zone), parse_time("--end", end, zone)
         step_s = parse_step(step)
         # To the millisecond: Julian Dates near 2.46e6 days hold ~40 us.
         span_s = round((float(t1.jd_utc) - float(t0.jd_utc)) * 86400.0, 3)
@@ -141,6 +155,8 @@ def register(app: typer.Typer) -> None:
         if flags.altitude is not None:
             check_range("--altitude", flags.altitude, 0.0, MAX_ALTITUDE_M, "m")
         check_choice("--tonemap", flags.tonemap, TONEMAPS, "tone map")
+        check_choice("--metering", flags.metering, METERINGS, "metering")
+        check_choice("--glare", flags.glare, GLARES, "glare")
         adapt = exposure.strip().lower() == "adapt"
         ev = None if adapt else parse_exposure(exposure)
         if not adapt and ev is None:
@@ -152,7 +168,7 @@ def register(app: typer.Typer) -> None:
         # the time (their wind and weather), frame by frame. Small frames: sky-view tables
         # of a quarter of the texels, re-aimed every frame for a quarter of the cost
         # (<= 0.16 % RMS at 640 x 360, AtmosphereLayer).
-        pts = PlaceTimeSun(observer, t0, 30.0, 180.0, flags.look)
+        pts = PlaceTimeSun(observer, t0, 30.0, 180.0, flags.look, place_from_flags(flags), zone)
         description = sky_description(
             flags, pts, sky_view_size=(128, 128) if max(width, height) <= 1280 else None
         )
@@ -167,13 +183,14 @@ def register(app: typer.Typer) -> None:
         )
 
         from skydome.display.adaptation import EyeAdaptation
-        from skydome.display.gpu_tonemap import gpu_tonemap
         from skydome.scene import state_series
         from skydome.sky import Sky, aim_camera
 
         console = Console(soft_wrap=True)
         with precompute_progress(console) as report:
             sky = Sky(description, progress=report)
+        report_time(t0, zone, end=t1)
+        report_light_pollution(description, pts.place, None)
         graph = sky.graph
         view = flags.look or ("south" if float(observer.latitude) >= 0 else "north")
 
@@ -186,7 +203,8 @@ def register(app: typer.Typer) -> None:
                 pitch_deg=aimed.pitch_deg if flags.pitch is None else flags.pitch,
             )
 
-        eye = EyeAdaptation(speed=adaptation_speed) if adapt else None
+        key = "eye" if flags.metering == "eye" else DEFAULT_KEY
+        eye = EyeAdaptation(key, speed=adaptation_speed) if adapt else None
         fixed = None if adapt else ev100_to_scale(ev, flags.compensation)
         jd0 = float(t0.jd_utc)
         altitude = sky.altitude_m(flags.altitude)
@@ -222,13 +240,19 @@ def register(app: typer.Typer) -> None:
                         tex = graph.frame_texture(state, cam, width, height, altitude_m=altitude)
                         if adapt:
                             meter = graph.exposure_pass()
-                            meter.measure(tex)
+                            meter.measure(tex, flags.metering)
                             eye.update(meter.read(), step_s)
                             scale = eye.exposure_scale(flags.compensation)
                         else:
                             scale = fixed
                         if to_mp4 or not writer.hdr:
-                            image = gpu_tonemap(tex, flags.tonemap, scale, ctx=graph.ctx)
+                            image = graph.display_image(
+                                tex, state, cam, tex.size, flags.tonemap, scale,
+                                metering=flags.metering, glare=flags.glare,
+                                adaptation=eye.adapted_luminance if adapt else None,
+                                compensation_ev=flags.compensation,
+                            )  # fmt: skip
+                            scale = graph.last_display_scale
                         else:
                             tw, th = tex.size
                             data = np.empty((th, tw, 4), np.float32)

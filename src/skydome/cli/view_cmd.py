@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import typer
 
-from skydome.cli.describe import place_time_sun, precompute_progress, sky_description
+from skydome.cli.describe import (
+    place_time_sun,
+    precompute_progress,
+    report_light_pollution,
+    report_time,
+    sky_description,
+)
 from skydome.cli.options import with_flags
 from skydome.cli.parsing import check_int, parse_exposure, parse_size
 from skydome.errors import ParameterError, check_choice, check_range
@@ -20,7 +26,9 @@ def register(app: typer.Typer) -> None:
         when: str = typer.Option(
             None,
             "--time",
-            help="ISO 8601 date and time, e.g. 2018-03-01T19:00Z (default with a place: now).",
+            help="ISO 8601 date and time, e.g. 2018-03-01T20:00 or 2018-03-01T19:00Z (default "
+            "with a place: now). Without an offset or Z it is the --place's local time (its "
+            "IANA time zone), UTC with --lat/--lon or --utc.",
         ),
         size: str = typer.Option("1280x720", "--size", help="Window size WIDTHxHEIGHT."),
         exposure: str = typer.Option(
@@ -36,7 +44,15 @@ def register(app: typer.Typer) -> None:
         vsync: bool = typer.Option(False, "--vsync/--no-vsync", help="Swap at the refresh rate."),
         panel: bool = typer.Option(True, "--panel/--no-panel", help="Show the control panel."),
         frames: int = typer.Option(
-            None, "--frames", help="Draw this many frames, print the median fps and exit."
+            None,
+            "--frames",
+            help="Draw this many frames, print the drawn frames per second and exit.",
+        ),
+        turn: float = typer.Option(
+            None,
+            "--turn",
+            help="Turn the camera by this many degrees of azimuth every frame (a scripted "
+            "tour; every frame is then drawn anew), -180..180.",
         ),
         screenshot: list[str] = typer.Option(
             None,
@@ -51,6 +67,8 @@ def register(app: typer.Typer) -> None:
         from rich.console import Console
 
         from skydome.display import TONEMAPS
+        from skydome.display.exposure import METERINGS
+        from skydome.display.glare import GLARES
         from skydome.io import check_output_path
         from skydome.viewer import INSTALL_HINT
         from skydome.viewer.controls import (
@@ -77,6 +95,8 @@ def register(app: typer.Typer) -> None:
         if flags.altitude is not None:
             check_range("--altitude", flags.altitude, *VIEW_ALTITUDE_RANGE_M, "m")
         check_choice("--tonemap", flags.tonemap, TONEMAPS, "tone map")
+        check_choice("--metering", flags.metering, METERINGS, "metering")
+        check_choice("--glare", flags.glare, GLARES, "glare")
         check_choice("--camera", flags.camera, PROJECTIONS, "camera")
         check_range("--fov", flags.fov, *VIEW_FOV_RANGE_DEG, "deg")
         if flags.pitch is not None:
@@ -84,6 +104,8 @@ def register(app: typer.Typer) -> None:
         if flags.yaw is not None:
             check_range("--yaw", flags.yaw, -360.0, 360.0, "deg")
         check_range("--speed", speed, *SPEED_RANGE, "s/s")
+        if turn is not None:
+            check_range("--turn", turn, -180.0, 180.0, "deg")
         if frames is not None:
             check_int("--frames", frames, 1, MAX_FRAMES)
         shots = [check_output_path(p) for p in (screenshot or [])]
@@ -112,6 +134,9 @@ def register(app: typer.Typer) -> None:
                 description = description.with_(cloud_quality="interactive")
             with precompute_progress(console) as report:
                 sky = Sky(description, progress=report, ctx=window.ctx)
+            if not pts.abstract:
+                report_time(pts.time, pts.zone)
+                report_light_pollution(description, pts.place, flags.bortle)
             fields = {
                 "projection": flags.camera,
                 "fov_deg": flags.fov,
@@ -134,20 +159,36 @@ def register(app: typer.Typer) -> None:
             if flags.pitch is not None:
                 fields["pitch_deg"] = flags.pitch
             scene = ViewerScene(sky, Controls(initial_state(sky, **fields)))
+            scene.metering, scene.glare = flags.metering, flags.glare
             if window.panel is not None:
                 window.panel.configure(description)
+            on_frame = None
+            if turn:
+
+                def on_frame(_window, _i, controls=scene.controls, step=float(turn)):
+                    controls.set(yaw_deg=controls.state.yaw_deg + step)
+
             try:
-                timer = window.run(scene, frames=frames, screenshot=shots)
+                timer = window.run(scene, frames=frames, screenshot=shots, on_frame=on_frame)
             finally:
                 if window.panel is not None:
                     window.panel.stop_rebuild()
             if frames is not None:
-                fps = timer.fps()
-                typer.echo(f"{fps:.1f} fps" if fps else "0.0 fps")
+                typer.echo(fps_report(timer))
                 report_times(timer)
                 for p in getattr(window, "saved", []):
                     typer.echo(f"wrote {p}")
             scene.release()
+
+
+def fps_report(timer) -> str:
+    """The line ``--frames`` prints: drawn frames per second and ms per redraw (frames that
+    drew the sky anew; a still view shows its kept frame again), and every frame's rate."""
+    drawn, ms = timer.drawn_fps(), timer.median_redraw_ms()
+    count = f"{timer.redraws} of {timer.frames} frames drawn anew"
+    if not drawn:
+        return f"0.0 fps drawn ({count})"
+    return f"{drawn:.1f} fps drawn ({ms:.1f} ms per redraw; {count})"
 
 
 def report_times(timer) -> None:

@@ -78,6 +78,47 @@ class MoonView:
 
 
 @dataclass(frozen=True)
+class SolarEclipseView:
+    """The Moon in front of the Sun at one instant (``skydome.astro.eclipses``).
+
+    ``hidden_fraction``: the fraction of the Sun's limb-darkened luminous flux the Moon hides
+    from the observer (0..1); the air, the clouds and the ground get the rest.
+    ``moon_km``: the Moon's centre from the observer (ENU, km, airless direction), and
+    ``moon_radius_km`` its radius: the sky's light per direction (the umbra and penumbra
+    cones) and the disks' occultation follow from them.
+    """
+
+    hidden_fraction: float
+    moon_km: np.ndarray
+    moon_radius_km: float
+
+    @property
+    def visible_fraction(self) -> float:
+        return 1.0 - self.hidden_fraction
+
+
+@dataclass(frozen=True)
+class LunarEclipseView:
+    """The Earth's shadow on the Moon at one instant.
+
+    ``sun_km`` and ``earth_km``: the Sun's and the Earth's centres from the observer (ENU,
+    km); ``earth_radius_km``: the shadow-casting radius (the Earth's, enlarged by 1/85 for
+    its atmosphere, Danjon). ``umbra_light``: sunlight refracted into the shadow by the
+    Earth's atmosphere, (distances from the shadow's axis in km, factors (N, W) of the
+    direct sunlight at ``wavelengths_nm``). ``moon_light_factor``: the eclipsed Moon's
+    brightness over the uneclipsed one's (luminance, disk averaged; for the moonlit sky).
+    """
+
+    sun_km: np.ndarray
+    earth_km: np.ndarray
+    earth_radius_km: float
+    umbra_distances_km: np.ndarray
+    umbra_light: np.ndarray
+    wavelengths_nm: np.ndarray
+    moon_light_factor: float
+
+
+@dataclass(frozen=True)
 class SkyState:
     """The lights of a sky at one instant: the Sun, the Moon (or None) and the weather that
     bends their light (refraction). ``time`` (a ``skydome.astro.Time``) and ``observer``
@@ -90,6 +131,10 @@ class SkyState:
     observer: Any = None
     pressure_hPa: float = STANDARD_PRESSURE_HPA
     temperature_C: float = STANDARD_TEMPERATURE_C
+    #: A solar eclipse (the Moon over the Sun's disk) or a lunar one (the Moon in the
+    #: Earth's penumbra), None otherwise.
+    solar_eclipse: SolarEclipseView | None = None
+    lunar_eclipse: LunarEclipseView | None = None
 
     @property
     def refraction_scale(self) -> float:

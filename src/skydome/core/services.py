@@ -10,6 +10,7 @@ the aerial perspective in front of it) and offers the air its shadow as a
 
 from __future__ import annotations
 
+import dataclasses
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
@@ -32,6 +33,10 @@ class AirLights:
     sun_scale: float
     moon_direction: tuple[float, float, float] | None = None
     moon_scale: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    #: A solar eclipse's sky (``atmosphere/eclipse_sky.glsl``), None otherwise: then
+    #: ``sun_scale`` is the eclipsed Sun's (for the clouds and the ground) and the sky passes
+    #: weigh the uneclipsed one's light per direction.
+    eclipse: EclipseSkyInputs | None = None
 
     @property
     def has_moon(self) -> bool:
@@ -50,6 +55,29 @@ class AirLights:
             u_light2_scale=tuple(float(s) * solar_scale for s in self.moon_scale)
             if moon
             else (0.0,) * 4,
+            **({} if self.eclipse is None else self.eclipse.scaled(solar_scale).values()),
+        )
+
+
+@dataclass(frozen=True)
+class EclipseSkyInputs(ShaderInputs):
+    """``atmosphere/eclipse_sky.glsl``: the Moon's centre from the camera (km, ENU) and
+    radius (km), the Sun's angular radius (rad), the uneclipsed Sun's scale (relative to the
+    tables' Sun at 1 au) and the air's extinction for the weights (Rayleigh 1/km and scale
+    height km, aerosol 1/km and scale height km, at 550 nm) and the Rayleigh extinction of
+    each output channel relative to 550 nm's."""
+
+    u_eclipse_moon_km: tuple[float, float, float]
+    u_eclipse_moon_radius_km: float
+    u_eclipse_sun_radius: float
+    u_eclipse_sky_scale: float
+    u_eclipse_air: tuple[float, float, float, float]
+    u_eclipse_channels: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
+
+    def scaled(self, solar_scale: float) -> EclipseSkyInputs:
+        """The same with the Sun's scale times ``solar_scale`` (the atmosphere's Sun)."""
+        return dataclasses.replace(
+            self, u_eclipse_sky_scale=self.u_eclipse_sky_scale * float(solar_scale)
         )
 
 
@@ -63,6 +91,12 @@ class LightInputs(ShaderInputs):
     u_sun_scale: float
     u_light2_direction: tuple[float, float, float]
     u_light2_scale: tuple[float, float, float, float]
+    u_eclipse_moon_km: tuple[float, float, float] | None = None
+    u_eclipse_moon_radius_km: float | None = None
+    u_eclipse_sun_radius: float | None = None
+    u_eclipse_sky_scale: float | None = None
+    u_eclipse_air: tuple[float, float, float, float] | None = None
+    u_eclipse_channels: tuple[float, float, float, float] | None = None
 
 
 @dataclass(frozen=True)

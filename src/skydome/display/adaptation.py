@@ -54,7 +54,7 @@ from __future__ import annotations
 
 import math
 
-from skydome.display.exposure import COMPENSATION_RANGE, DEFAULT_DELTA, DEFAULT_KEY
+from skydome.display.exposure import COMPENSATION_RANGE, DEFAULT_DELTA, DEFAULT_KEY, eye_key
 from skydome.errors import ParameterError, check_range
 
 #: Light-adaptation time constants, s (Krawczyk et al. 2005, eq. 6).
@@ -110,7 +110,9 @@ class EyeAdaptation:
 
     Args:
         key: exposed value of the adapted luminance, in (0, 1]; 0.18 (middle grey) as in
-            ``auto_exposure``.
+            ``auto_exposure``; or "eye": the key of the metering ``eye``,
+            ``skydome.display.exposure.eye_key`` of the adapted luminance (Krawczyk et al.
+            2005: lower in the dark).
         speed: how many times faster than a real eye adaptation runs (every tau divided by
             it), > 0. 1 is the eye in scene time; e.g. 60 lets a 1-minute step of a
             time-lapse act like one second of adaptation.
@@ -119,8 +121,8 @@ class EyeAdaptation:
             update).
     """
 
-    def __init__(self, key: float = DEFAULT_KEY, *, speed: float = 1.0) -> None:
-        self.key = check_range("key", key, 1e-6, 1.0)
+    def __init__(self, key: float | str = DEFAULT_KEY, *, speed: float = 1.0) -> None:
+        self.key = "eye" if key == "eye" else check_range("key", key, 1e-6, 1.0)
         self.speed = check_range("speed", speed, 1e-6, 1e6)
         self._log_la: float | None = None
 
@@ -174,4 +176,6 @@ class EyeAdaptation:
                 "EyeAdaptation has no adapted luminance yet: call update() with the first "
                 "frame's luminance first"
             )
-        return 2.0**comp * self.key / math.exp(self._log_la)
+        la = math.exp(self._log_la)
+        key = eye_key(la) if self.key == "eye" else self.key
+        return 2.0**comp * key / la

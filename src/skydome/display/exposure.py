@@ -162,3 +162,98 @@ def auto_exposure(
     comp = check_range("exposure compensation", compensation_ev, *COMPENSATION_RANGE, "EV")
     avg = log_average_luminance(frame, delta=delta, clip_percentile=clip_percentile)
     return 2.0**comp * k / avg
+
+
+# -- Metering -------------------------------------------------------------------------------
+#: Metering modes: where in the frame the exposure is measured, and how the key is chosen.
+#: ``average``: every lit pixel alike, key 0.18 (the automatic exposure before metering modes
+#: existed). ``center``: centre-weighted (a Gaussian of CENTER_SIGMA_FRACTION of the frame's
+#: height), key 0.18. ``spot``: a disc at the centre covering SPOT_AREA_FRACTION of the frame
+#: (what the camera looks at), key 0.18. ``eye``: every pixel alike, with the key of a
+#: dark-adapted observer, :func:`eye_key`, which falls with the adaptation luminance.
+METERINGS = ("average", "center", "spot", "eye")
+#: Metering used when none is named.
+DEFAULT_METERING = "eye"
+#: Shader ids of the weightings (``post/log_luminance.glsl`` METERING): eye weighs as average.
+METERING_IDS = {"average": 0, "center": 1, "spot": 2, "eye": 0}
+#: Centre-weighted metering: Gaussian weight of standard deviation this fraction of the frame's
+#: height about its centre (about 60 % of the weight falls in the central quarter of the frame,
+#: the "60/40" of cameras' centre-weighted meters).
+CENTER_SIGMA_FRACTION = 0.25
+#: Spot metering: a disc at the centre covering this fraction of the frame's area (cameras'
+#: spot meters cover 1.5 to 5 % of the frame; 2.5 % is a 9 mm circle on a 36 x 24 mm frame).
+SPOT_AREA_FRACTION = 0.025
+#: Krawczyk et al. 2005, key-value function: key(L) = KEY_A - KEY_B / (KEY_B + log10(L + 1)).
+KEY_A = 1.03
+KEY_B = 2.0
+
+
+def check_metering(metering: str) -> str:
+    """The metering mode ``metering`` (one of METERINGS), or a ParameterError naming them."""
+    if not isinstance(metering, str) or metering.lower() not in METERINGS:
+        raise ParameterError(f"metering {metering!r} must be one of {', '.join(METERINGS)}")
+    return metering.lower()
+
+
+def eye_key(adaptation_cd_m2: float) -> float:
+    """Key value (exposed value of the adaptation luminance) of a human observer adapted to
+    ``adaptation_cd_m2`` (cd/m^2): Krawczyk, Myszkowski & Seidel 2005, "Perceptual effects
+    in real-time tone mapping" (SCCG), sec. 3 (key value), ``key = 1.03 - 2 / (2 + log10(L + 1))``,
+    capped at DEFAULT_KEY (0.18).
+
+    The key falls from 0.18 at 1.25 cd/m^2 (where the formula reaches 0.18) to 0.161 at 1 cd/m^2,
+    0.05 at 0.1 (a moonlit landscape) and 0.030 at a moonless sky's 2e-4: night images are
+    shown dark, as a dark-adapted eye sees them. The cap keeps brighter scenes at middle grey
+    (the formula would give 0.66 at a daylight sky's 5000 cd/m^2, +1.9 EV over every daylight
+    image so far); it joins the formula without a jump, at 1.25 cd/m^2."""
+    lum = check_range("adaptation luminance", adaptation_cd_m2, 0.0, math.inf, "cd/m^2")
+    key = KEY_A - KEY_B / (KEY_B + math.log10(lum + 1.0))
+    return min(key, DEFAULT_KEY)
+
+
+def metering_weights(height: int, width: int, metering: str) -> np.ndarray:
+    """Weights (H, W) of the pixels of a frame in the metered log-average, row 0 at the top:
+    1 everywhere (average, eye), a Gaussian about the centre (center), a central disc (spot).
+    Evaluated at pixel centres; the GLSL twin is ``post/log_luminance.glsl`` (METERING)."""
+    mode = check_metering(metering)
+    y = np.arange(height, dtype=np.float64) + 0.5 - 0.5 * height
+    x = np.arange(width, dtype=np.float64) + 0.5 - 0.5 * width
+    d2 = y[:, None] ** 2 + x[None, :] ** 2
+    if METERING_IDS[mode] == 1:
+        sigma = CENTER_SIGMA_FRACTION * height
+        return np.exp(-d2 / (2.0 * sigma * sigma))
+    if METERING_IDS[mode] == 2:
+        return (d2 <= SPOT_AREA_FRACTION * width * height / math.pi).astype(np.float64)
+    return np.ones((height, width))
+
+
+def metered_luminance(frame: np.ndarray, metering: str, *, delta: float = DEFAULT_DELTA) -> float:
+    """Weighted log-average luminance (cd/m^2) of a frame under a metering mode: Reinhard et
+    al. 2002 eq. 1 with the weights of :func:`metering_weights` (unlit pixels ignored, delta
+    subtracted again, as :func:`log_average_luminance`). ``average`` and ``eye`` give exactly
+    :func:`log_average_luminance` (no clipping); delta when no weighted pixel is lit."""
+    mode = check_metering(metering)
+    lum = _photopic_luminance(frame)
+    if METERING_IDS[mode] == 0:
+        return log_average_luminance(lum, delta=delta)
+    weights = metering_weights(*lum.shape, mode)
+    keep = np.isfinite(lum) & (lum > 0.0) & (weights > 0.0)
+    if not keep.any():
+        return delta
+    w = weights[keep]
+    avg = math.exp(float(np.sum(w * np.log(delta + lum[keep])) / np.sum(w))) - delta
+    return max(avg, delta)
+
+
+def metered_exposure(
+    frame: np.ndarray, metering: str = DEFAULT_METERING, *, compensation_ev: float = 0.0
+) -> float:
+    """Exposure scale (m^2/cd) a metering mode chooses for a frame: ``2^compensation * key /
+    L``, L its :func:`metered_luminance`, the key 0.18 or, metering ``eye``, :func:`eye_key`
+    of L. (The frame graph's ``eye`` also shows the mesopic colours below 5 cd/m^2 and
+    divides by the mesopic luminance; this is the photopic part.)"""
+    mode = check_metering(metering)
+    comp = check_range("exposure compensation", compensation_ev, *COMPENSATION_RANGE, "EV")
+    lum = metered_luminance(frame, mode)
+    key = eye_key(lum) if mode == "eye" else DEFAULT_KEY
+    return 2.0**comp * key / lum

@@ -14,7 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from skydome.display.exposure import DEFAULT_DELTA
+from skydome.display.exposure import (
+    CENTER_SIGMA_FRACTION,
+    DEFAULT_DELTA,
+    METERING_IDS,
+    SPOT_AREA_FRACTION,
+    check_metering,
+)
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
 from skydome.spectra import SRGB_LUMINANCE
@@ -48,21 +54,38 @@ class GpuExposure:
 
     def __init__(self, ctx):
         self.ctx = ctx
-        w, h = GRID
-        self.pass_ = FullscreenPass(
-            ctx, "post/log_luminance.glsl", {"GRID_W": w, "GRID_H": h},
-            inputs=(LogLuminanceInputs,),
-        )  # fmt: skip
+        self._passes: dict[int, FullscreenPass] = {}
+        self.pass_ = self._pass(0)
         self.texture = ctx.texture(GRID, 4, dtype="f4")
         self.texture.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
-        self.fbo = ctx.framebuffer(color_attachments=[self.texture])
         self.top_level = int(math.log2(max(GRID)))
+        # The mip chain is allocated before the framebuffer holds level 0: Mesa (llvmpipe)
+        # reallocates a texture's storage at its first glGenerateMipmap, after which a
+        # framebuffer made before it no longer writes into the texture (every measure after
+        # the first read the first frame's average).
+        self.texture.build_mipmaps(0, self.top_level)
+        self.fbo = ctx.framebuffer(color_attachments=[self.texture])
 
-    def measure(self, hdr_texture) -> None:
-        """Average the log luminance of ``hdr_texture`` (RGBA32F) into the 1 x 1 level."""
+    def _pass(self, metering_id: int) -> FullscreenPass:
+        if metering_id not in self._passes:
+            w, h = GRID
+            defines = {
+                "GRID_W": w, "GRID_H": h, "METERING": metering_id,
+                "CENTER_SIGMA_FRACTION": float(CENTER_SIGMA_FRACTION),
+                "SPOT_AREA_FRACTION": float(SPOT_AREA_FRACTION),
+            }  # fmt: skip
+            self._passes[metering_id] = FullscreenPass(
+                self.ctx, "post/log_luminance.glsl", defines, inputs=(LogLuminanceInputs,)
+            )
+        return self._passes[metering_id]
+
+    def measure(self, hdr_texture, metering: str = "average") -> None:
+        """Average the log luminance of ``hdr_texture`` (RGBA32F) into the 1 x 1 level, with
+        the weights of ``metering`` (``skydome.display.exposure.METERINGS``)."""
         self.fbo.viewport = (0, 0, *GRID)
         weights = tuple(float(x) for x in SRGB_LUMINANCE)
-        self.pass_.draw(self.fbo, LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA))
+        fpass = self._pass(METERING_IDS[check_metering(metering)])
+        fpass.draw(self.fbo, LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA))
         self.texture.build_mipmaps(0, self.top_level)
 
     def inputs(self) -> AutoExposureInputs:
@@ -80,4 +103,6 @@ class GpuExposure:
     def release(self) -> None:
         self.fbo.release()
         self.texture.release()
-        self.pass_.release()
+        for fpass in self._passes.values():
+            fpass.release()
+        self._passes.clear()

@@ -341,8 +341,11 @@ class NightVision:
         )  # fmt: skip
         self._grid = ctx.texture(GRID, 4, dtype="f4")
         self._grid.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
-        self._grid_fbo = ctx.framebuffer(color_attachments=[self._grid])
         self._grid_level = int(math.log2(max(GRID)))
+        # Mip chain first (see skydome.display.gpu_exposure: Mesa reallocates the storage at
+        # the first glGenerateMipmap, and a framebuffer made before it then writes nowhere).
+        self._grid.build_mipmaps(0, self._grid_level)
+        self._grid_fbo = ctx.framebuffer(color_attachments=[self._grid])
 
     def _program(self, name: str, **defines) -> FullscreenPass:
         key = (name, tuple(sorted(defines.items())))

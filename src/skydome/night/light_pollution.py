@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from skydome.astro.photometry import mag_to_optical_depth
+from skydome.astro.places import Place
 from skydome.errors import ParameterError, check_choice, check_range
 from skydome.night.airglow import bin_relative_to_sun, luminance_to_mag, mag_to_luminance
 from skydome.physics.airmass import kasten_young_airmass
@@ -40,6 +41,16 @@ BORTLE_SQM_RANGES = {
     8: (18.00, 18.38),
     9: (17.60, 18.00),
 }
+
+#: A city's artificial zenith brightness at its centre grows as the square root of its
+#: population: b ~ P^0.5, Berry's (1976, JRASC 70, 97) fit to his measured city centres
+#: (Cinzano 1997's review, eq. 87; Garstang 1986, PASP 98, 364, models the same centres).
+CITY_POPULATION_EXPONENT = 0.5
+#: The calibration of that law today (lighting has grown since 1976): central Berlin, urban
+#: area 3.6 million people, where clear nights measure a total zenith of about 18.0
+#: mag_SQM/arcsec^2 (Kyba et al. 2011, PLoS ONE 6, e17307: SQM in the city centre, clear
+#: and moonless). The tests compare the law with other cities' measurements.
+CITY_CALIBRATION = (3.6e6, 18.0)
 
 #: Default V extinction (mag per airmass) of a lowland site's air, for the glow's profile
 #: (typical sea-level clear-sky values are 0.2-0.3; Krisciunas & Schaefer 1991, PASP 103,
@@ -86,6 +97,27 @@ def slab_profile(zenith_rad, extinction_mag: float = DEFAULT_EXTINCTION_MAG) -> 
     return np.expm1(-tau * x) / math.expm1(-tau * x0)
 
 
+def bortle_class_of(total_mag: float) -> int:
+    """The Bortle class (1-9) whose zenith range (BORTLE_SQM_RANGES) holds a total zenith
+    brightness, V mag/arcsec^2 (brighter than 18.0: 9; darker than 21.99: 1)."""
+    for cls in range(9, 0, -1):
+        if total_mag < BORTLE_SQM_RANGES[cls][1]:
+            return cls
+    return 1
+
+
+def city_zenith_mag(population: float, natural_mag: float = NATURAL_ZENITH_MAG) -> float:
+    """Estimated total zenith sky brightness (V mag/arcsec^2) at the centre of a city of
+    ``population`` people on a clear, moonless night: the natural sky plus an artificial part
+    k P^0.5 (CITY_POPULATION_EXPONENT), k set by CITY_CALIBRATION. 11 million (Paris): 17.4;
+    1 million: 18.7; 100,000: 19.8; 10,000: 20.8."""
+    pop = check_range("population", population, 1.0, 1e9)
+    ref_pop, ref_mag = CITY_CALIBRATION
+    k = artificial_zenith_luminance(ref_mag, NATURAL_ZENITH_MAG)
+    art = k * (pop / ref_pop) ** CITY_POPULATION_EXPONENT
+    return float(luminance_to_mag(art + mag_to_luminance(natural_mag)))
+
+
 @dataclass(frozen=True)
 class City:
     """A town's glow on the sky: ``azimuth_deg`` from north through east, ``distance_km``
@@ -124,6 +156,13 @@ def city_profile(zenith_rad, delta_azimuth_rad, extinction_mag=DEFAULT_EXTINCTIO
         / slab_profile(math.radians(45.0), extinction_mag)
         * (lobe * fall)
     )
+
+
+def _people(population: float) -> str:
+    """``11 million``, ``400,000``."""
+    if population >= 1e6:
+        return f"{population / 1e6:.3g} million"
+    return f"{population:,.0f}"
 
 
 # ---------------------------------------------------------------------- spectra
@@ -238,6 +277,8 @@ class LightPollution:
         self.lamp = check_choice("lamp", lamp, LAMPS, "lamp spectrum")
         self.extinction_mag = check_range("extinction_mag", extinction_mag, 0.05, 1.0, "mag")
         self.bortle_class: int | None = None
+        #: where the glow comes from, for a report (a place's estimate), or None
+        self.source: str | None = None
 
     @classmethod
     def from_bortle(cls, bortle_class: int, **kwargs) -> LightPollution:
@@ -274,6 +315,42 @@ class LightPollution:
     def zenith_mag(self) -> float:
         """The artificial zenith brightness (V mag/arcsec^2; inf when dark)."""
         return float(luminance_to_mag(self.luminance(np.array([0.0, 0.0, 1.0]))))
+
+    @classmethod
+    def for_place(cls, place: Place) -> LightPollution | None:
+        """A gazetteer place's own light pollution, or None for none (a dark site, or a
+        position given as numbers): an observatory's Bortle class (``place.bortle``; classes
+        1 and 2 are as dark as the natural sky: None), a city's glow estimated from its
+        population (city_zenith_mag). ``source`` says which, for a report."""
+        if not isinstance(place, Place):
+            raise ParameterError(f"for_place takes a skydome Place, got {place!r}")
+        if place.population is not None:
+            total = city_zenith_mag(place.population)
+            lp = cls(zenith_cd_m2=artificial_zenith_luminance(total))
+            lp.source = (
+                f"{place.name}: estimated from its population, "
+                f"{_people(place.population)} (Berry's P^0.5 law)"
+            )
+            return lp
+        if place.bortle is not None:
+            if artificial_zenith_luminance(bortle_zenith_mag(place.bortle)) == 0.0:
+                return None
+            lp = cls.from_bortle(place.bortle)
+            lp.source = f"{place.name}: the site's Bortle class"
+            return lp
+        return None
+
+    def total_zenith_mag(self) -> float:
+        """The zenith brightness with the natural sky's (V mag/arcsec^2), as an SQM reads."""
+        art = float(self.luminance(np.array([0.0, 0.0, 1.0])))
+        return float(luminance_to_mag(art + self.natural_cd_m2))
+
+    def summary(self) -> str:
+        """One line: the total zenith brightness, its Bortle class and where it comes from."""
+        total = self.total_zenith_mag()
+        cls = self.bortle_class or bortle_class_of(total)
+        source = self.source or "given"
+        return f"zenith {total:.2f} mag/arcsec^2 (Bortle {cls}), {source}"
 
     def __repr__(self) -> str:
         return (

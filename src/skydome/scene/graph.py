@@ -41,7 +41,15 @@ from skydome.core.frame import Frame
 from skydome.core.layer import STAGES, DrawContext, Layer
 from skydome.core.services import AirService, VolumeInputs
 from skydome.core.tiles import TILE_SIZE, frame_tiles, input_image, input_texture
-from skydome.display.exposure import DEFAULT_KEY, auto_exposure, scale_to_ev100
+from skydome.display.exposure import (
+    DEFAULT_KEY,
+    DEFAULT_METERING,
+    check_metering,
+    eye_key,
+    metered_luminance,
+    scale_to_ev100,
+)
+from skydome.display.glare import DEFAULT_GLARE, GpuGlare, check_glare
 from skydome.display.gpu_exposure import GpuExposure
 from skydome.display.gpu_tonemap import GpuToneMapper, gpu_tonemap, upload_frame
 from skydome.display.night_vision import NightVision
@@ -79,6 +87,9 @@ class TileInputs:
 
 #: The largest reduction of the smooth space layers' resolution (per axis).
 MAX_SMOOTH_FACTOR = 4
+#: Frames with more pixels than this (4096 x 4096) are tone-mapped without glare: the pass
+#: holds the whole frame and its pyramid (RGBA32F) on the GPU.
+MAX_GLARE_PIXELS = 1 << 24
 
 
 def smooth_factor(camera: Camera, frame_size: tuple[int, int], smooth_deg: float) -> int:
@@ -131,8 +142,12 @@ class FrameGraph:
         self._post = None
         self._exposure = None
         self._night_vision = None
+        self._eye_colour = None
+        self._glare = None
         self._overlays = None
         self._smooth_pass = None
+        #: The exposure scale (m^2/cd) of the last :meth:`display_image`.
+        self.last_display_scale: float | None = None
         #: Display settings (see :meth:`set_display`).
         self.night_vision = False
         self.night_vision_seed = 0
@@ -364,6 +379,8 @@ class FrameGraph:
         tonemap: str | None = None,
         depth_m=None,
         shadow_length_m=None,
+        metering: str = DEFAULT_METERING,
+        glare: str | None = DEFAULT_GLARE,
     ) -> Frame:
         """Draw a whole frame and read it back: a Frame in cd/m^2.
 
@@ -376,7 +393,13 @@ class FrameGraph:
         (composite = scene * transmittance + frame). ``shadow_length_m``: an (H, W) image of
         the length (m) of each ray, from the camera, in an occluder's shadow (light shafts;
         +inf: in shadow all along).
+        ``metering`` (``display.exposure.METERINGS``): how ``"auto"`` measures the frame;
+        ``eye`` also shows a dark-adapted eye's colours (the mesopic blend of night vision,
+        without its blur and noise) below 5 cd/m^2. ``glare`` ("off", "eye", "lens"): the
+        point spread function on the image (``display.glare``); ``Frame.data`` is the same.
         """
+        metering = check_metering(metering)
+        glare = check_glare(glare)
         w, h = camera.frame_size(width, height)
         used_altitude_m = effective_altitude_m(altitude_m)
         inputs = {}
@@ -437,24 +460,34 @@ class FrameGraph:
         if "transmittance" in outputs:
             info["transmittance"] = outputs["transmittance"][..., :3]
         frame = Frame(data, info)
-        scale = self._exposure_scale(
-            exposure, compensation_ev, last if len(tiles) == 1 else None, data
+        scale, adapted = self._exposure_scale(
+            exposure, compensation_ev, last if len(tiles) == 1 else None, data, metering
         )
-        if scale is not None:
-            info["exposure_ev100"] = scale_to_ev100(scale)
         if tonemap is not None:
             if scale is None:
                 raise ParameterError("a tone-mapped image needs an exposure ('auto' or a scale)")
             # The exposure pass has measured the frame already when it set an auto exposure.
-            measured = exposure == "auto" and len(tiles) == 1
-            frame.image = self._display_image(
-                last if len(tiles) == 1 else data, state, camera, (w, h), tonemap, scale, measured
-            )
+            measured = exposure == "auto" and len(tiles) == 1 and metering in ("average", "eye")
+            if glare != "off" and w * h > MAX_GLARE_PIXELS:
+                # one texture of the whole frame and its pyramid: not for giant frames
+                info["glare_skipped"] = f"the frame has more than {MAX_GLARE_PIXELS} pixels"
+                glare = "off"
+            auto_key = None
+            if exposure == "auto" and metering == "eye":
+                auto_key = 2.0**compensation_ev * eye_key(adapted)
+            frame.image, scale = self._display_image(
+                last if len(tiles) == 1 else data, state, camera, (w, h), tonemap, scale, measured,
+                metering=metering, glare=glare, adaptation=adapted, auto_key=auto_key,
+            )  # fmt: skip
             info["tonemap"] = tonemap
+            info["metering"] = metering
+            info["glare"] = glare
             if self.night_vision:
                 info["night_vision"] = True
             if self.overlays:
                 info["overlays"] = list(self.overlays)
+        if scale is not None:
+            info["exposure_ev100"] = scale_to_ev100(scale)
         return frame
 
     def _read_tile(self, texture, tw: int, th: int) -> np.ndarray:
@@ -467,39 +500,96 @@ class FrameGraph:
         texture.read_into(staging, alignment=1)
         return staging[::-1]
 
+    def display_image(
+        self, source, state, camera, size, tonemap: str, scale: float, *,
+        metering: str = DEFAULT_METERING, glare: str | None = DEFAULT_GLARE,
+        adaptation: float | None = None, compensation_ev: float = 0.0,
+    ):  # fmt: skip
+        """The 8-bit image (uint8 (H, W, 3), row 0 at the top) of a frame texture (GL rows,
+        e.g. :meth:`frame_texture`'s) at a fixed exposure ``scale`` (m^2/cd): glare, the
+        eye's colours (metering ``eye``) or night vision, the tone map and the overlays, as
+        :meth:`render` makes ``Frame.image`` (for time-lapses). With metering ``eye`` and an
+        ``adaptation`` luminance (cd/m^2, an adapting eye's), the exposure is the eye's key
+        of it over the mesopic adaptation luminance, as ``render`` chooses it (``scale`` is
+        then unused). :attr:`last_display_scale` holds the scale used (m^2/cd)."""
+        metering = check_metering(metering)
+        auto_key = None
+        if metering == "eye" and adaptation is not None:
+            auto_key = 2.0**compensation_ev * eye_key(adaptation)
+        image, self.last_display_scale = self._display_image(
+            source, state, camera, size, tonemap, scale, metering=metering,
+            glare=check_glare(glare), adaptation=adaptation, auto_key=auto_key,
+        )  # fmt: skip
+        return image
+
     def _display_image(
-        self, source, state, camera, size, tonemap: str, scale: float, measured: bool = False
-    ):
-        """The 8-bit image of a frame (a texture in GL rows, or the read-back frame):
-        night vision, tone map and overlays on the GPU, one read-back."""
+        self, source, state, camera, size, tonemap: str, scale: float, measured: bool = False,
+        *, metering: str = "average", glare: str = "off", adaptation: float | None = None,
+        auto_key: float | None = None,
+    ):  # fmt: skip
+        """The 8-bit image of a frame (a texture in GL rows, or the read-back frame), and
+        the exposure scale used: glare, night vision (or the eye's colours), tone map and
+        overlays on the GPU, one read-back. ``auto_key``: the exposure is ``auto_key`` over
+        the mesopic adaptation luminance the eye's pass measures (metering ``eye``)."""
 
         overlays = self._overlay_pass(state)
-        if not self.night_vision and overlays is None:
-            return gpu_tonemap(source, tonemap, scale, ctx=self.ctx)
+        eye = self.night_vision or metering == "eye"
+        if not eye and overlays is None and glare == "off":
+            return gpu_tonemap(source, tonemap, scale, ctx=self.ctx), scale
         owned = None
         if isinstance(source, np.ndarray):
             source = owned = upload_frame(self.ctx, source)
         try:
-            texture = self._eye(source, state, camera, size, measured=measured)
+            texture = self._glared(source, camera, size, glare)
+            if eye:
+                texture = self._eye(
+                    texture, state, camera, size, measured=measured, adaptation=adaptation,
+                    colour_only=not self.night_vision,
+                )  # fmt: skip
+                if auto_key is not None:
+                    nv = self._night_vision if self.night_vision else self._eye_colour
+                    scale = auto_key / nv.last_state["lmes"]
             draw = None if overlays is None else (lambda fbo, s: overlays.draw(fbo, camera, s))
-            return gpu_tonemap(texture, tonemap, scale, ctx=self.ctx, overlay=draw)
+            return gpu_tonemap(texture, tonemap, scale, ctx=self.ctx, overlay=draw), scale
         finally:
             if owned is not None:
                 owned.release()
 
-    def _exposure_scale(self, exposure, compensation_ev, texture, data) -> float | None:
+    def _glared(self, texture, camera, size, glare: str):
+        """``texture`` with the halo of ``glare`` (display.glare), or as it is when off or
+        for a cube map's strip or a direction map (their neighbouring pixels need not be
+        neighbours in the sky)."""
+        if glare == "off" or not isinstance(
+            camera, (PerspectiveCamera, FisheyeCamera, EquirectCamera)
+        ):
+            return texture
+        if self._glare is None:
+            self._glare = GpuGlare(self.ctx)
+        with self._section("glare"):
+            return self._glare.apply(
+                texture, size, pixel_angle_rad=camera.pixel_angle(*size), glare=glare
+            )
+
+    def _exposure_scale(
+        self, exposure, compensation_ev, texture, data, metering: str = "average"
+    ) -> tuple[float | None, float | None]:
+        """(exposure scale, metered luminance): the scale (m^2/cd, compensation included;
+        None without an exposure) and, for ``"auto"``, the frame's luminance (cd/m^2) under
+        ``metering`` (the whole frame's for ``eye``, whose key :func:`eye_key` follows it)."""
         if exposure is None:
-            return None
+            return None, None
         if isinstance(exposure, str):
             if exposure != "auto":
                 raise ParameterError(f"exposure {exposure!r} must be 'auto' or a scale in m^2/cd")
-
             if texture is None:  # several tiles: the same average over the read-back frame
-                return auto_exposure(data, compensation_ev=compensation_ev)
-            exposure_pass = self.exposure_pass()
-            exposure_pass.measure(texture)
-            return 2.0**compensation_ev * DEFAULT_KEY / exposure_pass.read()
-        return float(exposure) * 2.0**compensation_ev
+                lum = metered_luminance(data, metering)
+            else:
+                exposure_pass = self.exposure_pass()
+                exposure_pass.measure(texture, metering)
+                lum = exposure_pass.read()
+            key = eye_key(lum) if metering == "eye" else DEFAULT_KEY
+            return 2.0**compensation_ev * key / lum, lum
+        return float(exposure) * 2.0**compensation_ev, None
 
     def exposure_pass(self):
         if self._exposure is None:
@@ -520,6 +610,9 @@ class FrameGraph:
         measure: bool = False,
         read_back: bool = False,
         texture=None,
+        metering: str = DEFAULT_METERING,
+        glare: str | None = DEFAULT_GLARE,
+        adaptation: float | None = None,
     ) -> float | None:
         """Draw the frame into ``framebuffer`` (a moderngl framebuffer, e.g. a window's
         ``ctx.screen``), tone-mapped, with no read-back. ``size`` defaults to the
@@ -531,32 +624,49 @@ class FrameGraph:
         AUTO_EXPOSURE tone map (which costs a CPU rasterizer more than the read-back).
         ``texture``: the float frame of ``state`` and ``camera`` at this size, drawn already
         (:meth:`frame_texture`): only the post passes run (a viewer's static view shown at a
-        new exposure).
+        new exposure). ``metering`` and ``glare`` as in :meth:`render`: a metering other
+        than ``average`` reads the measure back (one texel). ``adaptation``: with metering
+        ``eye``, an adapting eye's luminance (cd/m^2): the exposure is then the eye's key of
+        it over the mesopic adaptation luminance (``exposure`` unused), as in
+        :meth:`display_image`.
         Returns the exposure scale used (m^2/cd) when it is known on the CPU, else None."""
-
+        metering = check_metering(metering)
+        glare = check_glare(glare)
         w, h = size or tuple(framebuffer.viewport[2:]) or framebuffer.size
         if texture is None:
             self.update(state)
             texture = self.draw_tile(camera, (w, h), (0, 0, w, h), altitude_m)
         if self._post is None:
             self._post = GpuToneMapper(self.ctx, quantize=False)
+        weighting = "average" if exposure != "auto" else metering
         if exposure == "auto" or measure:
             with self._section("exposure"):
-                self.exposure_pass().measure(texture)
+                self.exposure_pass().measure(texture, weighting)
         scale = None
-        if exposure == "auto" and read_back:
-            exposure = DEFAULT_KEY / self.exposure_pass().read()
-            measure = True  # the exposure pass holds this frame's average
+        adapted = adaptation if metering == "eye" else None
+        eye = self.night_vision or metering == "eye"
+        if exposure == "auto" and (read_back or metering != "average"):
+            adapted = self.exposure_pass().read()
+            key = eye_key(adapted) if metering == "eye" else DEFAULT_KEY
+            exposure = key / adapted
+            measure = weighting in ("average", "eye")  # the pass holds this frame's average
         with self._section("display"):
+            shown = self._glared(texture, camera, (w, h), glare)
+            if eye:
+                shown = self._eye(
+                    shown, state, camera, (w, h), measured=measure or exposure == "auto",
+                    adaptation=adapted, colour_only=not self.night_vision,
+                )  # fmt: skip
             if exposure == "auto":
                 key = 2.0**compensation_ev * DEFAULT_KEY
-                shown = self._eye(texture, state, camera, (w, h), measured=True)
                 self._post.draw(
                     shown, framebuffer, (w, h), tonemap, key, auto_exposure=self.exposure_pass()
                 )
             else:
                 scale = float(exposure) * 2.0**compensation_ev
-                shown = self._eye(texture, state, camera, (w, h), measured=measure)
+                if adapted is not None and metering == "eye":
+                    nv = self._night_vision if self.night_vision else self._eye_colour
+                    scale = 2.0**compensation_ev * eye_key(adapted) / nv.last_state["lmes"]
                 self._post.draw(shown, framebuffer, (w, h), tonemap, scale)
             overlays = self._overlay_pass(state)
             if overlays is not None:
@@ -588,22 +698,29 @@ class FrameGraph:
             self.overlays = names
 
     def _eye(
-        self, texture, state, camera: Camera, size: tuple[int, int], *, measured: bool = False
-    ):
-        """``texture`` through the night-vision pass when it is on (else as it is). The
-        adaptation is the frame's own log-average luminance, measured on the GPU (already,
+        self, texture, state, camera: Camera, size: tuple[int, int], *, measured: bool = False,
+        adaptation: float | None = None, colour_only: bool = False,
+    ):  # fmt: skip
+        """``texture`` through the night-vision pass (``colour_only``: its mesopic colours
+        alone, no blur or noise: the eye metering's). The adaptation is ``adaptation``
+        (cd/m^2) or the frame's own log-average luminance, measured on the GPU (already,
         when ``measured``: the exposure pass holds this texture's average)."""
-        if not self.night_vision:
-            return texture
-
-        if self._night_vision is None:
-            self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
+        if colour_only:
+            if self._eye_colour is None:
+                self._eye_colour = NightVision(self.ctx, noise=False, acuity=False)
+            nv = self._eye_colour
+        else:
+            if self._night_vision is None:
+                self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
+            nv = self._night_vision
         meter = self.exposure_pass()
-        if not measured:
+        if adaptation is not None:
+            meter = adaptation
+        elif not measured:
             meter.measure(texture)
         # Seconds of the UTC day: drives the temporal noise (same time, same image).
         time_s = 0.0 if state.time is None else float(state.time.jd_utc - 0.5) % 1.0 * 86400.0
-        return self._night_vision.apply(
+        return nv.apply(
             texture,
             size,
             pixel_angle_rad=camera.pixel_angle(*size),
@@ -632,12 +749,15 @@ class FrameGraph:
             self._post,
             self._exposure,
             self._night_vision,
+            self._eye_colour,
+            self._glare,
             self._overlays,
             self._smooth_pass,
         ):
             if obj is not None:
                 obj.release()
         self._post = self._exposure = self._night_vision = self._overlays = None
+        self._eye_colour = self._glare = None
         self._smooth_pass = None
         for layer in self.layers:
             layer.release()

@@ -21,6 +21,10 @@ from skydome.celestial.moon_albedo import moon_spectral_albedo
 from skydome.core.lights import Light, MoonView, SkyState
 from skydome.errors import ParameterError, check_range
 from skydome.physics.constants import AU_KM, STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C
+from skydome.scene.eclipses import lunar_eclipse_view, solar_eclipse_view
+
+#: Wavelengths (nm) of the umbra's refracted light in a lunar eclipse's state.
+UMBRA_WAVELENGTHS_NM = np.arange(380.0, 781.0, 10.0)
 
 __all__ = ["Light", "MoonView", "SkyState", "abstract_state", "state_at", "state_series"]
 
@@ -80,6 +84,7 @@ def state_series(observer, times) -> list[SkyState]:
         t, lat, math.radians(float(observer.longitude)), float(observer.elevation_m)
     )
     pole = np.array([0.0, math.cos(lat), math.sin(lat)])  # the true pole of date in ENU
+    earth_km = _earth_centre_enu_km(observer)
     out = []
     for i in range(t.shape[0]):
         sun = _light("sun", s.enu[i], s.enu_unrefracted[i], s.distance_km[i], s.illuminance_lux[i])
@@ -108,6 +113,8 @@ def state_series(observer, times) -> list[SkyState]:
                 sun=sun,
                 moon=moon,
                 moon_view=view,
+                solar_eclipse=solar_eclipse_view(sun, moon),
+                lunar_eclipse=lunar_eclipse_view(sun, moon, earth_km, UMBRA_WAVELENGTHS_NM),
                 time=Time(t.jd_utc[i], t.jd_ut1[i], t.jd_tt[i]),
                 observer=observer,
                 pressure_hPa=float(observer.pressure_hPa),
@@ -115,6 +122,16 @@ def state_series(observer, times) -> list[SkyState]:
             )
         )
     return out
+
+
+def _earth_centre_enu_km(observer) -> np.ndarray:
+    """The Earth's centre seen from the observer: ENU components, km (WGS84)."""
+    lat, lon = math.radians(float(observer.latitude)), math.radians(float(observer.longitude))
+    r = frames.geodetic_to_geocentric_km(lat, lon, float(observer.elevation_m))
+    e = np.array([-math.sin(lon), math.cos(lon), 0.0])
+    n = np.array([-math.sin(lat) * math.cos(lon), -math.sin(lat) * math.sin(lon), math.cos(lat)])
+    u = np.array([math.cos(lat) * math.cos(lon), math.cos(lat) * math.sin(lon), math.sin(lat)])
+    return -np.array([r @ e, r @ n, r @ u])
 
 
 def _light(name: str, enu, enu_true, distance_km, illuminance_lux) -> Light:

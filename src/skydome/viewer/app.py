@@ -264,20 +264,32 @@ class ViewerWindow:
             self.set_vsync(scene.controls.state.vsync)
         screen = self.ctx.screen
         screen.use()
+        window_size = size
+        if self.panel is not None:
+            # the picture beside a docked panel (its left part: GL's origin is the corner)
+            size = (self.panel.picture_width(size[0], self.window_size()[0]), size[1])
+            if size != window_size:
+                screen.viewport = (0, 0, *window_size)
+                screen.clear(0.0, 0.0, 0.0, 1.0)
         screen.viewport = (0, 0, *size)
         with timer.cpu("sky"):
             scene.draw(screen, size, dt_s)
         pixels = None
         asked = self.panel is not None and self.panel.screenshot_requested
-        if screenshot or asked:
+        with_panel = asked and self.panel.screenshot_with_panel
+        if screenshot or (asked and not with_panel):
             from skydome.viewer.screenshot import read_screen
 
             pixels = read_screen(screen, size)
-        if asked:
-            self._panel_screenshot(pixels)
         if self.panel is not None:
             with timer.cpu("panel"), timer.section("panel"):
-                self.panel.render(size)
+                self.panel.render(window_size)
+        if with_panel:
+            from skydome.viewer.screenshot import read_screen
+
+            self._panel_screenshot(read_screen(screen, window_size))
+        elif asked:
+            self._panel_screenshot(pixels)
         with timer.cpu("swap"):
             self.glfw.swap_buffers(self.window)
         return pixels
@@ -346,7 +358,7 @@ class ViewerWindow:
                 shot = self.frame(dt, screenshot=bool(screenshot) and is_last)
                 if shot is not None:
                     pixels = shot
-                self.timer.end_frame()
+                self.timer.end_frame(redrawn=getattr(scene, "redrew", True))
                 self.check_context()
                 i += 1
         except GLError:

@@ -41,6 +41,13 @@ class FrameTimer:
         self._cpu_now: dict[str, float] = {}
         self._t_frame: float | None = None
         self._active = False
+        #: Frame times (ms) of the frames that drew the sky anew (not a kept frame shown
+        #: again): what the view costs while it moves.
+        self.redraw_ms: deque[float] = deque(maxlen=self.window)
+        self._redrawn = False
+        #: Frames ended, and of them those that drew the sky anew, since the start.
+        self.frames = 0
+        self.redraws = 0
 
     # ------------------------------------------------------------------ frames
 
@@ -48,13 +55,21 @@ class FrameTimer:
         """Start a frame (the time between two begins is the frame time)."""
         now = time.perf_counter()
         if self._t_frame is not None:
-            self.frame_ms.append((now - self._t_frame) * 1e3)
+            ms = (now - self._t_frame) * 1e3
+            self.frame_ms.append(ms)
+            if self._redrawn:
+                self.redraw_ms.append(ms)
         self._t_frame = now
+        self._redrawn = False
         self._used = []
         self._cpu_now = {}
 
-    def end_frame(self) -> None:
-        """Read this frame's GPU queries and keep the CPU stages' times."""
+    def end_frame(self, redrawn: bool = True) -> None:
+        """Read this frame's GPU queries and keep the CPU stages' times; ``redrawn``: the
+        frame drew the sky anew (False: it showed a kept frame again)."""
+        self._redrawn = bool(redrawn)
+        self.frames += 1
+        self.redraws += self._redrawn
         for name, ms in self._cpu_now.items():
             self.cpu_ms.setdefault(name, deque(maxlen=self.window)).append(ms)
         if self.gpu:
@@ -113,8 +128,19 @@ class FrameTimer:
         return statistics.median(self.frame_ms) if self.frame_ms else None
 
     def fps(self) -> float | None:
-        """Frames per second from the median frame time."""
+        """Frames per second from the median frame time (every frame of the loop, kept
+        frames shown again included)."""
         ms = self.median_frame_ms()
+        return None if not ms else 1e3 / ms
+
+    def median_redraw_ms(self) -> float | None:
+        """The median time (ms) of the frames that drew the sky anew, None before one."""
+        return statistics.median(self.redraw_ms) if self.redraw_ms else None
+
+    def drawn_fps(self) -> float | None:
+        """Drawn frames per second: 1000 / the median redraw time (what a moving view
+        gets), None while no frame of the window drew the sky anew."""
+        ms = self.median_redraw_ms()
         return None if not ms else 1e3 / ms
 
     def report(self) -> dict[str, dict[str, float]]:

@@ -24,6 +24,7 @@ from datetime import datetime, timezone
 from skydome.astro.places import search
 from skydome.astro.time import Time, to_time
 from skydome.atmosphere.presets import PRESETS
+from skydome.clouds import PRESETS as CLOUD_PRESETS
 from skydome.display import TONEMAPS
 from skydome.display.overlays import OVERLAYS
 from skydome.sky import Sky
@@ -50,9 +51,12 @@ from skydome.weather import Weather
 #: The panel has started no change of the weather.
 _NO_WEATHER_CHANGE = object()
 
-#: Panel width (window units) and where it sits.
+#: Panel width (window units) and where it sits in a narrow window (over the picture).
 PANEL_WIDTH = 340.0
 PANEL_POS = (10.0, 10.0)
+#: Windows at least this wide (window units) dock the panel at the right edge and draw the
+#: picture beside it (the panel never covers it); narrower ones float it over the picture.
+DOCK_MIN_WIDTH = 2.0 * PANEL_WIDTH
 
 
 class Panel:
@@ -121,10 +125,23 @@ class Panel:
         self.platform.new_frame(dt_s)
         imgui.new_frame()
         self.rects = {}
-        imgui.set_next_window_pos(imgui.ImVec2(*PANEL_POS), imgui.Cond_.first_use_ever)
-        height = max(imgui.get_io().display_size.y - 2.0 * PANEL_POS[1], 100.0)
-        imgui.set_next_window_size(imgui.ImVec2(PANEL_WIDTH, height), imgui.Cond_.first_use_ever)
-        imgui.begin("skydome")
+        display = imgui.get_io().display_size
+        flags = 0
+        if self.docked(display.x):
+            # a column at the right edge, the full height: the picture takes the rest
+            imgui.set_next_window_pos(
+                imgui.ImVec2(display.x - PANEL_WIDTH, 0.0), imgui.Cond_.always
+            )
+            imgui.set_next_window_size(imgui.ImVec2(PANEL_WIDTH, display.y), imgui.Cond_.always)
+            flags = int(imgui.WindowFlags_.no_move) | int(imgui.WindowFlags_.no_resize)
+        else:
+            imgui.set_next_window_pos(imgui.ImVec2(*PANEL_POS), imgui.Cond_.first_use_ever)
+            height = max(display.y - 2.0 * PANEL_POS[1], 100.0)
+            imgui.set_next_window_size(
+                imgui.ImVec2(PANEL_WIDTH, height), imgui.Cond_.first_use_ever
+            )
+        expanded, _ = imgui.begin("skydome", None, flags)
+        self.collapsed = not expanded
         try:
             self._status(scene, timer)
             if self._header("Time", open_=True):
@@ -137,6 +154,7 @@ class Panel:
                 self._atmosphere(scene)
             if self._header("Weather"):
                 self._weather(scene)
+                self._clouds_and_city(scene)
             if self._header("Display"):
                 self._display(scene)
             if self._header("Frame times"):
@@ -147,6 +165,25 @@ class Panel:
             imgui.end()
         imgui.render()
         self._drawn = True
+
+    @staticmethod
+    def docked(window_width: float) -> bool:
+        """Whether a window ``window_width`` units wide docks the panel at its right edge."""
+        return window_width >= DOCK_MIN_WIDTH
+
+    def picture_width(self, framebuffer_width: int, window_width: int) -> int:
+        """The picture's width (framebuffer pixels) beside the docked panel: the framebuffer
+        less the panel's column (scaled to pixels on a high-DPI screen), or all of it when
+        the panel floats or is collapsed to its title bar."""
+        if not self.docked(window_width) or self.collapsed:
+            return int(framebuffer_width)
+        scale = framebuffer_width / max(window_width, 1)
+        return max(int(framebuffer_width - round(PANEL_WIDTH * scale)), 1)
+
+    #: The panel was collapsed to its title bar at the last layout.
+    collapsed = False
+    #: Screenshots from the panel's button include the panel (else the picture alone).
+    screenshot_with_panel = False
 
     def render(self, size: tuple[int, int]) -> None:
         """Draw the panel laid out by :meth:`build` over the frame."""
@@ -192,11 +229,10 @@ class Panel:
 
     def _status(self, scene, timer) -> None:
         imgui = self.imgui
-        fps = timer.fps()
         s = scene.controls.state
         sky = scene.sky()
         sun = sky.state.sun
-        line = f"{fps:.1f} fps" if fps else "-- fps"
+        line = redraw_line(timer, getattr(scene, "redrew", True))
         line += f"   Sun {sun.elevation_deg:+.1f} deg"
         if sky.state.moon is not None:
             line += f"   Moon {sky.state.moon.elevation_deg:+.1f} deg"
@@ -318,6 +354,7 @@ class Panel:
                 )
                 self.search_results = []
                 self.search_text = p.label
+                scene.aim_at_light()  # a new place: its Sun (or Moon) in view
 
     def _camera(self, scene) -> None:
         imgui = self.imgui
@@ -383,7 +420,8 @@ class Panel:
             ("rayleigh_scale", "Rayleigh scale", "%.2f"),
         ):
             lo, hi = KNOB_RANGES[field]
-            changed, v = imgui.slider_float(label, getattr(k, field), lo, hi, fmt, _clamp(imgui))
+            flags = _clamp(imgui) | (_logarithmic(imgui) if field == "aod_550" else 0)
+            changed, v = imgui.slider_float(label, getattr(k, field), lo, hi, fmt, flags)
             if changed:
                 values[field] = v
             if imgui.is_item_deactivated_after_edit():
@@ -413,7 +451,8 @@ class Panel:
             ("rain_mm_h", "rain", w.rain_mm_h, 0.0, 50.0, "%.1f mm/h"),
             ("snow_mm_h", "snow", w.snow_mm_h, 0.0, 10.0, "%.1f mm/h"),
         ):
-            moved, v = imgui.slider_float(label, value, lo, hi, fmt, _clamp(imgui))
+            flags = _clamp(imgui) | (_logarithmic(imgui) if field == "visibility_km" else 0)
+            moved, v = imgui.slider_float(label, value, lo, hi, fmt, flags)
             if moved:
                 values[field] = v
             if imgui.is_item_deactivated_after_edit():
@@ -425,6 +464,46 @@ class Panel:
                 self.message = f"weather: {exc}"
         if edited:
             self._start_weather(scene, self.weather)
+
+    def _clouds_and_city(self, scene) -> None:
+        """The clouds (a preset, or none) and the city's light (a Bortle class, 0: none): a
+        change builds the sky with it at once (neither needs new air tables; a cloud
+        preset's noise comes from the disk cache, or is drawn the first time)."""
+        imgui = self.imgui
+        description = scene.base.description
+        names = ["none", *CLOUD_PRESETS]
+        clouds = description.clouds
+        current = names.index(clouds.preset) if clouds is not None and clouds.preset in names else 0
+        changed, i = self._combo("clouds", current, names, "clouds")
+        if changed and i != current:
+            self._rebuild_with(scene, "clouds", clouds=None if i == 0 else names[i])
+        if description.abstract:
+            return
+        lp = description.light_pollution
+        bortle = lp if isinstance(lp, int) else 0
+        moved, value = imgui.slider_int("Bortle (0: none)", bortle, 0, 9, "%d", _clamp(imgui))
+        self._mark("bortle", frame=True)
+        if moved:
+            self._bortle = value
+        if imgui.is_item_deactivated_after_edit() and self._bortle is not None:
+            value, self._bortle = self._bortle, None
+            self._rebuild_with(scene, "light pollution", light_pollution=value or None)
+
+    #: A Bortle class being dragged on its slider (applied on release).
+    _bortle: int | None = None
+
+    def _rebuild_with(self, scene, what: str, **changes) -> None:
+        """Build the sky with ``changes`` to its description and show it (the display
+        settings kept); on a failure the old sky stays and the panel says why."""
+        base = scene.base
+        try:
+            sky = Sky(base.description.with_(**changes), ctx=base.graph.ctx)
+            sky.graph.set_display(night_vision=base.night_vision, overlays=base.overlays)
+        except Exception as exc:  # a change this sky cannot have: said, the old one stays
+            self.message = f"{what}: {exc}"
+            return
+        scene.replace_sky(sky)
+        self.message = ""
 
     def _start_weather(self, scene, weather) -> None:
         """Start building the sky with ``weather``: its air's tables in the background."""
@@ -531,6 +610,8 @@ class Panel:
         if imgui.button("screenshot (PNG + EXR)"):
             self.screenshot_requested = _time.strftime("skydome-%Y%m%d-%H%M%S")
         self._mark("screenshot")
+        _, self.screenshot_with_panel = imgui.checkbox("with the panel", self.screenshot_with_panel)
+        self._mark("screenshot_with_panel")
 
     screenshot_requested: str | None = None
 
@@ -545,3 +626,21 @@ class Panel:
 def _clamp(imgui) -> int:
     """Slider flags that hold typed-in values inside the range."""
     return int(imgui.SliderFlags_.always_clamp)
+
+
+def _logarithmic(imgui) -> int:
+    """Slider flags for a quantity that spans decades (the aerosol's optical depth, 0-5,
+    matters most below 0.3; the visibility, 0.05-50 km): even steps of its logarithm."""
+    return int(imgui.SliderFlags_.logarithmic)
+
+
+def redraw_line(timer, redrawing: bool) -> str:
+    """The panel's speed readout: drawn frames per second and the median ms per redraw
+    while the view changes; "still" with the last redraws' ms while a kept frame is shown
+    (showing it again costs a copy, not a frame)."""
+    ms = timer.median_redraw_ms()
+    if ms is None:
+        return "-- fps"
+    if redrawing:
+        return f"{1e3 / ms:.1f} fps drawn ({ms:.0f} ms per redraw)"
+    return f"still (a redraw takes {ms:.0f} ms)"

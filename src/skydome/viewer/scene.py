@@ -72,7 +72,10 @@ class ViewerScene:
 
         self.base = sky
         self.controls = controls or Controls(initial_state(sky))
-        self.eye = EyeAdaptation()
+        self.eye = EyeAdaptation(key="eye")
+        #: Metering and glare of the frames (``Sky.render``'s): the command line's flags.
+        self.metering = "eye"
+        self.glare = "eye"
         self._key: tuple | None = None
         self._sky: Sky | None = None
         self._observer_key: tuple | None = None
@@ -165,10 +168,10 @@ class ViewerScene:
                 return False
         return True
 
-    def _aim(self, sky: Sky, look: str) -> None:
+    def _aim(self, sky: Sky, look: str, min_pitch_deg: float = -90.0) -> None:
         light = sky.state.sun if look == "sun" else sky.state.moon
         if light is not None:
-            self.controls.look_at(light.elevation_deg, light.azimuth_deg)
+            self.controls.look_at(max(light.elevation_deg, min_pitch_deg), light.azimuth_deg)
 
     def look_at(self, body: str) -> None:
         """Aim the camera at the Sun or the Moon ("sun" or "moon") of the current time."""
@@ -187,7 +190,19 @@ class ViewerScene:
         if jd is None:
             return False
         self.controls.set(jd_utc=jd)
+        # the camera turns to the event: the Sun rising or setting, the Moon (a full Moon
+        # below the horizon: its azimuth, the horizon in view)
+        self._aim(self.sky(), "sun" if kind.startswith("sun") else "moon", min_pitch_deg=2.0)
         return True
+
+    def aim_at_light(self) -> None:
+        """Turn the camera to what lights the sky at a new place: the Sun down to 12 deg
+        below the horizon (its twilight), else the Moon when it is up; else leave it."""
+        sky = self.sky()
+        if sky.state.sun.elevation_deg > -12.0:
+            self._aim(sky, "sun", min_pitch_deg=2.0)
+        elif sky.state.moon is not None and sky.state.moon.elevation_deg > 0.0:
+            self._aim(sky, "moon")
 
     def altitude_m(self) -> float:
         """The camera's altitude above the ground (m) in use."""
@@ -240,6 +255,8 @@ class ViewerScene:
                 cache.release()
             cache = self._cache = FrameCache(graph.ctx)
         moved = not cache.holds_view(graph, sky.state, view, size)
+        #: Whether this frame drew the sky anew (the frame timer's drawn frames).
+        self.redrew = moved
         if moved:
             texture = graph.frame_texture(
                 sky.state, s.camera(), *size, altitude_m=self.altitude_m()
@@ -261,6 +278,9 @@ class ViewerScene:
                 measure=adapt,
                 read_back=True,
                 texture=cache.texture,
+                metering=self.metering,
+                glare=self.glare,
+                adaptation=self.eye.adapted_luminance if adapt else None,
             )
             luminance = graph.exposure_pass().read() if adapt else None
             cache.keep_display(display, exposure, scale, luminance, graph, kept=not moved)
@@ -291,6 +311,8 @@ class ViewerScene:
             exposure=exposure,
             compensation_ev=comp,
             tonemap=s.tonemap if tonemap else None,
+            metering=self.metering,
+            glare=self.glare,
         )
 
     # ------------------------------------------------------------------ atmosphere

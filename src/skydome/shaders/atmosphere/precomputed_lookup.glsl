@@ -76,6 +76,28 @@ float sun_visible_fraction(float r, float mu_s) {
     return smoothstep(-a, a, mu_s - cos_h);
 }
 
+// Orders >= 2 from the log-stored table at table coordinates uvwz (interpolated in the log).
+vec4 multiple_scattering_at(vec4 uvwz) {
+    return exp(u_multiple_scattering_log_range.x + u_multiple_scattering_log_range.y
+               * sample_scattering(u_multiple_scattering_texture, uvwz, u_multiple_scattering_size, 0, 1));
+}
+
+// The same for a ray that hits the ground, interpolated linearly (not in the log) between its
+// two nearest r layers. The bottom layer's ground rays have zero length and hold no light, so
+// a log interpolation from it darkens every ground ray of a camera near the ground by orders
+// of magnitude: at dusk, when the ground-level air is lit by the sky alone, the air in front
+// of the ground went black and the ground below the horizon showed a dark band.
+vec4 multiple_scattering_linear_in_r(vec4 uvwz) {
+    float n = u_multiple_scattering_size.w;
+    if (n < 2.0) return multiple_scattering_at(uvwz);
+    float layer = uvwz.w * n - 0.5;
+    float l0 = clamp(floor(layer), 0.0, n - 2.0);
+    float f = clamp(layer - l0, 0.0, 1.0);
+    vec4 a = multiple_scattering_at(vec4(uvwz.xyz, (l0 + 0.5) / n));
+    vec4 b = multiple_scattering_at(vec4(uvwz.xyz, (l0 + 1.5) / n));
+    return mix(a, b, f);
+}
+
 // Rayleigh + orders >= 2 (both / P_R) and single Mie scattering (/ P_M) at (r, mu, mu_s, nu)
 // (Bruneton 2017 GetCombinedScattering), (R, G, B, scotopic).
 vec4 combined_scattering(float r, float mu, float mu_s, float nu, bool hits_ground,
@@ -86,9 +108,8 @@ vec4 combined_scattering(float r, float mu, float mu_s, float nu, bool hits_grou
     single_mie = sample_scattering(u_single_mie_texture, uvwz, u_scattering_size, 0, 1) * F.y;
     vec4 rayleigh = sample_scattering(u_scattering_texture, uvwz, u_scattering_size, 0, 1) * F.x;
     vec4 uvwz_ms = scattering_uvwz(r, mu, mu_s, nu, hits_ground, u_multiple_scattering_size, true);
-    vec4 ms = exp(u_multiple_scattering_log_range.x + u_multiple_scattering_log_range.y
-                  * sample_scattering(u_multiple_scattering_texture, uvwz_ms,
-                                      u_multiple_scattering_size, 0, 1));
+    vec4 ms = hits_ground ? multiple_scattering_linear_in_r(uvwz_ms)
+                          : multiple_scattering_at(uvwz_ms);
     return rayleigh + u_table_to_output * ms * (k / rayleigh_phase(nu));
 }
 

@@ -25,6 +25,9 @@ uniform sampler2D u_depth_map;     // distance to the user's scene along each ra
 layout(location = 1) out vec4 frag_transmittance;
 #endif
 layout(location = 0) out vec4 frag;
+#ifdef HAS_ECLIPSE
+#include "atmosphere/eclipse_sky.glsl"
+#endif
 #ifdef COMPOSITE_BEHIND
 #include "common/behind.glsl"
 const bool DRAW_DISK = false;
@@ -107,6 +110,13 @@ void main() {
     vec3 column;
     frag = u_sun_scale * sky_radiance(u_camera_position, dir, shadow_start > 0.0 ? 0.0 : shadow_length,
                                       u_sun_direction, column);
+#ifdef HAS_ECLIPSE
+    // a solar eclipse: the uneclipsed Sun's sky, weighted by the sunlit part of the ray
+    // (u_sun_scale is the eclipsed Sun's: 0 in totality)
+    frag = u_eclipse_sky_scale * eclipse_sky_weight(length(u_camera_position), dir, u_sun_direction)
+         * sky_radiance(u_camera_position, dir, shadow_start > 0.0 ? 0.0 : shadow_length,
+                        u_sun_direction, column);
+#endif
 #ifdef HAS_SHADOW_MAP
     // a shadow away from the camera (the clouds' shafts): the air between its start and end
     // scatters no sunlight: its aerial perspective there taken off

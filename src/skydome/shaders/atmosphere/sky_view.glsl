@@ -45,6 +45,9 @@ layout(location = 0) out vec4 frag;
 uniform sampler2D u_depth_map;  // distance to the user's scene along each ray, km (<= 0: none)
 layout(location = 1) out vec4 frag_transmittance;
 #endif
+#ifdef HAS_ECLIPSE
+#include "atmosphere/eclipse_sky.glsl"
+#endif
 
 // The sky from a light's tables: `unit` = sky_view_unit of the pixel for that light, nu the
 // cosine of the angle between the view and the light.
@@ -82,7 +85,13 @@ void main() {
     // The table coordinates and phase angle of each light, computed once for all its tables.
     vec3 sun_unit = sky_view_unit(azimuth_from_light(dir, u_sun_direction), dir.z, hits_ground);
     float sun_nu = dot(dir, u_sun_direction);
+#ifdef HAS_ECLIPSE
+    // a solar eclipse: the uneclipsed Sun's sky, weighted by the sunlit part of the ray
+    frag = u_eclipse_sky_scale * eclipse_sky_weight(r, dir, u_sun_direction)
+         * sky_from_table(u_sun_scattering, u_sun_single_mie, sun_unit, sun_nu);
+#else
     frag = u_sun_scale * sky_from_table(u_sun_scattering, u_sun_single_mie, sun_unit, sun_nu);
+#endif
 #if defined(HAS_DEPTH_MAP) || defined(HAS_SHADOW_MAP)
     float ray_length_km = ray_length(r, dir.z, hits_ground);
 #endif

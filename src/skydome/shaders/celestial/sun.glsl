@@ -13,7 +13,21 @@ uniform mat4 u_spectral_to_rgbs[NUM_GROUPS];
 // I(mu)/I(1) = sum_k A_k mu^k; A_k of the 4 wavelengths of group g in u_limb[6 g + k].
 uniform vec4 u_limb[6 * NUM_GROUPS];
 uniform vec4 u_limb_norm[NUM_GROUPS];  // 1 / integral of I/I(1) over the disk, 1/sr
+// A solar eclipse (skydome.astro.eclipses): the Moon's disk hides what lies behind it, and
+// the corona shows around the Sun: the K+F corona's radial profile of Baumbach (1937; Allen's
+// Astrophysical Quantities, 4th ed., sec. 14.4), in units of the disk's mean radiance
+//     B(rho) = 1e-6 (0.0532 rho^-2.5 + 1.425 rho^-7 + 2.565 rho^-17),
+// rho the distance from the Sun's centre in solar radii, white (Thomson scattering keeps the
+// photosphere's spectrum). u_moon_sin_radius = 0: no Moon in front (then no corona).
+uniform vec3 u_moon_direction_true;
+uniform float u_moon_sin_radius;
+uniform float u_corona_scale;        // 1 / the disk's solid angle (sr^-1), 0 without eclipse
 out vec4 frag;
+
+// twin: skydome.astro.eclipses.baumbach_corona(rho) rho=1..6 CAMERA_MODEL=0 NUM_GROUPS=2
+float baumbach_corona(float rho) {
+    return 1e-6 * (0.0532 * pow(rho, -2.5) + 1.425 * pow(rho, -7.0) + 2.565 * pow(rho, -17.0));
+}
 
 // I(mu)/I(1) of the 4 wavelengths of group g at mu, the cosine of the heliocentric angle
 // (Horner's scheme).
@@ -27,7 +41,17 @@ vec4 limb_darkening(int g, float mu) {
 void main() {
     frag = vec4(0.0);
     vec3 true_dir;
-    if (!pixel_sees_sphere(gl_FragCoord.xy, u_sun_direction_true, u_sin_angular_radius, true_dir)) return;
+    if (!pixel_sees_sphere(gl_FragCoord.xy, u_sun_direction_true, u_sin_angular_radius, true_dir)) {
+        if (u_corona_scale <= 0.0 || dot(true_dir, u_sun_direction_true) <= 0.0) return;
+        if (ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return;
+        float rho_c = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
+        if (rho_c > 6.0) return;
+        for (int g = 0; g < NUM_GROUPS; ++g)
+            frag += u_spectral_to_rgbs[g] * vec4(1.0);
+        frag *= u_sun_scale * u_corona_scale * baumbach_corona(rho_c);
+        return;
+    }
+    if (u_moon_sin_radius > 0.0 && ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return;
     // Heliocentric angle: sin(psi) = sin(theta) / sin(alpha) (exact for a sphere).
     float rho = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
     float mu = sqrt(max(1.0 - rho * rho, 0.0));

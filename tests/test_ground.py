@@ -1,0 +1,130 @@
+"""What lies below the horizon (`Sky(ground=...)`, `--ground none|black|ALBEDO`), and the air
+in front of the ground at dusk (the sky-view tables' ground rays: no dark band)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from skydome.atmosphere.ground import dip_sin, ground_albedo, parse_ground
+from skydome.errors import ParameterError
+from tests.cli_helpers import run_cli
+
+PARIS_DUSK = {"place": "paris", "time": "2024-07-05T20:30Z"}  # the Sun 4.5 deg down
+CAMERA_M = 36.7  # Paris's 35 m and the standing eye (Sky.altitude_m)
+
+
+def column_dirs(azimuth_deg: float, elevations_deg) -> np.ndarray:
+    a = math.radians(azimuth_deg)
+    e = np.radians(np.asarray(elevations_deg, dtype=np.float64))
+    return np.stack([np.sin(a) * np.cos(e), np.cos(a) * np.cos(e), np.sin(e)], axis=1)
+
+
+def luminance_along(sky, dirs: np.ndarray) -> np.ndarray:
+    from skydome.core.cameras import DirectionsCamera
+
+    frame = sky.render(DirectionsCamera(dirs), 0, 0, exposure=None)
+    return np.asarray(frame.data[..., 1], dtype=np.float64).ravel()
+
+
+def test_ground_settings_are_parsed():
+    assert parse_ground(None) is None
+    assert parse_ground(" Black ") == "black" and parse_ground("none") == "none"
+    assert parse_ground("0.2") == 0.2 and parse_ground(0) == 0.0
+    assert ground_albedo("none") == 0.0 and ground_albedo(0.25) == 0.25
+    assert ground_albedo("black") is None and ground_albedo(None) is None
+    for bad in ("grass", 1.5, -0.1, float("nan"), True, "0.2.1"):
+        with pytest.raises(ParameterError, match="ground"):
+            parse_ground(bad)
+
+
+def test_dip_is_the_horizon_of_the_sphere():
+    # from 36.7 m above a 6371 km sphere the horizon lies 0.1945 deg down (sqrt(2h/R) rad,
+    # the textbook geometric dip), and a ray at that elevation grazes the sphere
+    s = dip_sin(CAMERA_M, 6_371_000.0)
+    assert math.degrees(math.asin(s)) == pytest.approx(
+        math.degrees(math.sqrt(2 * CAMERA_M / 6_371_000.0)), rel=1e-4
+    )
+
+
+@pytest.mark.gl
+def test_black_ground_zeroes_below_the_horizon_and_keeps_the_sky():
+    # every ray below the camera's horizon is exactly 0; every ray above it is the default
+    # sky's to the bit (the layer passes what lies behind through)
+    from skydome import Sky
+
+    elevations = np.concatenate([np.linspace(-89.0, -0.25, 40), np.linspace(-0.14, 89.0, 40)])
+    dirs = column_dirs(300.0, elevations)
+    with Sky(**PARIS_DUSK) as sky:
+        plain = luminance_along(sky, dirs)
+    with Sky(ground="black", **PARIS_DUSK) as sky:
+        black = luminance_along(sky, dirs)
+    below = elevations < -0.2
+    assert np.all(black[below] == 0.0) and np.all(plain[below] > 0.0)
+    assert np.array_equal(black[~below], plain[~below])
+
+
+@pytest.mark.gl
+def test_albedo_ground_is_the_atmosphere_with_that_albedo():
+    from skydome import Sky
+    from skydome.atmosphere import preset
+
+    dirs = column_dirs(120.0, [-30.0, -5.0, -1.0, 5.0, 45.0])
+    where = {"sun_elevation_deg": 25.0}
+    with Sky(ground=0.1, **where) as sky:
+        got = luminance_along(sky, dirs)
+    with Sky(atmosphere=preset("earth").with_albedo(0.1), **where) as sky:
+        want = luminance_along(sky, dirs)
+    assert np.array_equal(got, want)
+
+
+@pytest.mark.gl
+def test_air_in_front_of_the_ground_at_dusk():
+    # At dusk the ground-level air is lit by the sky alone. Looking 0.25-3 deg down from 37 m
+    # the ground is 0.7-20 km away, a path whose extinction (0.01 /km of air and the
+    # aerosol's ~0.1 /km) takes 1-T ~ 10-85 % of the light: with a ground that reflects
+    # nothing (ground="none") the air there still glows with a sizeable share of the horizon
+    # sky's light (measured 23 % just below the horizon), brightening towards the horizon.
+    # The bottom row of the tables' ground rays holds zero-length rays: interpolated in the
+    # logarithm, it made this air black (0.0 exactly) and the lit ground below the horizon
+    # a dark band.
+    from skydome import Sky
+
+    below = np.array([-3.0, -2.0, -1.0, -0.6, -0.4, -0.3, -0.25])
+    dirs = column_dirs(305.0, np.concatenate([below, [0.3]]))
+    with Sky(ground="none", **PARIS_DUSK) as sky:
+        air = luminance_along(sky, dirs)
+    horizon_sky = air[-1]
+    assert 0.1 <= air[len(below) - 1] / horizon_sky <= 1.0, air / horizon_sky
+    assert np.all(np.diff(air[: len(below)]) > 0.0), air
+    with Sky(**PARIS_DUSK) as sky:
+        lit = luminance_along(sky, dirs)
+    # the lit ground (albedo 0.3) adds its light: brighter than the air alone, and no band
+    # darker than the ground further down (the ground seen through the air tends to the
+    # air's own glow towards the horizon)
+    assert np.all(lit[: len(below)] > air[: len(below)])
+    assert lit[len(below) - 1] >= 0.99 * lit[: len(below)].min(), lit
+
+
+@pytest.mark.gl
+def test_cli_ground(tmp_path):
+    from skydome.io.exr import read_exr
+
+    # the HDR map (the display image may carry the Sun's glare below the horizon)
+    out = tmp_path / "env.exr"
+    r = run_cli("render", "--sun-elevation", "10", "--camera", "equirect", "--ground", "black",
+                "--size", "64x32", "-o", str(out))  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    hdr = read_exr(out)
+    hdr = np.asarray(hdr[0] if isinstance(hdr, tuple) else hdr)
+    assert hdr[17:].max() == 0.0 and hdr[:15, :, :3].min() > 0.0  # the lower half black
+    for args, words in (
+        (("--ground", "grass"), "--ground grass must be none, black or an albedo"),
+        (("--ground", "0.2", "--albedo", "0.2"), "--ground and --albedo"),
+    ):
+        bad = tmp_path / "bad.png"
+        r = run_cli("render", "--sun-elevation", "10", *args, "--size", "32x18", "-o", str(bad))
+        assert r.returncode == 2 and not bad.exists(), r.stderr
+        assert len(r.stderr.strip().splitlines()) == 1 and words in r.stderr, r.stderr
