@@ -73,7 +73,7 @@ test-fast: $(DEV_STAMP)
 gallery: $(STAMP)
 	$(PY) tools/make_gallery.py && $(PY) tools/make_gallery.py --model single
 	$(PY) tools/make_gallery.py --clouds --size 1280x720 && $(PY) tools/make_gallery.py --weather --size 1280x720
-	$(PY) tools/make_gallery.py --optics --size 1280x720 && $(PY) tools/make_gallery.py --ground --size 640x320
+	$(PY) tools/make_gallery.py --optics --size 1280x720 && $(PY) tools/make_gallery.py --ground --size 640x320 && $(PY) tools/make_howto_images.py
 
 # The documentation site into site/ (MkDocs, warnings are errors); the CLI page and the
 # example notebooks' pages (run afresh) first.

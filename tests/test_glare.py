@@ -174,3 +174,33 @@ def test_level_variance_is_the_passes():
             mu = (z * i).sum()
             variances.append(float((z * (i - mu) ** 2).sum()))
         assert np.mean(variances) == pytest.approx(level_variance_px2(k), rel=1e-9)
+
+
+def test_the_eyes_halo_follows_the_magnified_sky():
+    # A picture fills about 60 deg of its viewer's sight: a narrower camera magnifies the sky
+    # (60 / its field) and the eye's PSF applies in the magnified angles; wide fields, fisheyes
+    # and maps are not minified
+    from skydome.display.glare import NATURAL_VIEW_DEG, eye_magnification
+
+    assert NATURAL_VIEW_DEG == 60.0
+    assert eye_magnification(1.2) == pytest.approx(50.0)
+    assert eye_magnification(60.0) == 1.0 and eye_magnification(120.0) == 1.0
+    assert eye_magnification(None) == 1.0
+
+
+@pytest.mark.gl
+def test_a_moon_close_up_has_no_eye_halo_beyond_its_disk():
+    # The full Moon in a 1.2 deg field (0.52 deg across): with the eye's glare in the sky's
+    # own angles the halo's light filled the frame round the disk (a brown glow); magnified,
+    # the sky 0.2 deg outside the limb stays within 2 sRGB levels of the frame without glare
+    from skydome import Sky
+
+    with Sky("Valletta", "2018-03-01T19:00Z", light_pollution=None) as sky:
+        cam = sky.camera("moon", fov_deg=1.2)
+        images = {
+            g: sky.render(cam, 160, 160, exposure=11.0, tonemap="filmic", glare=g).image
+            for g in ("off", "eye")
+        }
+    corner = (slice(0, 12), slice(0, 12))  # 0.45 deg from the Moon's centre: sky
+    diff = np.abs(images["eye"][corner].astype(int) - images["off"][corner].astype(int))
+    assert diff.max() <= 2, diff.max()

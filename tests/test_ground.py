@@ -10,6 +10,7 @@ import pytest
 
 from skydome.atmosphere.ground import dip_sin, ground_albedo, parse_ground
 from skydome.errors import ParameterError
+from skydome.spectra import SRGB_LUMINANCE
 from tests.cli_helpers import run_cli
 
 PARIS_DUSK = {"place": "paris", "time": "2024-07-05T20:30Z"}  # the Sun 4.5 deg down
@@ -23,10 +24,11 @@ def column_dirs(azimuth_deg: float, elevations_deg) -> np.ndarray:
 
 
 def luminance_along(sky, dirs: np.ndarray) -> np.ndarray:
+    """The luminance Y (cd/m^2) of the rays ``dirs`` (ENU unit vectors)."""
     from skydome.core.cameras import DirectionsCamera
 
     frame = sky.render(DirectionsCamera(dirs), 0, 0, exposure=None)
-    return np.asarray(frame.data[..., 1], dtype=np.float64).ravel()
+    return np.asarray(frame.data[..., :3], dtype=np.float64).reshape(-1, 3) @ SRGB_LUMINANCE
 
 
 def test_ground_settings_are_parsed():
@@ -121,10 +123,87 @@ def test_cli_ground(tmp_path):
     hdr = np.asarray(hdr[0] if isinstance(hdr, tuple) else hdr)
     assert hdr[17:].max() == 0.0 and hdr[:15, :, :3].min() > 0.0  # the lower half black
     for args, words in (
-        (("--ground", "grass"), "--ground grass must be none, black or an albedo"),
+        (("--ground", "grass"), "--ground: ground 'grass' must be none, black, an albedo"),
+        (("--ground", "nowhere.png"), "is not a file"),
         (("--ground", "0.2", "--albedo", "0.2"), "--ground and --albedo"),
     ):
         bad = tmp_path / "bad.png"
         r = run_cli("render", "--sun-elevation", "10", *args, "--size", "32x18", "-o", str(bad))
         assert r.returncode == 2 and not bad.exists(), r.stderr
         assert len(r.stderr.strip().splitlines()) == 1 and words in r.stderr, r.stderr
+
+
+def _band_panorama(path, srgb: int, top_deg: float = 10.0, width: int = 512) -> None:
+    """An equirect panorama, grey ``srgb`` (0-255) and opaque from the nadir up to ``top_deg``
+    of elevation, transparent above."""
+    from PIL import Image
+
+    h = width // 2
+    el = 90.0 - (np.arange(h) + 0.5) / h * 180.0
+    img = np.zeros((h, width, 4), np.uint8)
+    img[..., :3] = srgb
+    img[..., 3] = np.where(el < top_deg, 255, 0)[:, None]
+    Image.fromarray(img).save(path)
+
+
+@pytest.mark.gl
+def test_a_landscape_near_by_is_lit_as_the_level_ground(tmp_path):
+    # A grey panorama (sRGB 188: reflectance 0.5029) standing 1 m away, in front of the Sun
+    # 30 deg up: a Lambertian reflector lit as the level ground, rho E / pi with E the global
+    # horizontal illuminance of the tables' probe (atmosphere.horizontal_illuminance, the
+    # validated daylight: within 1 % of SPECTRL2), 1 m of air adding < 0.1 %; bound 1 %.
+    # Above the panorama (transparent) the sky is the plain sky's to the bit.
+    from skydome import Sky
+    from skydome.atmosphere.ground import LandscapeLayer
+    from skydome.atmosphere.illuminance import horizontal_illuminance
+
+    pano = tmp_path / "band.png"
+    _band_panorama(pano, 188)
+    rho = ((188 / 255 + 0.055) / 1.055) ** 2.4
+    dirs = column_dirs(200.0, [-20.0, -5.0, 0.0, 5.0, 20.0, 45.0])
+    where = {"sun_elevation_deg": 30.0, "sun_azimuth_deg": 180.0}
+    with Sky(extra_layers=[LandscapeLayer(str(pano), distance_km=0.001)], **where) as sky:
+        got = luminance_along(sky, dirs)
+        altitude_m = sky.altitude_m()
+    with Sky(**where) as sky:
+        plain = luminance_along(sky, dirs)
+    e = horizontal_illuminance(30.0, altitude_m=altitude_m)[0].total_horizontal_lux
+    assert np.allclose(got[:4], rho * e / math.pi, rtol=0.01), (got[:4], rho * e / math.pi)
+    assert np.array_equal(got[4:], plain[4:])
+
+
+@pytest.mark.gl
+def test_a_far_landscape_is_veiled_by_the_air(tmp_path):
+    # A dark panorama (reflectance ~0.05) 3 km away (the default) against the same 1 m away:
+    # the air between adds its light and hides some of the landscape's (Koschmieder): the
+    # far one is brighter than the near one, and darker than the sky above the horizon.
+    from skydome import Sky
+    from skydome.atmosphere.ground import LandscapeLayer
+
+    pano = tmp_path / "dark.png"
+    _band_panorama(pano, 64, top_deg=2.0)
+    dirs = column_dirs(90.0, [1.0, 3.0])
+    where = {"sun_elevation_deg": 30.0, "sun_azimuth_deg": 180.0}
+    with Sky(ground=str(pano), **where) as sky:
+        far = luminance_along(sky, dirs)
+    with Sky(extra_layers=[LandscapeLayer(str(pano), distance_km=0.001)], **where) as sky:
+        near = luminance_along(sky, dirs)
+    assert near[0] < far[0] < far[1], (near, far)
+
+
+def test_landscape_files_are_checked(tmp_path):
+    from PIL import Image
+
+    from skydome.atmosphere.ground import LandscapeLayer
+
+    square = tmp_path / "square.png"
+    Image.new("RGBA", (64, 64)).save(square)
+    with pytest.raises(ParameterError, match="twice as wide as it is high"):
+        LandscapeLayer(str(square))
+    text = tmp_path / "notes.png"
+    text.write_text("not an image")
+    with pytest.raises(ParameterError, match="notes.png"):
+        LandscapeLayer(str(text))
+    with pytest.raises(ParameterError, match="is not a file"):
+        parse_ground(str(tmp_path / "missing.jpg"))
+    assert parse_ground(str(square)) == str(square)

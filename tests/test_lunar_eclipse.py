@@ -23,6 +23,7 @@ from skydome.astro.eclipses import (
 )
 from skydome.astro.time import to_time
 from tests.cli_helpers import run_cli
+from tests.roots import bisect_root
 
 MID_TOTALITY = "2022-11-08T10:59:06Z"
 
@@ -52,8 +53,6 @@ def _de421_axis_distance(jd_utc):
 
 
 def test_contacts_2022_11_08_vs_de421_and_published():
-    from scipy.optimize import brentq
-
     c = lunar_contacts(MID_TOTALITY)
     assert c is not None and c.kind == "total"
     ours = {"P1": c.p1, "U1": c.u1, "U2": c.u2, "U3": c.u3, "U4": c.u4, "P4": c.p4}
@@ -68,7 +67,7 @@ def test_contacts_2022_11_08_vs_de421_and_published():
     kinds = {"P1": "P", "U1": "U", "U2": "T", "U3": "T", "U4": "U", "P4": "P"}
     m = 2 / 1440
     err = {
-        k: (ours[k] - brentq(edge(kinds[k]), ours[k] - m, ours[k] + m, xtol=1e-9)) * 86400
+        k: (ours[k] - bisect_root(edge(kinds[k]), ours[k] - m, ours[k] + m, xtol=1e-9)) * 86400
         for k in ours
     }
     print("lunar contacts minus DE421 (s):", {k: round(v, 2) for k, v in err.items()})

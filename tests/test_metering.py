@@ -150,8 +150,17 @@ def test_full_moon_close_up_center_and_spot_metering(tmp_path):
     assert r.returncode == 0, r.stderr
     ev = float(r.stdout.split("exposure EV100 ")[1].split()[0])
     assert ev == pytest.approx(math.log2(11.0**2 * 100.0), abs=0.5)
-    # and the default (eye) metering on this bright frame is the average one: the Moon burns
+    # The default (eye) in a magnified view (a 1 deg field, under NARROW_FIELD_DEG): the
+    # observer at the telescope adapts to what fills it, the centre: the check with
+    # the default, and the same exposure as centre-weighted metering (the Moon is > 1.25
+    # cd/m^2, where the eye's key is the average's 0.18). The whole frame's average would
+    # burn the Moon (its median > 240), as it did before.
     r = run_cli(*args)
+    assert r.returncode == 0, r.stderr
+    median_default = float(np.median(np.asarray(Image.open(png)).astype(float)[moon].mean(-1)))
+    assert 150.0 <= median_default <= 230.0, median_default
+    assert median_default == pytest.approx(median, abs=3.0)
+    r = run_cli(*args, "--metering", "average")
     assert np.median(np.asarray(Image.open(png))[moon].mean(-1)) > 240.0
 
 
@@ -161,3 +170,13 @@ def test_cli_refuses_a_bad_metering(tmp_path):
     assert r.returncode == 2
     assert "--metering" in r.stderr and "matrix" in r.stderr
     assert not (tmp_path / "x.png").exists()
+
+
+def test_the_eye_meters_a_magnified_views_centre():
+    from skydome.display.exposure import NARROW_FIELD_DEG, metering_weighting
+
+    assert NARROW_FIELD_DEG == 5.0
+    assert metering_weighting("eye", 1.0) == "center"
+    assert metering_weighting("eye", 5.0) == "eye" and metering_weighting("eye", None) == "eye"
+    assert metering_weighting("spot", 1.0) == "spot"
+    assert metering_weighting("average", 1.0) == "average"

@@ -161,7 +161,14 @@ def test_jumps_find_the_next_events():
     polar = Observer(latitude=80.0, longitude=0.0)  # June: the Sun never sets
     assert next_event(polar, float(to_time("2024-06-21T00:00Z").jd_utc), "sunset") is None
     with pytest.raises(ParameterError, match="must be one of"):
-        next_event(o, noon, "eclipse")
+        next_event(o, noon, "equinox")
+    # The next eclipse seen from Dallas after 2024-03-26: the total solar eclipse of
+    # 2024-04-08, its greatest phase there midway between the published C2 18:40:41 and C3
+    # 18:44:32 UTC (NASA/GSFC's local circumstances), 18:42:36, within a minute
+    dallas = Observer(latitude=32.7767, longitude=-96.7970, elevation_m=131.0)
+    start = float(to_time("2024-03-26T00:00Z").jd_utc)
+    greatest = next_event(dallas, start, "eclipse")
+    assert greatest == pytest.approx(float(to_time("2024-04-08T18:42:36Z").jd_utc), abs=1 / 1440)
 
 
 def test_atmosphere_knobs_clamp_and_rebuild_the_preset():

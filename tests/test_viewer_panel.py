@@ -370,3 +370,34 @@ def test_the_clouds_and_the_bortle_class_from_the_panel(window):
     assert scene.base.description.light_pollution in (4, 5), window.panel.message
     window.run(scene, frames=2)
     scene.release()
+
+
+def test_the_time_in_the_places_clock_and_the_glare_from_the_panel(window):
+    """Valletta's 12:00 UTC shows as its local 13:00 (CET, UTC+1); a local time typed in is
+    read in the place's zone; the Display section's glare combo sets the scene's glare."""
+    import glfw
+
+    scene = _scene(window)
+    window.run(scene, frames=2)
+    assert window.panel.time_text == "2018-03-01T13:00:00"
+    jd0 = scene.controls.state.jd_utc
+    window.panel.time_text = "2018-03-01T15:30"
+
+    def enter(win, i):  # Enter in the time field, focused by a click
+        if i == 2:
+            rect = win.panel.rects["time_text"]
+            win.on_cursor(0.5 * (rect[0] + rect[2]), 0.5 * (rect[1] + rect[3]))
+        elif i == 3:
+            win.on_mouse_button(glfw.MOUSE_BUTTON_LEFT, glfw.PRESS)
+        elif i == 4:
+            win.on_mouse_button(glfw.MOUSE_BUTTON_LEFT, glfw.RELEASE)
+        elif i == 6:
+            win.on_key(glfw.KEY_ENTER, glfw.PRESS)
+        elif i == 7:
+            win.on_key(glfw.KEY_ENTER, glfw.RELEASE)
+
+    window.run(scene, frames=10, on_frame=enter)
+    assert scene.controls.state.jd_utc - jd0 == pytest.approx(2.5 / 24.0, abs=1e-6)  # 14:30Z
+    _run_until_clicked(window, scene, ["header:Time", "header:Display", "glare", "glare:off"])
+    assert scene.glare == "off"
+    scene.release()

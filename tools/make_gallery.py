@@ -307,10 +307,32 @@ def cloud_views(w: int, h: int) -> None:
     print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
+def hills_panorama(path: Path, width: int = 4096) -> None:
+    """A made-up landscape panorama (skydome's own, for the gallery): rolling hills 1.5-6
+    deg high, a ridge in the west, grass-green (sRGB 70, 95, 55), antialiased against a
+    transparent sky; equirect, north at the left edge."""
+    import numpy as np
+    from PIL import Image
+
+    h = width // 2
+    az = (np.arange(width) + 0.5) / width * 360.0
+    el = 90.0 - (np.arange(h) + 0.5) / h * 180.0
+    hill = (3.0 + 1.5 * np.sin(np.radians(3 * az)) + np.sin(np.radians(7 * az + 40))
+            + 2.5 * np.exp(-(((az - 270.0) / 25.0) ** 2)))  # fmt: skip
+    coverage = np.clip((hill[None, :] - el[:, None]) / (180.0 / h) + 0.5, 0.0, 1.0)
+    img = np.zeros((h, width, 4), np.uint8)
+    img[..., :3] = (70, 95, 55)
+    img[..., 3] = np.round(coverage * 255.0).astype(np.uint8)
+    Image.fromarray(img).save(path)
+
+
 def ground_views(w: int) -> None:
     """The ground's kinds (issue 26) in equirect maps of Valletta at dusk (the Sun 3 deg
     down), one exposure for the three: the default grey ground, none (the air's glow in
-    front of a ground that reflects nothing), black (zero below the horizon)."""
+    front of a ground that reflects nothing), black (zero below the horizon); and a
+    landscape panorama (hills_panorama) at sunset, looking west."""
+    import tempfile
+
     from skydome.core.cameras import EquirectCamera
 
     where = {"place": "Valletta", "time": "2018-03-01T17:05Z"}
@@ -324,6 +346,15 @@ def ground_views(w: int) -> None:
         path = OUT / f"ground-{kind}.png"
         write_outputs([path], frame.data, ldr, metadata=frame.info)
         print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
+    with tempfile.TemporaryDirectory() as tmp:
+        pano = Path(tmp) / "hills.png"
+        hills_panorama(pano)
+        with Sky("Valletta", "2018-03-01T16:45Z", ground=str(pano)) as sky:
+            cam = PerspectiveCamera(fov_deg=70.0, yaw_deg=262.0, pitch_deg=6.0)
+            frame = sky.render(cam, w, w * 9 // 16, tonemap="filmic")
+    path = OUT / "ground-landscape.png"
+    write_outputs([path], frame.data, frame.image, metadata=frame.info)
+    print(f"{path.relative_to(OUT.parents[1])}: {frame.info['render_ms']:.0f} ms")
 
 
 def weather_views(w: int, h: int) -> None:
@@ -464,6 +495,14 @@ def scene_views(w: int, h: int) -> None:
     zoom = shot(valletta, valletta.camera("moon", fov_deg=1.2), h, h, ev=11.0)
     save("scene-valletta-moon", np.concatenate([wide, zoom], axis=1),
          "Valletta 2018-03-01 19:00 UTC: the full Moon 28 deg up (auto exposure) and its disk (EV 11)")  # fmt: skip
+    # Dusk at Valletta, 18:15 local: the Sun 4.5 deg down, the full Moon rising in the east
+    # over the Earth's shadow, the afterglow in the west.
+    dusk = Sky("Valletta", "2018-03-01T17:15Z")
+    east = shot(dusk, dusk.camera("moon", fov_deg=80, pitch_deg=12), w, h)
+    west = shot(dusk, aim_camera(dusk.state, "west", fov_deg=80, pitch_deg=12), w, h)
+    save("scene-valletta-dusk", np.concatenate([east, west], axis=1),
+         "Valletta 2018-03-01 18:15 local (17:15 UTC), Sun -4.5 deg: the full Moon rising in "
+         "the east over the Earth's shadow, and the afterglow in the west")  # fmt: skip
     # Sunset at Valletta, 2018-03-01: the apparent Sun half a degree up.
     sunset = Sky("Valletta", "2018-03-01T16:52Z")
     flat = shot(sunset, sunset.camera("sun", fov_deg=2.0), h, h, ev=22.0)

@@ -23,7 +23,8 @@ valletta = Observer(
     latitude=35.90, longitude=14.51, elevation_m=50, pressure_hPa=1015, temperature_C=14
 )
 
-# A time: ISO 8601 with a zone or Z; a naive time is UTC. 20:00 in Malta is 19:00 UTC.
+# A time: ISO 8601 with an offset or Z. Without one it is the place's local time for a
+# gazetteer name ("Valletta"), UTC for an Observer or numbers. 20:00 in Malta is 19:00 UTC.
 sky = Sky(valletta, "2018-03-01T20:00+01:00")
 s = sky.state
 print(

@@ -23,7 +23,13 @@ import numpy as np
 from skydome.astro import Observer, Time, to_time
 from skydome.astro.places import Place, parse_place, time_zone
 from skydome.atmosphere.cie_layer import CieSkyLayer
-from skydome.atmosphere.ground import BlackGroundLayer, ground_albedo, parse_ground
+from skydome.atmosphere.ground import (
+    BlackGroundLayer,
+    LandscapeLayer,
+    ground_albedo,
+    is_landscape,
+    parse_ground,
+)
 from skydome.atmosphere.layer import MODELS, AtmosphereLayer, atmosphere_params
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
@@ -145,7 +151,8 @@ class SkyDescription:
             for a renderer that lights with its own Sun lamp; the air is lit all the same).
         ground: what lies below the horizon (``skydome.atmosphere.ground``): None, the
             atmosphere's own ground; an albedo 0-1; "none", a ground that reflects nothing
-            (the air in front of it only); "black", zero wherever a ray meets the ground.
+            (the air in front of it only); "black", zero wherever a ray meets the ground; an
+            image file, a landscape panorama in front of the sky (``LandscapeLayer``).
     """
 
     observer: Observer | None = None
@@ -246,6 +253,8 @@ class SkyDescription:
             )
         if self.ground is not None and self.model == "single":
             raise ParameterError("ground needs the default model (or the cie model)")
+        if is_landscape(self.ground) and self.model != "precomputed":
+            raise ParameterError("a landscape panorama needs the default model (its air)")
 
     # ------------------------------------------------------------------ from what users type
 
@@ -480,6 +489,8 @@ class SkyDescription:
             layers.append(glow)
         if self.ground == "black":
             layers.append(BlackGroundLayer())
+        elif is_landscape(self.ground):
+            layers.append(LandscapeLayer(self.ground))
         return layers
 
     def light_pollution_layer(self) -> LightPollutionLayer | None:

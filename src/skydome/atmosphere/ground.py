@@ -8,6 +8,13 @@ layer that blacks the ground out for environment maps.
   horizon's haze, the Earth's shadow in it at dusk), dark beneath;
 - ``"black"``: exactly zero wherever the camera's ray meets the planet (the sky above keeps
   the atmosphere's own ground light), for HDRIs used with a ground of the user's own;
+- an image file (PNG, JPEG, TIFF): a landscape panorama in front of the sky (hills, trees,
+  buildings; ``LandscapeLayer``), an equirect image twice as wide as it is high, north at
+  its left edge and east a quarter across (as skydome's own equirect maps), the horizon its
+  middle row, its colours Lambertian reflectances (sRGB) and its alpha the coverage
+  (transparent where the sky shows), lit as the level ground at the camera is and seen
+  through LANDSCAPE_KM of air; below it (and where it is transparent) the atmosphere's
+  ground;
 - None (the default): the atmosphere's own ground albedo.
 
 The horizon is the planet's for the camera's height (a ray below the dip meets the ground),
@@ -18,15 +25,34 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
 
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import BehindInputs, DrawContext, Layer
-from skydome.core.services import AirService
+from skydome.core.services import AirService, LightInputs
 from skydome.errors import ParameterError
 from skydome.gpu.inputs import ShaderInputs
+from skydome.io.images import read_user_image
 
 #: The ground's kinds by name.
 GROUND_KINDS = ("none", "black")
+#: Image files a landscape panorama may be (by suffix), and their formats.
+LANDSCAPE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
+#: How far the landscape stands (km): the aerial perspective in front of it.
+LANDSCAPE_KM = 3.0
+#: The largest panorama (pixels) and file (bytes) read.
+MAX_LANDSCAPE_SIDE = 16384
+MAX_LANDSCAPE_PIXELS = 16384 * 8192
+MAX_LANDSCAPE_BYTES = 512 * 2**20
+#: GL's internal format of an sRGB texture with alpha (sampling decodes to linear values).
+GL_SRGB8_ALPHA8 = 0x8C43
+
+
+def is_landscape(ground) -> bool:
+    """Whether a ground setting names a landscape panorama (an image file)."""
+    return isinstance(ground, str) and ground.lower().endswith(LANDSCAPE_SUFFIXES)
 
 
 def parse_ground(value: str | float | None) -> str | float | None:
@@ -40,11 +66,17 @@ def parse_ground(value: str | float | None) -> str | float | None:
         text = value.strip().lower()
         if text in GROUND_KINDS:
             return text
+        if text.endswith(LANDSCAPE_SUFFIXES):
+            path = Path(value.strip()).expanduser()
+            if not path.is_file():
+                raise ParameterError(f"ground: the landscape panorama {value!r} is not a file")
+            return str(path)
         try:
             value = float(text)
         except ValueError:
             raise ParameterError(
-                f"ground {value!r} must be none, black or an albedo 0..1 (e.g. 0.2)"
+                f"ground {value!r} must be none, black, an albedo 0..1 (e.g. 0.2) or a "
+                "landscape panorama (.png, .jpg, .tif)"
             ) from None
     try:
         albedo = float(value)
@@ -97,3 +129,87 @@ class BlackGroundLayer(Layer):
             frame.ctx, self.shader, (CameraInputs, BehindInputs, GroundInputs), frame.camera
         )
         fpass.draw(frame.fbo, frame.view, self.behind_inputs(frame), inputs)
+
+
+@dataclass(frozen=True)
+class LandscapeInputs(ShaderInputs):
+    """``atmosphere/landscape.glsl``: the panorama (an sRGB texture: linear reflectance and
+    coverage) and how far it stands (km)."""
+
+    u_landscape: object
+    u_landscape_km: float
+    u_landscape_lod: float
+
+
+def read_landscape(path: str) -> np.ndarray:
+    """The panorama at ``path`` as (H, W, 4) uint8 sRGB + alpha, top row first; checked: a
+    regular image file (``read_user_image``), twice as wide as high (to a pixel)."""
+    img = read_user_image(
+        path,
+        what="landscape panorama",
+        max_pixels=MAX_LANDSCAPE_PIXELS,
+        max_side=MAX_LANDSCAPE_SIDE,
+        max_bytes=MAX_LANDSCAPE_BYTES,
+    )
+    with img:
+        if abs(img.width - 2 * img.height) > 1:
+            raise ParameterError(
+                f"landscape panorama {path!r} is {img.width} x {img.height}: an equirect "
+                "panorama is twice as wide as it is high"
+            )
+        return np.asarray(img.convert("RGBA"), dtype=np.uint8)
+
+
+class LandscapeLayer(Layer):
+    """A landscape panorama in front of the sky (volume stage: put it last): see the module
+    docstring for the image's layout. ``distance_km``: how far it stands (aerial
+    perspective). Needs the precomputed atmosphere (its lookups light and veil it)."""
+
+    name = "landscape"
+    stage = "volume"
+    shader = "atmosphere/landscape.glsl"
+
+    def __init__(self, path: str, *, distance_km: float = LANDSCAPE_KM, enabled: bool = True):
+        super().__init__(enabled=enabled)
+        self.path = str(path)
+        self.distance_km = float(distance_km)
+        if not (math.isfinite(self.distance_km) and 0.0 < self.distance_km <= 100.0):
+            raise ParameterError(f"landscape distance_km {distance_km!r} must be within (0, 100]")
+        self._pixels = read_landscape(self.path)  # checked now: a bad file fails at once
+        self._texture = None
+
+    def prepare(self, host) -> None:
+        super().prepare(host)
+        self.air = host.service(AirService)
+        rows = np.ascontiguousarray(self._pixels[::-1])  # GL rows: the bottom first
+        h, w = rows.shape[:2]
+        ctx = host.ctx
+        tex = ctx.texture((w, h), 4, rows.tobytes(), internal_format=GL_SRGB8_ALPHA8)
+        tex.build_mipmaps()
+        tex.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
+        tex.repeat_x, tex.repeat_y = True, False  # the azimuth wraps round
+        self._texture = tex
+        self._pixels = None
+
+    def draw(self, frame: DrawContext) -> None:
+        air = self.air
+        lookup = air.lookup()
+        lights = air.lights().inputs(air.camera_position_km(frame.altitude_m), air.solar_scale)
+        # the mip level of the camera's pixel (0 for a direction map: no pixel size)
+        texel_rad = 2.0 * math.pi / self._texture.width
+        pixel_rad = frame.camera.pixel_angle(*frame.frame_size)
+        lod = max(math.log2(pixel_rad / texel_rad), 0.0) if pixel_rad > 0.0 else 0.0
+        inputs = (frame.view, lookup.inputs, lights, self.behind_inputs(frame),
+                  LandscapeInputs(self._texture, self.distance_km, lod))  # fmt: skip
+        fpass = self.full_screen_pass(
+            frame.ctx, self.shader, (CameraInputs, type(lookup.inputs), LightInputs,
+                                     BehindInputs, LandscapeInputs),
+            frame.camera, lookup.defines,
+        )  # fmt: skip
+        fpass.draw(frame.fbo, *inputs)
+
+    def release(self) -> None:
+        super().release()
+        if self._texture is not None:
+            self._texture.release()
+            self._texture = None

@@ -231,10 +231,8 @@ def ground_from_flags(flags: SimpleNamespace) -> str | float | None:
         raise ParameterError("--ground and --albedo both set the ground: give one of them")
     try:
         return parse_ground(ground)
-    except ParameterError:
-        raise ParameterError(
-            f"--ground {ground} must be none, black or an albedo 0..1 (e.g. 0.2)"
-        ) from None
+    except ParameterError as exc:
+        raise ParameterError(f"--ground: {exc}") from None
 
 
 #: The weather flags that set a ``Weather``'s knobs, by the flag's parameter name.

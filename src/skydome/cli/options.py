@@ -165,7 +165,8 @@ FLAGS: dict[str, Flag] = {
     "ground": Flag(str, None, ("--ground",),
                    "Below the horizon: none (a ground that reflects nothing: the air in "
                    "front of it only) | black (zero: HDRIs lit with a ground of your own) | "
-                   "an albedo 0..1 (default: the atmosphere's, 0.3)."),
+                   "an albedo 0..1 (default: the atmosphere's, 0.3) | a landscape panorama "
+                   "(.png/.jpg/.tif, equirect 2:1, north at the left edge, transparent sky)."),
     "tonemap": Flag(str, "filmic", ("--tonemap",),
                     "filmic | reinhard | exponential | hvs | linear."),
 }  # fmt: skip

@@ -227,6 +227,22 @@ def metering_weights(height: int, width: int, metering: str) -> np.ndarray:
     return np.ones((height, width))
 
 
+#: A perspective field narrower than this (deg) is a magnified view (a telescope's, a long
+#: lens's): the eye meters what it looks at, the frame's centre, not the whole frame.
+NARROW_FIELD_DEG = 5.0
+
+
+def metering_weighting(metering: str, field_deg: float | None) -> str:
+    """The weights a metering mode measures a frame with: its own, but ``eye`` in a magnified
+    view (a perspective field under NARROW_FIELD_DEG) weights the centre (``center``), as an
+    observer at a telescope adapts to what fills it: a Moon close-up is exposed for the Moon.
+    ``field_deg``: the camera's horizontal field, None for wide maps."""
+    mode = check_metering(metering)
+    if mode == "eye" and field_deg is not None and field_deg < NARROW_FIELD_DEG:
+        return "center"
+    return mode
+
+
 def metered_luminance(frame: np.ndarray, metering: str, *, delta: float = DEFAULT_DELTA) -> float:
     """Weighted log-average luminance (cd/m^2) of a frame under a metering mode: Reinhard et
     al. 2002 eq. 1 with the weights of :func:`metering_weights` (unlit pixels ignored, delta

@@ -62,6 +62,12 @@ EYE_AGE_YEARS = 25.0
 EYE_PIGMENTATION = 0.5
 #: The CIE equations' lower bound of validity (deg): closer to a source, its light is the core.
 PSF_MIN_DEG = 0.1
+#: The field (deg, horizontal) a picture is taken to fill of its viewer's sight. A camera
+#: with a narrower field magnifies the sky (a telescope's view) by NATURAL_VIEW_DEG / its
+#: field, and the eye's glare, which the viewer's own eye adds to what it sees, spreads over
+#: the magnified angles: a 1 deg close-up of the Moon gets the halo of a 60 deg disk's edge,
+#: not a halo 60 times the Moon's size.
+NATURAL_VIEW_DEG = 60.0
 #: The widest angle the halo is fitted to (deg).
 PSF_MAX_DEG = 90.0
 #: Lens veiling glare: L / E = LENS_PSF_A / theta^3 (theta in deg): 2 % outside 0.1 deg.
@@ -110,6 +116,14 @@ def psf_sr(theta_deg, glare: str):
     safe = np.maximum(t, PSF_MIN_DEG)
     value = cie_disability_glare(safe) if mode == "eye" else lens_veiling_glare(safe)
     return np.where(t >= PSF_MIN_DEG, value, 0.0)
+
+
+def eye_magnification(field_deg: float | None) -> float:
+    """How much a camera of horizontal field ``field_deg`` (None: a wide map, fisheye or
+    equirect) magnifies the sky for the eye: NATURAL_VIEW_DEG / the field, at least 1."""
+    if field_deg is None or not field_deg > 0.0:
+        return 1.0
+    return max(1.0, NATURAL_VIEW_DEG / float(field_deg))
 
 
 def level_sizes(width: int, height: int) -> list[tuple[int, int]]:

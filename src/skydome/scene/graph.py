@@ -47,9 +47,10 @@ from skydome.display.exposure import (
     check_metering,
     eye_key,
     metered_luminance,
+    metering_weighting,
     scale_to_ev100,
 )
-from skydome.display.glare import DEFAULT_GLARE, GpuGlare, check_glare
+from skydome.display.glare import DEFAULT_GLARE, GpuGlare, check_glare, eye_magnification
 from skydome.display.gpu_exposure import GpuExposure
 from skydome.display.gpu_tonemap import GpuToneMapper, gpu_tonemap, upload_frame
 from skydome.display.night_vision import NightVision
@@ -460,14 +461,15 @@ class FrameGraph:
         if "transmittance" in outputs:
             info["transmittance"] = outputs["transmittance"][..., :3]
         frame = Frame(data, info)
+        weighting = metering_weighting(metering, _field_deg(camera))
         scale, adapted = self._exposure_scale(
-            exposure, compensation_ev, last if len(tiles) == 1 else None, data, metering
+            exposure, compensation_ev, last if len(tiles) == 1 else None, data, metering, weighting
         )
         if tonemap is not None:
             if scale is None:
                 raise ParameterError("a tone-mapped image needs an exposure ('auto' or a scale)")
             # The exposure pass has measured the frame already when it set an auto exposure.
-            measured = exposure == "auto" and len(tiles) == 1 and metering in ("average", "eye")
+            measured = exposure == "auto" and len(tiles) == 1 and weighting in ("average", "eye")
             if glare != "off" and w * h > MAX_GLARE_PIXELS:
                 # one texture of the whole frame and its pyramid: not for giant frames
                 info["glare_skipped"] = f"the frame has more than {MAX_GLARE_PIXELS} pixels"
@@ -565,13 +567,22 @@ class FrameGraph:
             return texture
         if self._glare is None:
             self._glare = GpuGlare(self.ctx)
+        # the eye's halo in the angles it sees: a narrow field's magnified sky (display.glare)
+        magnification = eye_magnification(_field_deg(camera)) if glare == "eye" else 1.0
         with self._section("glare"):
             return self._glare.apply(
-                texture, size, pixel_angle_rad=camera.pixel_angle(*size), glare=glare
-            )
+                texture, size, pixel_angle_rad=camera.pixel_angle(*size) * magnification,
+                glare=glare,
+            )  # fmt: skip
 
     def _exposure_scale(
-        self, exposure, compensation_ev, texture, data, metering: str = "average"
+        self,
+        exposure,
+        compensation_ev,
+        texture,
+        data,
+        metering: str = "average",
+        weighting: str | None = None,
     ) -> tuple[float | None, float | None]:
         """(exposure scale, metered luminance): the scale (m^2/cd, compensation included;
         None without an exposure) and, for ``"auto"``, the frame's luminance (cd/m^2) under
@@ -581,11 +592,12 @@ class FrameGraph:
         if isinstance(exposure, str):
             if exposure != "auto":
                 raise ParameterError(f"exposure {exposure!r} must be 'auto' or a scale in m^2/cd")
+            weighting = weighting or metering  # the weights measured with (the key: metering's)
             if texture is None:  # several tiles: the same average over the read-back frame
-                lum = metered_luminance(data, metering)
+                lum = metered_luminance(data, weighting)
             else:
                 exposure_pass = self.exposure_pass()
-                exposure_pass.measure(texture, metering)
+                exposure_pass.measure(texture, weighting)
                 lum = exposure_pass.read()
             key = eye_key(lum) if metering == "eye" else DEFAULT_KEY
             return 2.0**compensation_ev * key / lum, lum
@@ -638,7 +650,9 @@ class FrameGraph:
             texture = self.draw_tile(camera, (w, h), (0, 0, w, h), altitude_m)
         if self._post is None:
             self._post = GpuToneMapper(self.ctx, quantize=False)
-        weighting = "average" if exposure != "auto" else metering
+        weighting = (
+            "average" if exposure != "auto" else metering_weighting(metering, _field_deg(camera))
+        )
         if exposure == "auto" or measure:
             with self._section("exposure"):
                 self.exposure_pass().measure(texture, weighting)
@@ -761,3 +775,8 @@ class FrameGraph:
         self._smooth_pass = None
         for layer in self.layers:
             layer.release()
+
+
+def _field_deg(camera) -> float | None:
+    """A perspective camera's horizontal field (deg), None for the wide maps."""
+    return camera.fov_deg if isinstance(camera, PerspectiveCamera) else None

@@ -19,13 +19,15 @@ from __future__ import annotations
 
 import math
 import time as _time
-from datetime import datetime, timezone
+from datetime import datetime, timedelta, timezone
 
-from skydome.astro.places import search
-from skydome.astro.time import Time, to_time
+from skydome.astro.places import search, time_zone
+from skydome.astro.time import UNIX_EPOCH_JD, Time, to_time
 from skydome.atmosphere.presets import PRESETS
 from skydome.clouds import PRESETS as CLOUD_PRESETS
 from skydome.display import TONEMAPS
+from skydome.display.exposure import METERINGS
+from skydome.display.glare import GLARES
 from skydome.display.overlays import OVERLAYS
 from skydome.sky import Sky
 from skydome.viewer import require
@@ -90,6 +92,19 @@ class Panel:
         self.knobs = Knobs.of(description.atmosphere)
         self.config = description.config
         self.weather = description.weather
+        self.zone = time_zone(description.timezone) if description.timezone else None
+
+    #: The time zone the Time section shows and reads (the place's; None: UTC).
+    zone = None
+
+    def _offset_days(self, jd_utc: float) -> float:
+        """The zone's offset from UTC at ``jd_utc``, days (0 for UTC)."""
+        if self.zone is None:
+            return 0.0
+        utc = datetime(1970, 1, 1, tzinfo=timezone.utc) + timedelta(
+            seconds=round((jd_utc - UNIX_EPOCH_JD) * 86400.0)
+        )
+        return utc.astimezone(self.zone).utcoffset().total_seconds() / 86400.0
 
     # ------------------------------------------------------------------ input
 
@@ -264,16 +279,20 @@ class Panel:
                 c.set(sun_azimuth_deg=az)
             return
 
+        offset = self._offset_days(s.jd_utc)
         if self._time_text_jd != s.jd_utc and not imgui.get_io().want_text_input:
-            self.time_text = str(Time.from_utc(s.jd_utc).iso())
+            # the wall clock of the place (ISO, no offset: what the field reads back)
+            self.time_text = str(Time.from_utc(s.jd_utc + offset).iso()).rstrip("Z")
             self._time_text_jd = s.jd_utc
+        label = "UTC" if self.zone is None else f"local ({self.zone.key})"
         entered, text = imgui.input_text(
-            "UTC", self.time_text, imgui.InputTextFlags_.enter_returns_true
+            label, self.time_text, imgui.InputTextFlags_.enter_returns_true
         )
+        self._mark("time_text")
         self.time_text = text
         if entered:
             try:
-                t = to_time(text.strip())
+                t = to_time(text.strip(), zone=self.zone)
                 c.set(jd_utc=float(t.jd_utc))
                 self.message = ""
             except Exception as exc:  # a bad date: said, not raised
@@ -285,8 +304,9 @@ class Panel:
             imgui.same_line()
         if imgui.button("Now"):
             c.set(jd_utc=float(to_time(datetime.now(timezone.utc)).jd_utc))
-        hours = (s.jd_utc - 0.5) % 1.0 * 24.0
-        changed, h = imgui.slider_float("hour (UTC)", hours, 0.0, 24.0, "%.2f h", _clamp(imgui))
+        hours = (s.jd_utc + offset - 0.5) % 1.0 * 24.0
+        hour_label = "hour (UTC)" if self.zone is None else "hour (local)"
+        changed, h = imgui.slider_float(hour_label, hours, 0.0, 24.0, "%.2f h", _clamp(imgui))
         if changed:
             c.set(jd_utc=s.jd_utc + (h - hours) / 24.0)
         if imgui.button("Pause" if s.playing else "Play"):
@@ -314,6 +334,7 @@ class Panel:
             ("sunset", "sunset"),
             ("moonrise", "moonrise"),
             ("full Moon", "full_moon"),
+            ("eclipse", "eclipse"),
         ):
             if imgui.button(label):
                 if not scene.jump(kind):
@@ -354,6 +375,8 @@ class Panel:
                 )
                 self.search_results = []
                 self.search_text = p.label
+                self.zone = time_zone(p.timezone) if p.timezone else None
+                self._time_text_jd = None  # the Time field in the new place's clock
                 scene.aim_at_light()  # a new place: its Sun (or Moon) in view
 
     def _camera(self, scene) -> None:
@@ -579,6 +602,12 @@ class Panel:
         changed, i = imgui.combo("tone map", ops.index(s.tonemap), ops)
         if changed:
             c.set(tonemap=ops[i])
+        # how the automatic exposure meters, and the glare of the display image
+        for attr, label, names in (("metering", "metering", METERINGS), ("glare", "glare", GLARES)):
+            current = names.index(getattr(scene, attr))
+            changed, i = self._combo(label, current, list(names), attr)
+            if changed:
+                setattr(scene, attr, names[i])
         changed, v = imgui.checkbox("night vision", s.night_vision)
         if changed:
             c.set(night_vision=v)

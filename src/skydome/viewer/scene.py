@@ -10,6 +10,7 @@ window and the notebook widget both use it.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -192,7 +193,14 @@ class ViewerScene:
         self.controls.set(jd_utc=jd)
         # the camera turns to the event: the Sun rising or setting, the Moon (a full Moon
         # below the horizon: its azimuth, the horizon in view)
-        self._aim(self.sky(), "sun" if kind.startswith("sun") else "moon", min_pitch_deg=2.0)
+        body = "sun" if kind.startswith("sun") else "moon"
+        if kind == "eclipse":  # the body the Moon or the Earth's shadow covers
+            sky = self.sky()
+            solar = (
+                sky.state.moon is not None and _separation_deg(sky.state.sun, sky.state.moon) < 2.0
+            )
+            body = "sun" if solar else "moon"
+        self._aim(self.sky(), body, min_pitch_deg=2.0)
         return True
 
     def aim_at_light(self) -> None:
@@ -248,7 +256,8 @@ class ViewerScene:
             s.projection, s.yaw_deg, s.pitch_deg, s.fov_deg, self.altitude_m(),
             tuple(layer.enabled for layer in graph.layers),
         )  # fmt: skip
-        display = (s.tonemap, s.night_vision, tuple(s.overlays), s.exposure_mode, comp)
+        display = (s.tonemap, s.night_vision, tuple(s.overlays), s.exposure_mode, comp,
+                   self.metering, self.glare)  # fmt: skip
         cache = self._cache
         if cache is None or cache.ctx is not graph.ctx:
             if cache is not None:
@@ -432,3 +441,11 @@ class FrameCache:
         """Free the 8-bit target; forget the kept frame."""
         self._release_target()
         self.texture = self._graph = self._state = self._view = self._display = None
+
+
+def _separation_deg(a, b) -> float:
+    """The angle (deg) between two bodies' apparent directions (elevation, azimuth)."""
+    e1, a1 = math.radians(a.elevation_deg), math.radians(a.azimuth_deg)
+    e2, a2 = math.radians(b.elevation_deg), math.radians(b.azimuth_deg)
+    c = math.sin(e1) * math.sin(e2) + math.cos(e1) * math.cos(e2) * math.cos(a1 - a2)
+    return math.degrees(math.acos(max(-1.0, min(1.0, c))))
