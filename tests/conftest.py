@@ -174,6 +174,7 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
         "test_example_runs_and_writes_sane_files[blender_hdri.py]",
         "test_example_runs_and_writes_sane_files[clouds.py]",
         "test_example_runs_and_writes_sane_files[eye_adaptation.py]",
+        "test_example_runs_and_writes_sane_files[lighting.py]",
         "test_example_runs_and_writes_sane_files[night_sky.py]",
         "test_example_runs_and_writes_sane_files[place_and_time.py]",
         "test_example_runs_and_writes_sane_files[timelapse.sh]",

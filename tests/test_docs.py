@@ -40,6 +40,7 @@ EXPECTED = {
     "night_sky.py": ["night-allsky.png", "night-allsky.exr", "night-bortle8.png", "night-eye.png"],
     "atmospheres.py": ["atmosphere-earth-hazy-smoky.png"],
     "cie_sky.py": ["cie-sky-types.csv", "cie-sky-types.png"],
+    "lighting.py": ["lighting.json", "lighting-sky.exr", "lighting-preview.png"],
     "weather.py": [
         "weather-fog.png",
         "weather-fog-sea.png",

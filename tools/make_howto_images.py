@@ -26,6 +26,7 @@ GALLERY = ROOT / "docs" / "gallery"
 PICTURES = {
     "place_and_time.py": {"howto-place-and-time.png": ["place-moon.png", "place-east.png"]},
     "timelapse.sh": {"howto-timelapse-ev8.png": ["dusk-ev8/frame_*.png"]},
+    "lighting.py": {"howto-lighting.png": ["lighting-preview.png"]},
 }
 
 
@@ -57,7 +58,8 @@ def main() -> None:
             run(example, out)
             for name, patterns in pictures.items():
                 files = [f for p in patterns for f in sorted(out.glob(p))]
-                Image.fromarray(strip(files)).save(GALLERY / name)
+                picture = Image.open(files[0]) if len(files) == 1 else Image.fromarray(strip(files))
+                picture.save(GALLERY / name)
                 print(f"docs/gallery/{name}: {', '.join(f.name for f in files)}")
 
 

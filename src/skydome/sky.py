@@ -25,6 +25,8 @@ from skydome.description import NIGHT_LAYERS, SkyDescription
 from skydome.display.exposure import COMPENSATION_RANGE, DEFAULT_METERING, ev100_to_scale
 from skydome.display.glare import DEFAULT_GLARE
 from skydome.errors import ParameterError, check_range
+from skydome.lighting import DEFAULT_LIGHTS, Lighting, sky_lighting
+from skydome.lighting import DEFAULT_SIZE as DEFAULT_LIGHTING_SIZE
 from skydome.night.glow_layer import LightPollutionLayer
 from skydome.scene.graph import FrameGraph
 
@@ -431,6 +433,16 @@ class Sky:
             metering=metering,
             glare=glare,
         )
+
+    def lighting(
+        self, size: tuple[int, int] = DEFAULT_LIGHTING_SIZE, n_lights: int = DEFAULT_LIGHTS
+    ) -> Lighting:
+        """What lights a 3D scene under this sky now (:mod:`skydome.lighting`): the Sun and
+        the Moon as lights (direction, angular radius, RGB illuminance at the ground), the
+        sky's irradiance as 9 spherical-harmonic coefficients (lx) and ``n_lights``
+        directional lights, measured on equirect maps of ``size`` (width, height; 2:1)."""
+        self._check_alive()
+        return sky_lighting(self, size, n_lights)
 
     def _repr_png_(self) -> bytes:
         """A small tone-mapped equirect view, for Jupyter."""

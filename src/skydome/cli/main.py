@@ -38,6 +38,7 @@ COMMAND_MODULES = [
     "skydome.cli.atmosphere_cmds",
     "skydome.cli.astro_cmds",
     "skydome.cli.view_cmd",
+    "skydome.cli.lighting_cmd",
 ]
 
 for _name in COMMAND_MODULES:

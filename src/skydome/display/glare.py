@@ -51,6 +51,7 @@ import numpy as np
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
+from skydome.physics.fitting import nonnegative_lstsq
 
 #: Glare modes: none, the human eye's PSF, a camera lens's veiling glare.
 GLARES = ("off", "eye", "lens")
@@ -146,17 +147,6 @@ def level_variance_px2(level: int) -> float:
     return 25.0 / 36.0 * (4.0**level - 1.0)
 
 
-def _nonnegative_lstsq(a: np.ndarray, b: np.ndarray, iterations: int = 4000) -> np.ndarray:
-    """min |a x - b|^2 with x >= 0, for a, b >= 0: Lee & Seung's multiplicative updates
-    (x <- x a^T b / a^T a x), which keep x non-negative and do not increase the residual."""
-    ata = a.T @ a
-    atb = a.T @ b
-    x = np.full(a.shape[1], 1e-3)
-    for _ in range(iterations):
-        x *= atb / np.maximum(ata @ x, 1e-300)
-    return x
-
-
 @lru_cache(maxsize=64)
 def _weights(pixel_deg: float, width: int, height: int, mode: str) -> tuple[tuple, float, float]:
     sizes = level_sizes(width, height)
@@ -177,7 +167,7 @@ def _weights(pixel_deg: float, width: int, height: int, mode: str) -> tuple[tupl
     share = float(np.sum(0.5 * (integrand[1:] + integrand[:-1]) * np.diff(np.log(t))))
     a = np.vstack([basis / target[:, None], np.full((1, len(var)), ENERGY_WEIGHT / share)])
     b = np.concatenate([np.ones_like(r), [ENERGY_WEIGHT]])
-    w = _nonnegative_lstsq(a, b)
+    w = nonnegative_lstsq(a, b)
     fit = basis @ w
     error = float(np.max(np.abs(fit / target - 1.0)))
     return tuple(float(x) for x in w), float(np.sum(w)), error
