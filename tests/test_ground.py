@@ -8,8 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from skydome.atmosphere.ground import dip_sin, ground_albedo, parse_ground
+from skydome.atmosphere.ground import ground_albedo, parse_ground
 from skydome.errors import ParameterError
+from skydome.physics.refraction import horizon_dip_sin
 from skydome.spectra import SRGB_LUMINANCE
 from tests.cli_helpers import run_cli
 
@@ -45,7 +46,7 @@ def test_ground_settings_are_parsed():
 def test_dip_is_the_horizon_of_the_sphere():
     # from 36.7 m above a 6371 km sphere the horizon lies 0.1945 deg down (sqrt(2h/R) rad,
     # the textbook geometric dip), and a ray at that elevation grazes the sphere
-    s = dip_sin(CAMERA_M, 6_371_000.0)
+    s = horizon_dip_sin(CAMERA_M, 6_371_000.0)
     assert math.degrees(math.asin(s)) == pytest.approx(
         math.degrees(math.sqrt(2 * CAMERA_M / 6_371_000.0)), rel=1e-4
     )

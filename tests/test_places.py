@@ -158,15 +158,8 @@ def _zone_dir() -> Path | None:
     return None
 
 
-def _dms(text: str) -> float:
-    """zone.tab's +DDMM[SS] / +DDDMM[SS] to degrees."""
-    sign = -1.0 if text[0] == "-" else 1.0
-    digits = text[1:]
-    seconds = len(digits) in (6, 7)
-    deg_len = len(digits) - (4 if seconds else 2)
-    deg, minutes = int(digits[:deg_len]), int(digits[deg_len : deg_len + 2])
-    sec = int(digits[deg_len + 2 :]) if seconds else 0
-    return sign * (deg + minutes / 60 + sec / 3600)
+#: zone.tab's +DDMM[SS] / +DDDMM[SS] to degrees: the zone tool's own reader.
+_dms = load_tool("build_place_zones").dms
 
 
 def test_cities_agree_with_tz_database():

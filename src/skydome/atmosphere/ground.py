@@ -35,6 +35,7 @@ from skydome.core.services import AirService, LightInputs
 from skydome.errors import ParameterError
 from skydome.gpu.inputs import ShaderInputs
 from skydome.io.images import read_user_image
+from skydome.physics.refraction import horizon_dip_sin
 
 #: The ground's kinds by name.
 GROUND_KINDS = ("none", "black")
@@ -105,13 +106,6 @@ class GroundInputs(ShaderInputs):
     u_dip_sin: float
 
 
-def dip_sin(camera_altitude_m: float, bottom_radius_m: float) -> float:
-    """sin of the dip below the horizontal of the horizon of a sphere of ``bottom_radius_m``
-    seen from ``camera_altitude_m`` above it (a ray below it meets the sphere)."""
-    r = bottom_radius_m + max(float(camera_altitude_m), 0.0)
-    return math.sqrt(max(1.0 - (bottom_radius_m / r) ** 2, 0.0))
-
-
 class BlackGroundLayer(Layer):
     """Zero light wherever the camera's ray meets the ground (volume stage: put it last, after
     the clouds and the weather): the lower hemisphere of an environment map left black. The
@@ -124,7 +118,7 @@ class BlackGroundLayer(Layer):
     def draw(self, frame: DrawContext) -> None:
         air = self.graph.find_service(AirService)
         bottom_m = air.bottom_radius_m if air is not None else 6_371_000.0
-        inputs = GroundInputs(u_dip_sin=dip_sin(frame.altitude_m, bottom_m))
+        inputs = GroundInputs(u_dip_sin=horizon_dip_sin(frame.altitude_m, bottom_m))
         fpass = self.full_screen_pass(
             frame.ctx, self.shader, (CameraInputs, BehindInputs, GroundInputs), frame.camera
         )

@@ -13,21 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from skydome.core.cameras import EquirectCamera
-
-#: The band-limited cosine lobe's factors per order (Ramamoorthi & Hanrahan eq. 12 / pi).
-_COSINE_LOBE = (math.pi, 2.0 * math.pi / 3.0, math.pi / 4.0)
-
-
-def sh_basis(directions: np.ndarray) -> np.ndarray:
-    """The nine real spherical harmonics Y_00, Y_1-1, Y_10, Y_11, Y_2-2 ... Y_22 at unit
-    ``directions`` (..., 3) (x east, y north, z up): (..., 9)."""
-    x, y, z = directions[..., 0], directions[..., 1], directions[..., 2]
-    return np.stack([
-        np.full_like(x, 0.282095),
-        0.488603 * y, 0.488603 * z, 0.488603 * x,
-        1.092548 * x * y, 1.092548 * y * z, 0.315392 * (3.0 * z * z - 1.0),
-        1.092548 * x * z, 0.546274 * (x * x - y * y),
-    ], axis=-1)  # fmt: skip
+from skydome.physics.spherical_harmonics import evaluate, irradiance_coefficients, sh9
 
 
 @dataclass(frozen=True)
@@ -56,7 +42,7 @@ class SkyProbe:
         irradiance = np.einsum("hw,hwc->c", up, radiance)
         clear = np.einsum("hw,hwc->c", up, clear_rgb)
         clear = np.append(clear, clear[1] * irradiance[3] / max(irradiance[1], 1e-30))
-        sh = np.einsum("hwk,hw,hwc->kc", sh_basis(d), omega, radiance)
+        sh = np.einsum("hwk,hw,hwc->kc", sh9(d), omega, radiance)
         return cls(radiance, irradiance, clear, sh)
 
     @property
@@ -78,6 +64,5 @@ class SkyProbe:
         """The irradiance (lx per channel, (..., 4)) of surfaces facing unit ``normal``
         (..., 3), from the spherical harmonics (Ramamoorthi & Hanrahan eq. 12)."""
         n = np.asarray(normal, dtype=np.float64)
-        basis = sh_basis(n / np.linalg.norm(n, axis=-1, keepdims=True))
-        lobe = np.array([_COSINE_LOBE[0]] + [_COSINE_LOBE[1]] * 3 + [_COSINE_LOBE[2]] * 5)
-        return np.maximum(basis @ (lobe[:, None] * self.sh), 0.0)
+        n = n / np.linalg.norm(n, axis=-1, keepdims=True)
+        return np.maximum(evaluate(irradiance_coefficients(self.sh), n), 0.0)

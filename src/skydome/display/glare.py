@@ -51,6 +51,7 @@ import numpy as np
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
+from skydome.gpu.textures import FloatTargets
 from skydome.physics.fitting import nonnegative_lstsq
 
 #: Glare modes: none, the human eye's PSF, a camera lens's veiling glare.
@@ -213,16 +214,7 @@ class GpuGlare:
         self._down = FullscreenPass(ctx, "post/glare_down.glsl", inputs=(GlareInputs,))
         self._up = FullscreenPass(ctx, "post/glare_up.glsl", inputs=(GlareInputs,))
         self._composite = FullscreenPass(ctx, "post/glare_composite.glsl", inputs=(GlareInputs,))
-        self._targets: dict[tuple, tuple] = {}
-
-    def _target(self, role: str, size: tuple[int, int]):
-        key = (role, size)
-        if key not in self._targets:
-            tex = self.ctx.texture(size, 4, dtype="f4")
-            tex.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
-            tex.repeat_x = tex.repeat_y = False
-            self._targets[key] = (tex, self.ctx.framebuffer(color_attachments=[tex]))
-        return self._targets[key]
+        self._targets = FloatTargets(ctx)
 
     def apply(self, hdr_texture, size: tuple[int, int], *, pixel_angle_rad: float, glare: str):
         """``hdr_texture`` (RGBA32F, GL rows, cd/m^2) with the halo of ``glare`` added."""
@@ -242,7 +234,7 @@ class GpuGlare:
         hdr_texture.repeat_x = hdr_texture.repeat_y = False
         try:
             for k in range(1, last + 1):
-                tex, fbo = self._target(f"down{k}", sizes[k - 1])
+                tex, fbo = self._targets.get(f"down{k}", sizes[k - 1])
                 fbo.viewport = (0, 0, *sizes[k - 1])
                 self._down.draw(fbo, GlareInputs(u_src=src))
                 downs.append(tex)
@@ -254,21 +246,18 @@ class GpuGlare:
         coarse = None
         for k in range(last, 0, -1):
             lw, lh = sizes[k - 1]
-            tex, fbo = self._target(f"up{k}", (lw, lh))
+            tex, fbo = self._targets.get(f"up{k}", (lw, lh))
             fbo.viewport = (0, 0, lw, lh)
             on = 0.0 if coarse is None else 1.0
             below = downs[k - 1] if coarse is None else coarse
             self._up.draw(fbo, GlareInputs(downs[k - 1], below, float(weights[k - 1]), on))
             coarse = tex
-        out, fbo = self._target("out", (w, h))
+        out, fbo = self._targets.get("out", (w, h))
         fbo.viewport = (0, 0, w, h)
         self._composite.draw(fbo, GlareInputs(hdr_texture, coarse, float(core)))
         return out
 
     def release(self) -> None:
-        for tex, fbo in self._targets.values():
-            fbo.release()
-            tex.release()
-        self._targets.clear()
+        self._targets.release()
         for p in (self._down, self._up, self._composite):
             p.release()

@@ -47,6 +47,7 @@ from skydome.display.gpu_exposure import LogLuminanceInputs
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
+from skydome.gpu.textures import FloatTargets
 from skydome.spectra import SRGB_LUMINANCE, XYZ_TO_LINEAR_SRGB
 
 # -- CIE 191:2010, MES2 ---------------------------------------------------------------------
@@ -333,7 +334,7 @@ class NightVision:
         self.acuity = bool(acuity)
         self.last_state: dict[str, float] = {}
         self._programs: dict[tuple, FullscreenPass] = {}
-        self._targets: dict[tuple, tuple] = {}
+        self._targets = FloatTargets(ctx)
         w, h = GRID
         self._measure = FullscreenPass(
             ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h},
@@ -354,16 +355,6 @@ class NightVision:
                 self.ctx, name, {**shader_defines(), **defines}, inputs=(NightVisionInputs,)
             )
         return self._programs[key]
-
-    def _target(self, role: str, size: tuple[int, int]):
-        """An RGBA32F target (bilinear, clamped to its edges) for one role and size."""
-        key = (role, size)
-        if key not in self._targets:
-            tex = self.ctx.texture(size, 4, dtype="f4")
-            tex.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
-            tex.repeat_x = tex.repeat_y = False
-            self._targets[key] = (tex, self.ctx.framebuffer(color_attachments=[tex]))
-        return self._targets[key]
 
     def measure_sp_ratio(self, hdr_texture) -> float:
         """The frame's S/P ratio: log-average scotopic over log-average photopic luminance on
@@ -454,8 +445,8 @@ class NightVision:
             if level == 0 and m <= 0.0:
                 # Scotopic: blur the scotopic channel only, four pixels to a texel.
                 packed = (-(-w // 4), h)
-                tex_x, fbo_x = self._target("packed_x", packed)
-                tex_y, fbo_y = self._target("packed_y", packed)
+                tex_x, fbo_x = self._targets.get("packed_x", packed)
+                tex_y, fbo_y = self._targets.get("packed_y", packed)
                 self._run(
                     "post/night_scotopic_blur.glsl",
                     fbo_x,
@@ -476,7 +467,7 @@ class NightVision:
                 source, final["NV_SOURCE"] = tex_y, 1
             elif level == 0:
                 # Across; the final pass takes the taps down.
-                tex_x, fbo_x = self._target("full_x", (w, h))
+                tex_x, fbo_x = self._targets.get("full_x", (w, h))
                 self._run(
                     "post/acuity_blur.glsl",
                     fbo_x,
@@ -492,11 +483,11 @@ class NightVision:
                 src, lw, lh = hdr_texture, w, h
                 for k in range(1, level + 1):
                     lw, lh = -(-lw // 2), -(-lh // 2)
-                    tex_k, fbo_k = self._target(f"level{k}", (lw, lh))
+                    tex_k, fbo_k = self._targets.get(f"level{k}", (lw, lh))
                     self._run("post/night_downsample.glsl", fbo_k, (lw, lh), uniforms, src)
                     src = tex_k
-                tmp, fbo_tmp = self._target(f"level{level}_x", (lw, lh))
-                fbo_k = self._target(f"level{level}", (lw, lh))[1]
+                tmp, fbo_tmp = self._targets.get(f"level{level}_x", (lw, lh))
+                fbo_k = self._targets.get(f"level{level}", (lw, lh))[1]
                 self._run(
                     "post/acuity_blur.glsl",
                     fbo_tmp,
@@ -520,7 +511,7 @@ class NightVision:
                 source, final["NV_SOURCE"] = src, 2
         else:
             final["NV_SOURCE"] = 0
-        out_tex, out_fbo = self._target("out", (w, h))
+        out_tex, out_fbo = self._targets.get("out", (w, h))
         self._run("post/night_vision.glsl", out_fbo, (w, h), uniforms, source, **final)
         return out_tex
 
@@ -530,10 +521,7 @@ class NightVision:
 
     def release(self) -> None:
         """Free the programs, targets and the measurement grid."""
-        for tex, fbo in self._targets.values():
-            fbo.release()
-            tex.release()
-        self._targets.clear()
+        self._targets.release()
         for prog in self._programs.values():
             prog.release()
         self._programs.clear()

@@ -42,3 +42,26 @@ def copy_array_to_3d(ctx, array, volume) -> None:
         volume.write(buffer)
     finally:
         buffer.release()
+
+
+class FloatTargets:
+    """RGBA32F render targets (bilinear, clamped to their edges), one per (role, size), kept
+    for reuse between frames: a post pass's intermediate images."""
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self._targets: dict[tuple, tuple] = {}
+
+    def get(self, role: str, size: tuple[int, int]):
+        """(texture, framebuffer) of ``role`` at ``size`` (made the first time)."""
+        key = (role, tuple(size))
+        if key not in self._targets:
+            tex = linear_clamped(self.ctx.texture(size, 4, dtype="f4"), self.ctx)
+            self._targets[key] = (tex, self.ctx.framebuffer(color_attachments=[tex]))
+        return self._targets[key]
+
+    def release(self) -> None:
+        """Free every target (framebuffers unbound first)."""
+        for tex, fbo in self._targets.values():
+            release_all(fbo, tex)
+        self._targets.clear()

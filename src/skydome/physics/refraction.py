@@ -132,9 +132,9 @@ def airless_offset_lookup(z, scale: float = 1.0) -> np.ndarray:
     return (1.0 - f) * t[i] + f * t[i + 1]
 
 
-def horizon_dip_sin(observer_height_m) -> float:
+def horizon_dip_sin(observer_height_m, radius_m: float = EARTH_MEAN_RADIUS_M) -> float:
     """sin of the dip of the ground's horizon below the horizontal for an observer at
-    ``observer_height_m`` above a spherical Earth of the mean radius: a ray with elevation
-    below -dip hits it."""
-    r = EARTH_MEAN_RADIUS_M + max(float(observer_height_m), 0.0)
-    return float(np.sqrt(max(1.0 - (EARTH_MEAN_RADIUS_M / r) ** 2, 0.0)))
+    ``observer_height_m`` above a sphere of ``radius_m`` (default the Earth's mean radius):
+    a ray with elevation below -dip hits it."""
+    r = radius_m + max(float(observer_height_m), 0.0)
+    return float(np.sqrt(max(1.0 - (radius_m / r) ** 2, 0.0)))
