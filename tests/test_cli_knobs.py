@@ -107,9 +107,11 @@ def render_npy(tmp_path, name: str, *knobs: str) -> np.ndarray:
 
 def test_render_knobs_act_on_the_frame(tmp_path):
     base = render_npy(tmp_path, "base")
-    nadir = (base[-1, :, :3] @ Y).mean()
     # Single scattering lights the Lambertian ground with the direct Sun only, seen over
     # 1.7 m of air: its radiance is proportional to the albedo (0.3 -> 0.6: x2, to 0.5 %).
+    # (a grey ground: the default grassland's albedo depends on the light's colour)
+    grey_ground = render_npy(tmp_path, "grey_ground", "--albedo", "0.3")
+    nadir = (grey_ground[-1, :, :3] @ Y).mean()
     bright = render_npy(tmp_path, "albedo", "--albedo", "0.6")
     assert (bright[-1, :, :3] @ Y).mean() / nadir == pytest.approx(2.0, rel=5e-3)
     # AOD 0.1 (earth: OPAC clean continental, the preset's definition) -> 0.5, keeping the
@@ -120,7 +122,7 @@ def test_render_knobs_act_on_the_frame(tmp_path):
     from skydome.atmosphere import preset
     from tests.test_atmosphere_knobs import beam_transmittance_ratio
 
-    hazy = render_npy(tmp_path, "aod", "--aod", "0.5")
+    hazy = render_npy(tmp_path, "aod", "--aod", "0.5", "--albedo", "0.3")
     assert preset("earth").aod_550 == pytest.approx(0.1, rel=1e-6)
     expected = beam_transmittance_ratio(preset("earth"), preset("earth", aod_550=0.5), 2.0)
     assert (hazy[-1, :, :3] @ Y).mean() / nadir == pytest.approx(expected, rel=0.01)

@@ -97,9 +97,12 @@ def test_interpolated_orders_match_computing_all_16():
     # README: the orders >= 2 computed at 4 wavelengths and interpolated in ln L cost
     # "0.01-0.4%" against computing them at all 16 (ms_wavelengths="same", otherwise the
     # default tables). Sky luminance over 300 upper-hemisphere directions more than 2 deg from
-    # the Sun, cameras at 0 and 10 km, Sun at 60, 20, 5, 0, -6, -12 deg: measured relative RMS
-    # 0.003-0.40% per case (largest at -12 deg, where the orders >= 2 are the whole sky), worst
-    # direction 0.52%. Bound: RMS <= 0.45% per case and 0.6% for any direction.
+    # the Sun, cameras at 0 and 10 km, Sun at 60, 20, 5, 0, -6, -12 deg, over the default
+    # grassland: measured relative RMS 0.00-0.37 % per case (largest with the Sun at 60 deg
+    # seen from the ground, where the light the ground sends up is most of the orders >= 2,
+    # and the grassland's albedo, which triples between 470 and 550 nm, is interpolated from 4
+    # wavelengths with them), worst direction 0.82 % (0.52 % over the grey 0.3 ground before).
+    # Bound: RMS <= 0.45 % per case and 1 % for any direction.
     from tests.air_frames import AirFrames
 
     default = precomputed_renderer().sky.tables
@@ -117,5 +120,7 @@ def test_interpolated_orders_match_computing_all_16():
             got = luminance(probe.sky_radiance(default, dirs[keep], sun, altitude_m=alt)[0])
             want = luminance(probe.sky_radiance(full, dirs[keep], sun, altitude_m=alt)[0])
             rel = got / want - 1.0
+            print(f"{alt:7.0f} m, Sun {el:5.1f}: RMS {np.sqrt(np.mean(rel**2)):.2%}, "
+                  f"max {np.abs(rel).max():.2%}")  # fmt: skip
             assert np.sqrt(np.mean(rel**2)) <= 4.5e-3, (alt, el, np.sqrt(np.mean(rel**2)))
-            assert np.abs(rel).max() <= 6e-3, (alt, el, np.abs(rel).max())
+            assert np.abs(rel).max() <= 1e-2, (alt, el, np.abs(rel).max())

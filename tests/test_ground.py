@@ -83,6 +83,57 @@ def test_albedo_ground_is_the_atmosphere_with_that_albedo():
     assert np.array_equal(got, want)
 
 
+def test_surface_albedos_are_the_cmaq_table():
+    # the IGBP reference spectral albedos of the U.S. EPA's CMAQ (ALBEDO_REFER_DATA.F) at its
+    # band centres, and the named grounds and the measured Earth's presets stand on them
+    from skydome.atmosphere import preset
+    from skydome.spectra import photopic_efficiency, solar_irradiance, surface_albedo
+
+    published = {  # surface: (467.5, 546.25, 642.3 nm)
+        "grassland": (0.045, 0.126, 0.129),
+        "forest": (0.033, 0.056, 0.057),
+        "desert": (0.179, 0.263, 0.331),
+        "snow": (0.992, 0.989, 0.982),
+        "ocean": (0.091, 0.078, 0.072),
+    }
+    for surface, values in published.items():
+        wl, albedo = surface_albedo(surface)
+        assert np.interp([467.5, 546.25, 642.3], wl, albedo) == pytest.approx(values, abs=1e-12)
+    grass = ground_albedo("grassland")
+    assert preset("earth").ground_albedo == grass and parse_ground(" Grassland ") == "grassland"
+    assert preset("desert").ground_albedo == ground_albedo("desert")
+    # grassland under the Sun: a luminous albedo of 0.12 (not the grey 0.3 of before)
+    wl = np.arange(380.0, 781.0, 5.0)
+    weight = photopic_efficiency(wl) * solar_irradiance(wl)
+    assert np.sum(grass.at(wl) * weight) / np.sum(weight) == pytest.approx(0.116, abs=0.002)
+
+
+@pytest.mark.gl
+def test_default_ground_is_grassland_seen_from_the_sky():
+    # the user's path: Sky's default ground is the grassland's spectral albedo (bit-identical
+    # to ground="grassland"); straight down from the standing eye its luminance over that of
+    # a grey 0.3 ground is the ratio of their albedos in daylight, 0.116 / 0.3, within 8 %
+    # (the sky's irradiance falls a few per cent with the darker ground: less light goes back
+    # up to be scattered down), and it is olive-brown: R > G > B, blue under half the green
+    # (the table's blue albedo is a third of its green; its red band holds the red edge)
+    from skydome import Sky
+    from skydome.core.cameras import DirectionsCamera
+
+    dirs = column_dirs(0.0, [-89.0, -60.0, 30.0])
+    where = {"sun_elevation_deg": 40.0, "sun_azimuth_deg": 180.0}
+    with Sky(**where) as sky:
+        frame = sky.render(DirectionsCamera(dirs), 0, 0, exposure=None)
+        rgb = np.asarray(frame.data[..., :3], dtype=np.float64).reshape(-1, 3)
+    with Sky(ground="grassland", **where) as sky:
+        assert np.array_equal(luminance_along(sky, dirs), rgb @ SRGB_LUMINANCE)
+    with Sky(ground=0.3, **where) as sky:
+        grey = luminance_along(sky, dirs)
+    ratio = (rgb @ SRGB_LUMINANCE)[:2] / grey[:2]
+    assert ratio == pytest.approx([0.116 / 0.3] * 2, rel=0.08), ratio
+    r, g, b = rgb[0]
+    assert r > g > 2.0 * b, rgb[0]
+
+
 @pytest.mark.gl
 def test_air_in_front_of_the_ground_at_dusk():
     # At dusk the ground-level air is lit by the sky alone. Looking 0.25-3 deg down from 37 m
@@ -104,7 +155,7 @@ def test_air_in_front_of_the_ground_at_dusk():
     assert np.all(np.diff(air[: len(below)]) > 0.0), air
     with Sky(**PARIS_DUSK) as sky:
         lit = luminance_along(sky, dirs)
-    # the lit ground (albedo 0.3) adds its light: brighter than the air alone, and no band
+    # the lit ground (grassland) adds its light: brighter than the air alone, and no band
     # darker than the ground further down (the ground seen through the air tends to the
     # air's own glow towards the horizon)
     assert np.all(lit[: len(below)] > air[: len(below)])

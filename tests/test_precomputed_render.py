@@ -68,13 +68,17 @@ def test_twilight_is_blue_and_fades():
 
 def test_ground_is_lit_by_sky_at_sunset():
     # With multiple scattering the ground at sunset is lit by the sky (it is black in the
-    # single-scattering model): albedo 0.3 x E_sky / pi, with E_sky ~ 1000 lx -> ~100 cd/m^2.
-    r = precomputed_renderer()
+    # single-scattering model): a grey ground's albedo 0.3 x E_sky / pi, with E_sky ~ 1000 lx
+    # -> ~100 cd/m^2 (grey: the default grassland's albedo depends on the light's colour).
+    from tests.air_frames import AirFrames
+
+    grey = preset("earth").with_albedo(0.3)
+    r = AirFrames(grey)
     down = np.array([[0.0, 0.0, -1.0]])
     g = r.render(
         DirectionsCamera(down), 0, 0, sun_direction=direction_from_angles(0.0, 90.0), altitude_m=2.0
     ).data[0, 0]
-    (ill,) = horizontal_illuminance(0.0)
+    (ill,) = horizontal_illuminance(0.0, atmosphere=grey)
     assert lum(g) == pytest.approx(0.3 * ill.total_horizontal_lux / np.pi, rel=0.03)
 
 

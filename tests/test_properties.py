@@ -648,7 +648,7 @@ def _make_sky(settings_: dict):
 
     kwargs = {"config": TINY_TABLES, **settings_}
     atmosphere = kwargs.pop("atmosphere")
-    if isinstance(atmosphere, dict):
+    if isinstance(atmosphere, dict) and "name" in atmosphere:  # else junk: Sky must refuse it
         atmosphere = preset(**atmosphere)
     place, when = kwargs.pop("place", None), kwargs.pop("time", None)
     return Sky(place, when, atmosphere, **kwargs)

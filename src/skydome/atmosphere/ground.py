@@ -3,6 +3,10 @@ layer that blacks the ground out for environment maps.
 
 - a number: a grey Lambertian ground of that albedo (0-1), lit by the Sun and the sky and
   seen through the air; the atmosphere's multiple scattering is computed with it too;
+- a surface's name (``SURFACES``: grassland, cropland, forest, desert, snow, ocean, urban):
+  a Lambertian ground of that surface's spectral albedo (CMAQ's IGBP reference table,
+  ``skydome.spectra.surface_albedo``), in the tables too: the measured Earth's presets stand
+  on grassland (the urban, maritime and desert airs on urban, ocean and desert ground);
 - ``"none"``: no ground that reflects (albedo 0 for the surface and the tables): the lower
   hemisphere holds only the light of the air in front of where the ground would be (the
   horizon's haze, the Earth's shadow in it at dusk), dark beneath;
@@ -15,7 +19,7 @@ layer that blacks the ground out for environment maps.
   (transparent where the sky shows), lit as the level ground at the camera is and seen
   through LANDSCAPE_KM of air; below it (and where it is transparent) the atmosphere's
   ground;
-- None (the default): the atmosphere's own ground albedo.
+- None (the default): the atmosphere's own ground albedo (grassland for ``earth``).
 
 The horizon is the planet's for the camera's height (a ray below the dip meets the ground),
 the same test as the atmosphere's own (``ray_hits_ground``).
@@ -29,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from skydome.atmosphere.params import Spectrum, surface_spectrum
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import BehindInputs, DrawContext, Layer
 from skydome.core.services import AirService, LightInputs
@@ -36,6 +41,7 @@ from skydome.errors import ParameterError
 from skydome.gpu.inputs import ShaderInputs
 from skydome.io.images import read_user_image
 from skydome.physics.refraction import horizon_dip_sin
+from skydome.spectra import SURFACES
 
 #: The ground's kinds by name.
 GROUND_KINDS = ("none", "black")
@@ -65,7 +71,7 @@ def parse_ground(value: str | float | None) -> str | float | None:
         raise ParameterError(f"ground must be none, black or an albedo 0..1, got {value!r}")
     if isinstance(value, str):
         text = value.strip().lower()
-        if text in GROUND_KINDS:
+        if text in GROUND_KINDS or text in SURFACES:
             return text
         if text.endswith(LANDSCAPE_SUFFIXES):
             path = Path(value.strip()).expanduser()
@@ -76,8 +82,8 @@ def parse_ground(value: str | float | None) -> str | float | None:
             value = float(text)
         except ValueError:
             raise ParameterError(
-                f"ground {value!r} must be none, black, an albedo 0..1 (e.g. 0.2) or a "
-                "landscape panorama (.png, .jpg, .tif)"
+                f"ground {value!r} must be none, black, an albedo 0..1 (e.g. 0.2), a surface "
+                f"({', '.join(SURFACES)}) or a landscape panorama (.png, .jpg, .tif)"
             ) from None
     try:
         albedo = float(value)
@@ -90,12 +96,14 @@ def parse_ground(value: str | float | None) -> str | float | None:
     return albedo
 
 
-def ground_albedo(ground: str | float | None) -> float | None:
+def ground_albedo(ground: str | float | None) -> float | Spectrum | None:
     """The albedo the atmosphere is computed with for a ground setting (None: its own)."""
     if ground == "none":
         return 0.0
     if isinstance(ground, float):
         return ground
+    if ground in SURFACES:
+        return surface_spectrum(ground)
     return None
 
 

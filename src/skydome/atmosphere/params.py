@@ -31,7 +31,7 @@ from skydome.physics.droplets import KOSCHMIEDER
 from skydome.physics.phase import cornette_shanks
 from skydome.spectra import photopic_efficiency
 from skydome.spectra import solar_irradiance as tabulated
-from skydome.spectra.tables import ozone_cross_section
+from skydome.spectra.tables import ozone_cross_section, surface_albedo
 
 #: One Dobson unit: 2.687e20 molecules per m^2 of column (0.01 mm of pure ozone at 0 °C and
 #: 1013.25 hPa; WMO definition).
@@ -96,6 +96,12 @@ class Spectrum:
 
     def scaled(self, factor: float) -> Spectrum:
         return Spectrum(self.wavelengths_nm, tuple(factor * v for v in self.values))
+
+
+def surface_spectrum(surface: str) -> Spectrum:
+    """The spectral albedo of a named surface (``skydome.spectra.SURFACES``: grassland,
+    cropland, forest, desert, snow, ocean, urban) as a Spectrum (CMAQ's IGBP table)."""
+    return Spectrum.sampled(*surface_albedo(surface))
 
 
 @dataclass(frozen=True)

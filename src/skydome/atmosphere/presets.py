@@ -21,6 +21,7 @@ from skydome.atmosphere.params import (
     AtmosphereParams,
     DensityProfile,
     Spectrum,
+    surface_spectrum,
 )
 from skydome.atmosphere.rayleigh import rayleigh_scattering_per_m
 from skydome.atmosphere.standard_atmosphere import air_density_profile, us_standard_1976
@@ -74,12 +75,18 @@ def earth_bruneton() -> AtmosphereParams:
     ).with_ozone(300.0)
 
 
-def _standard_earth(name: str, description: str, aerosol: str, aod_550: float | None = None):
+def _standard_earth(
+    name: str, description: str, aerosol: str, aod_550: float | None = None,
+    surface: str = "grassland",
+):  # fmt: skip
     """The measured Earth: U.S. Standard Atmosphere 1976 air (number density, tabulated every
     500 m to 100 km) with Rayleigh scattering from first principles (Bodhaine et al. 1999
     cross-section times the standard's sea-level number density: 1.149e-5 m^-1 at 550 nm, an
     optical depth of 0.0971), the AFGL 1986 U.S. Standard ozone profile scaled to 300 DU, an
-    OPAC aerosol type (Hess et al. 1998) and a ground albedo of 0.3."""
+    OPAC aerosol type (Hess et al. 1998) over the spectral albedo of a ``surface``
+    (``params.surface_spectrum``: grassland, 0.04 in the blue, 0.13 in the green and red;
+    a luminous albedo of 0.12 under the Sun, where a grey 0.3 drew a beige plane brighter
+    than the horizon)."""
 
     sea_level_m3 = float(us_standard_1976().number_density_m3[0])
     base = AtmosphereParams(
@@ -96,7 +103,7 @@ def _standard_earth(name: str, description: str, aerosol: str, aod_550: float | 
         mie_density=DensityProfile.exponential(1200.0),
         absorption_extinction=Spectrum.constant(0.0),  # 300 DU of ozone, set below
         absorption_density=ozone_density_profile(),
-        ground_albedo=Spectrum.constant(0.3),
+        ground_albedo=surface_spectrum(surface),
         sun_angular_radius_rad=SUN_ANGULAR_RADIUS_1AU,
         solar_irradiance=_sun(),
         description=description,
@@ -127,19 +134,22 @@ def typical() -> AtmosphereParams:
 
 def urban() -> AtmosphereParams:
     """The measured Earth with OPAC's urban aerosol (AOD 0.643 at 550 nm, SSA 0.82)."""
-    return _standard_earth("urban", "Earth, urban aerosol (AOD 0.643)", "urban")
+    return _standard_earth("urban", "Earth, urban aerosol (AOD 0.643)", "urban", surface="urban")
 
 
 def maritime() -> AtmosphereParams:
     """The measured Earth with OPAC's clean maritime aerosol (AOD 0.096, Ångström 0.1)."""
     return _standard_earth(
-        "maritime", "Earth, clean maritime aerosol (AOD 0.096)", "maritime_clean"
-    )
+        "maritime", "Earth, clean maritime aerosol (AOD 0.096)", "maritime_clean",
+        surface="ocean",
+    )  # fmt: skip
 
 
 def desert() -> AtmosphereParams:
     """The measured Earth with OPAC's desert aerosol (AOD 0.286, coarse mineral dust)."""
-    return _standard_earth("desert", "Earth, desert aerosol (AOD 0.286)", "desert")
+    return _standard_earth(
+        "desert", "Earth, desert aerosol (AOD 0.286)", "desert", surface="desert"
+    )
 
 
 def earth_nishita() -> AtmosphereParams:

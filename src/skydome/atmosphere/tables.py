@@ -17,7 +17,7 @@ from skydome.core.cache import CacheSpec, load_or_build
 #: (precompute_config.py, spectra/grids.py), the transmittance pass (transmittance.py), the
 #: uniforms and defines given to the shaders (inputs.py), the parameters' derived values and
 #: phase lobes (params.py, phase.py), the spectral-to-RGB conversion (spectra/colour.py,
-#: spectra/tables.py, spectra/__init__.py) and the CIE and solar tables it reads. Bump
+#: spectra/tables.py, spectra/__init__.py) and the CIE, solar and surface tables it reads. Bump
 #: ``version`` when an edit of one of them changes the tables (tests/test_cache.py checks).
 TABLES_CACHE = CacheSpec(
     name="atmosphere-tables",
@@ -43,6 +43,7 @@ TABLES_CACHE = CacheSpec(
         "data/cie1931_2deg_cmf_5nm.csv",
         "data/cie_luminous_efficiency_5nm.csv",
         "data/solar_ozone_10nm.csv",
+        "data/surface_albedo_igbp.csv",
     ),
 )
 

@@ -59,7 +59,7 @@ FLAGS: dict[str, Flag] = {
                        "earth_bruneton | earth_nishita | mars."),
     "albedo": Flag(float, None, ("--albedo",),
                    "Ground albedo, 0..1, on top of --atmosphere (default: the preset's, earth "
-                   "0.3)."),
+                   "grassland's spectral albedo, 0.12 in luminance)."),
     "aod": Flag(float, None, ("--aod",),
                 "Aerosol optical depth at 550 nm, 0..5, on top of --atmosphere (default: the "
                 "preset's, earth 0.1, typical 0.151, hazy 0.27, earth_bruneton 0.0053)."),
@@ -165,7 +165,9 @@ FLAGS: dict[str, Flag] = {
     "ground": Flag(str, None, ("--ground",),
                    "Below the horizon: none (a ground that reflects nothing: the air in "
                    "front of it only) | black (zero: HDRIs lit with a ground of your own) | "
-                   "an albedo 0..1 (default: the atmosphere's, 0.3) | a landscape panorama "
+                   "an albedo 0..1 | a surface's spectral albedo: grassland, cropland, "
+                   "forest, desert, snow, ocean, urban (default: the atmosphere's; earth: "
+                   "grassland) | a landscape panorama "
                    "(.png/.jpg/.tif, equirect 2:1, north at the left edge, transparent sky)."),
     "tonemap": Flag(str, "filmic", ("--tonemap",),
                     "filmic | reinhard | exponential | hvs | linear."),

@@ -16,11 +16,13 @@ from skydome.spectra.colour import (
 )
 from skydome.spectra.grids import ACCURATE_NM, FAST_NM, wavelengths
 from skydome.spectra.tables import (
+    SURFACES,
     cmf_xyz,
     ozone_cross_section,
     photopic_efficiency,
     scotopic_efficiency,
     solar_irradiance,
+    surface_albedo,
 )
 
 __all__ = [
@@ -31,6 +33,7 @@ __all__ = [
     "PHOTOPIC_EFFICACY_LM_PER_W",
     "SCOTOPIC_EFFICACY_LM_PER_W",
     "SRGB_LUMINANCE",
+    "SURFACES",
     "XYZ_TO_LINEAR_SRGB",
     "cmf_xyz",
     "conversion_matrix",
@@ -42,6 +45,7 @@ __all__ = [
     "solar_luminance",
     "solar_irradiance",
     "spectral_to_rgbs_matrix",
+    "surface_albedo",
     "wavelengths",
     "xyz_to_linear_srgb",
 ]

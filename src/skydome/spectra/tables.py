@@ -12,6 +12,9 @@ Sources (see the header lines of each CSV in ``skydome/data``):
   600-610 nm, the Chappuis band's centre (Burrows et al. 1999, JQSRT 61, 509), at 5.02e-25 m^2
   (5.02e-21 cm^2); point values of the same 233 K data at 548, 579 and 611 nm, sampled by
   another program, agree within 1.5 %.
+- Spectral albedos of surfaces by IGBP land-cover type (grassland, cropland, forest, desert,
+  snow, ocean, urban): the reference table of the U.S. EPA's CMAQ model (public domain), at
+  its band centres 340-1000 nm.
 """
 
 from __future__ import annotations
@@ -81,3 +84,16 @@ def ozone_cross_section(wavelengths_nm) -> np.ndarray:
     t = _table("solar_ozone_10nm.csv")
     centres = t[:, 0] + 5.0
     return np.interp(_check_wavelengths(wavelengths_nm), centres, t[:, 2])
+
+
+#: The surfaces of ``surface_albedo_igbp.csv``, in its column order.
+SURFACES = ("grassland", "cropland", "forest", "desert", "snow", "ocean", "urban")
+
+
+def surface_albedo(surface: str) -> tuple[np.ndarray, np.ndarray]:
+    """The spectral albedo (0-1) of a surface of :data:`SURFACES`: its band centres (nm,
+    340-1000) and values, to be interpolated linearly (CMAQ's IGBP reference table)."""
+    if surface not in SURFACES:
+        raise ParameterError(f"surface {surface!r} must be one of {', '.join(SURFACES)}")
+    t = _table("surface_albedo_igbp.csv")
+    return t[:, 0].copy(), t[:, 1 + SURFACES.index(surface)].copy()
