@@ -26,7 +26,10 @@ GALLERY = ROOT / "docs" / "gallery"
 PICTURES = {
     "place_and_time.py": {"howto-place-and-time.png": ["place-moon.png", "place-east.png"]},
     "timelapse.sh": {"howto-timelapse-ev8.png": ["dusk-ev8/frame_*.png"]},
-    "lighting.py": {"howto-lighting.png": ["lighting-preview.png"]},
+    "lighting.py": {
+        "howto-lighting.png": ["lighting-preview.png"],
+        "howto-lighting-cube.png": ["lighting-cube.png"],
+    },
 }
 
 

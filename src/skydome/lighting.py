@@ -39,6 +39,7 @@ from skydome.atmosphere.mie import nnls
 from skydome.core.cameras import EquirectCamera
 from skydome.core.frame import Frame
 from skydome.errors import ParameterError
+from skydome.lighting_ibl import DEFAULT_FACE_SIZE, DEFAULT_SAMPLES, PrefilteredCube, prefilter
 from skydome.physics import spherical_harmonics as sh
 from skydome.spectra import SRGB_LUMINANCE
 
@@ -134,6 +135,22 @@ class Lighting:
         exact = self.exact_irradiance(normals) @ SRGB_LUMINANCE
         got = self.lights_irradiance(normals) @ SRGB_LUMINANCE
         return got / np.maximum(exact, 1e-30) - 1.0
+
+    def prefiltered(
+        self,
+        ctx=None,
+        *,
+        face_size: int = DEFAULT_FACE_SIZE,
+        with_sun: bool = False,
+        samples: int = DEFAULT_SAMPLES,
+    ) -> PrefilteredCube:
+        """The prefiltered specular cube map (split sum, GGX; :mod:`skydome.lighting_ibl`)
+        of :attr:`sky_map` in ``ctx`` (the Sky's: ``sky.graph.ctx``; default the shared
+        headless context): the sky alone, or ``with_sun`` the Sun as a point source too."""
+        return prefilter(
+            self.sky_map, ctx, face_size=face_size, samples=samples,
+            sun=self.sun if with_sun else None,
+        )  # fmt: skip
 
     def as_dict(self) -> dict:
         """JSON-able: ``sun``, ``moon`` (or None), ``sh`` (9 rows of RGB, lx), ``lights``."""
