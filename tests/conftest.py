@@ -125,6 +125,12 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
     "astro/test_stars.py": ("test_packaged_files_are_what_the_tool_builds",),
     "test_aerosols.py": ("test_higher_asymmetry_type_has_brighter_aureole",),
     "test_atmosphere_knobs.py": ("test_more_aerosol_dims_the_sun_and_whitens_the_sky",),
+    "test_batch.py": (
+        "test_a_local_cluster_of_two_workers_renders_40_jobs_as_one_process_does",
+        "test_a_worker_killed_mid_run_leaves_every_output_once_and_whole",
+        "test_a_runner_keeps_its_memory_flat_over_many_jobs",
+        "test_outputs_are_the_single_renders_and_the_manifest_their_light",
+    ),
     "test_cache.py": (
         "test_cli_warns_in_one_line_and_rebuilds",
         "test_damaged_header_through_the_sky",
@@ -170,6 +176,7 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
     "test_density_profiles.py": ("test_tabulated_exponentials_reproduce_the_exponential_frame",),
     "test_docs.py": (
         "test_example_runs_and_writes_sane_files[atmospheres.py]",
+        "test_example_runs_and_writes_sane_files[batch.sh]",
         "test_example_runs_and_writes_sane_files[blender_cli.sh]",
         "test_example_runs_and_writes_sane_files[blender_hdri.py]",
         "test_example_runs_and_writes_sane_files[clouds.py]",
@@ -190,6 +197,10 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
     "test_lifetimes.py": (
         "test_200_skies_made_rendered_and_dropped_leak_nothing",
         "test_skies_share_tables_and_the_last_holder_frees_them",
+    ),
+    "test_lighting_ibl.py": (
+        "test_the_brdf_table_equals_a_quadrature_over_the_hemisphere",
+        "test_cli_writes_the_cube_and_the_table",
     ),
     "test_mars.py": (
         "test_blue_around_the_setting_sun_butterscotch_elsewhere",

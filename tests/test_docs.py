@@ -41,6 +41,7 @@ EXPECTED = {
     "atmospheres.py": ["atmosphere-earth-hazy-smoky.png"],
     "cie_sky.py": ["cie-sky-types.csv", "cie-sky-types.png"],
     "lighting.py": ["lighting.json", "lighting-sky.exr", "lighting-preview.png"],
+    "batch.sh": ["batch/manifest.csv", "batch/manifest.parquet", "batch/*.exr", "batch/*.png"],
     "weather.py": [
         "weather-fog.png",
         "weather-fog-sea.png",

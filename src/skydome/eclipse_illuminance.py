@@ -24,7 +24,7 @@ from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere.illuminance import horizontal_illuminance
 from skydome.atmosphere.layer import RGBS_EFFECTIVE_NM, eclipse_air, eclipse_sky_mode
 from skydome.atmosphere.presets import preset
-from skydome.atmosphere.tables import load_tables
+from skydome.atmosphere.tables import shared_tables
 from skydome.gpu import shared_context
 from skydome.physics.constants import AU_KM, M_PER_KM
 from skydome.physics.geometry import elevation_deg
@@ -84,7 +84,7 @@ def place_illuminance(
     if ecl is None:
         return out
     visible = ecl.visible_fraction
-    tables, _ = load_tables(shared_context(), params, config)
+    tables, _ = shared_tables(shared_context(), params, config)
     dirs, weights = _hemisphere()
     # the tables' Sun at the airless azimuth and elevation (as the illuminance probe's)
     sun_dir = np.asarray(sun.direction_true, dtype=np.float64)

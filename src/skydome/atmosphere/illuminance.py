@@ -15,7 +15,7 @@ from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.atmosphere.presets import preset
-from skydome.atmosphere.tables import load_tables
+from skydome.atmosphere.tables import shared_tables
 from skydome.errors import check_range
 from skydome.gpu import shared_context
 from skydome.spectra import SRGB_LUMINANCE
@@ -56,7 +56,9 @@ def horizontal_illuminance(
     for e in els:
         check_range("sun elevation", e, -90.0, 90.0, "deg")
     check_range("altitude", altitude_m, 0.0, params.atmosphere_height_m, "m")
-    tables, _ = load_tables(ctx or shared_context(), params, config)
+    # the set in GPU memory for a sky that holds it (else loaded, and freed after the call:
+    # a loop of calls, a batch of thousands, leaks nothing)
+    tables, _ = shared_tables(ctx or shared_context(), params, config)
     sun_scale = sun_scale * params.solar_scale  # the tables hold the tabulated (1 AU) Sun
     up = np.tile([0.0, 0.0, 1.0], (len(els), 1))
     out = []

@@ -39,6 +39,7 @@ COMMAND_MODULES = [
     "skydome.cli.astro_cmds",
     "skydome.cli.view_cmd",
     "skydome.cli.lighting_cmd",
+    "skydome.cli.batch_cmd",
 ]
 
 for _name in COMMAND_MODULES:
