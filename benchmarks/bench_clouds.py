@@ -26,7 +26,7 @@ import statistics
 import time
 
 import numpy as np
-from timing import median_ms
+from timing import median_ms, print_floor, vs_floor
 
 from skydome import Sky
 from skydome.clouds.layer import CloudLayer
@@ -53,12 +53,13 @@ def main() -> None:
     full = sky_with("full")
     ctx = full.graph.ctx
     print(f"# device: {gl_info(ctx).describe()}")
+    print_floor(ctx)
     yaw = full.state.sun.azimuth_deg + 40.0
     cam = PerspectiveCamera(fov_deg=90.0, yaw_deg=yaw, pitch_deg=15.0)
     ms = median_ms(lambda: full.render(cam, w, h, exposure=None), args.repeats, warmup=1)
     print(
-        f"full {w}x{h}: {ms:.0f} ms per frame (median of {args.repeats}; the march at half "
-        "the resolution)"
+        f"full {w}x{h}: {ms:.0f} ms per frame{vs_floor(ms)} (median of {args.repeats}; the "
+        "march at half the resolution)"
     )
     layer = full.layer("clouds")
 
@@ -72,7 +73,7 @@ def main() -> None:
     )
     layer.enabled = False
     bare = median_ms(lambda: full.render(cam, w, h, exposure=None), args.repeats, warmup=1)
-    print(f"  the same frame without clouds: {bare:.0f} ms")
+    print(f"  the same frame without clouds: {bare:.0f} ms{vs_floor(bare)}")
     layer.enabled = True
     reference = full.render(cam, w, h, exposure=None).data[..., 1]
     best = sky_with("best")
@@ -98,7 +99,7 @@ def main() -> None:
             times.append((time.perf_counter() - t0) * 1e3)
     print(
         f"interactive {w}x{h}, turning 0.5 deg/frame: {statistics.median(times):.0f} ms per "
-        f"frame (median of {len(times)})"
+        f"frame{vs_floor(statistics.median(times))} (median of {len(times)})"
     )
     accumulating = sky_with("interactive", refine=False)
     for _ in range(16):

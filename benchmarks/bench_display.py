@@ -12,7 +12,7 @@ Sun 4.5 deg down, the full Moon rising) looking at the Moon for the display pass
 
 from __future__ import annotations
 
-from timing import frame_args, median_ms
+from timing import frame_args, median_ms, vs_floor
 
 from skydome import Sky
 
@@ -27,13 +27,15 @@ def main() -> None:
                 lambda g=glare: sky.render(cam, w, h, tonemap="filmic", glare=g), repeats
             )
             base = ms if base is None else base
-            print(f"tone-mapped frame, glare {glare:4s}: {ms:7.1f} ms (+{ms - base:.1f})")
+            print(
+                f"tone-mapped frame, glare {glare:4s}: {ms:7.1f} ms (+{ms - base:.1f}){vs_floor(ms)}"
+            )
         for metering in ("average", "center", "spot", "eye"):
             ms = median_ms(
                 lambda m=metering: sky.render(cam, w, h, tonemap="filmic", glare="off", metering=m),
                 repeats,
             )
-            print(f"tone-mapped frame, metering {metering:7s}: {ms:7.1f} ms")
+            print(f"tone-mapped frame, metering {metering:7s}: {ms:7.1f} ms{vs_floor(ms)}")
     for label, when in (
         ("an hour before the eclipse", "2024-04-08T16:20Z"),
         ("in the partial phase, 18:05 UTC", "2024-04-08T18:05Z"),
@@ -42,7 +44,7 @@ def main() -> None:
         with Sky("Dallas", when) as sky:
             cam = sky.camera("sun", fov_deg=90)
             ms = median_ms(lambda s=sky, c=cam: s.render(c, w, h, exposure=None), repeats)
-            print(f"Dallas, {label:32s}: {ms:7.1f} ms (HDR frame)")
+            print(f"Dallas, {label:32s}: {ms:7.1f} ms (HDR frame){vs_floor(ms)}")
 
 
 if __name__ == "__main__":

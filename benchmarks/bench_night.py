@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import argparse
 
-from timing import draw_ms, median_ms
+from timing import draw_ms, median_ms, print_floor, vs_floor
 
 from skydome import Sky
 from skydome.core.cameras import PerspectiveCamera
@@ -39,6 +39,7 @@ def main() -> None:
     sky = Sky(PLACE, TIME)
     ctx = sky.graph.ctx
     print(f"# device: {gl_info(ctx).describe()}")
+    print_floor(ctx)
 
     def frame(on: tuple[str, ...], **kw):
         kw.setdefault("exposure", -8.0 if "tonemap" in kw else None)
@@ -57,10 +58,10 @@ def main() -> None:
         runs["air"].append(median_ms(frame(()), args.repeats // 3 or 1))
         runs["night"].append(median_ms(frame(NIGHT_LAYERS), args.repeats // 3 or 1))
     air_ms, night_ms = (sorted(v)[1] for v in runs.values())
-    print(f"atmosphere-only frame 1280x720 (Sun, Moon, air): {air_ms:.1f} ms")
+    print(f"atmosphere-only frame 1280x720 (Sun, Moon, air): {air_ms:.1f} ms{vs_floor(air_ms)}")
     print(
         f"night frame 1280x720 (+ {', '.join(NIGHT_LAYERS)}): {night_ms:.1f} ms, "
-        f"{night_ms / air_ms:.3f} x the atmosphere-only frame"
+        f"{night_ms / air_ms:.3f} x the atmosphere-only frame{vs_floor(night_ms)}"
     )
     for name in NIGHT_LAYERS:
         # Each layer alone, interleaved with the atmosphere-only frame: the median of the
@@ -90,7 +91,7 @@ def main() -> None:
 
     print(f"update (a new time, every layer): {median_ms(new_time, args.repeats):.1f} ms")
     drawn = draw_ms(sky, CAMERA, (1920, 1080), args.repeats)
-    print(f"draw 1920x1080 (every layer, no read-back): {drawn:.1f} ms")
+    print(f"draw 1920x1080 (every layer, no read-back): {drawn:.1f} ms{vs_floor(drawn)}")
 
 
 if __name__ == "__main__":

@@ -16,7 +16,7 @@ from __future__ import annotations
 import statistics
 import time
 
-from timing import frame_args
+from timing import frame_args, vs_floor
 
 from skydome import Sky
 from skydome.clouds import halos
@@ -64,7 +64,9 @@ def main() -> None:
         base = statistics.median(next(iter(times.values())))
         for name, values in times.items():
             ms = statistics.median(values)
-            print(f"{label} frame {name}: {ms:.0f} ms ({100.0 * (ms / base - 1.0):+.1f} %)")
+            print(
+                f"{label} frame {name}: {ms:.0f} ms ({100.0 * (ms / base - 1.0):+.1f} %){vs_floor(ms)}"
+            )
 
 
 def interleaved(settings: dict, size, repeats: int) -> dict[str, list[float]]:

@@ -19,7 +19,7 @@ import argparse
 import functools
 
 import numpy as np
-from timing import median_ms
+from timing import median_ms, print_floor, vs_floor
 
 from skydome import Sky
 from skydome.atmosphere import preset
@@ -74,6 +74,7 @@ def main() -> None:
     precomputed = args.model == "precomputed"
     path = "per-pixel lookups" if args.direct else "sky-view tables"
     print(f"# device: {gl_info(ctx).describe()}")
+    print_floor(ctx)
     print(f"# model {args.model}, spectral {args.spectral}, ", end="")
     print(path if precomputed else f"{args.samples} samples per view ray")
     if precomputed:
@@ -88,7 +89,8 @@ def main() -> None:
         print(f"reload from cache: {median_ms(reload, 5, warmup=0):.1f} ms")
     for label, cam, w, h in cases:
         frame = functools.partial(sky.render, cam, w, h, exposure=None)
-        print(f"{label}: {median_ms(frame, args.repeats):.1f} ms")
+        ms = median_ms(frame, args.repeats)
+        print(f"{label}: {ms:.1f} ms{vs_floor(ms)}")
     if precomputed and not args.direct:
         step = [0]
 
@@ -99,7 +101,7 @@ def main() -> None:
 
         for w, h in ((640, 360), (1280, 720)):
             ms = median_ms(functools.partial(moving, w, h), args.repeats)
-            print(f"{w}x{h} Sun moving: {ms:.1f} ms")
+            print(f"{w}x{h} Sun moving: {ms:.1f} ms{vs_floor(ms)}")
     if precomputed:
         # Per-pixel inputs (always per-pixel lookups): aerial perspective for a scene 5 km
         # away, light shafts with 2 km of shadow along every ray.
@@ -110,7 +112,8 @@ def main() -> None:
         ):
             image = np.full((h, w), value)
             render = functools.partial(sky.render, VIEW, w, h, exposure=None, **{key: image})
-            print(f"{w}x{h} with {label}: {median_ms(render, args.repeats):.1f} ms")
+            ms = median_ms(render, args.repeats)
+            print(f"{w}x{h} with {label}: {ms:.1f} ms{vs_floor(ms)}")
     sky.release()
 
 

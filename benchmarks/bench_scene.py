@@ -25,7 +25,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from timing import draw_ms, median_ms
+from timing import draw_ms, median_ms, print_floor, vs_floor
 
 from skydome import Sky
 from skydome.atmosphere.layer import AtmosphereLayer
@@ -47,6 +47,7 @@ def main() -> None:
     sky = Sky(PLACE, TIME, night=False)  # the Sun and the Moon (bench_night.py: the night)
     ctx = sky.graph.ctx
     print(f"# device: {gl_info(ctx).describe()}")
+    print_floor(ctx)
     # Both disks in view: look between them.
     sun, moon = sky.state.sun, sky.state.moon
     cam = PerspectiveCamera(
@@ -83,11 +84,14 @@ def main() -> None:
         runs["air"].append(median_ms(atmosphere_layer_frame, args.repeats // 3 or 1))
         runs["scene"].append(median_ms(scene_frame, args.repeats // 3 or 1))
     r_ms, a_ms, s_ms = (sorted(v)[1] for v in runs.values())
-    print(f"atmosphere layer lit by the Sun alone 1280x720: {r_ms:.1f} ms")
-    print(f"atmosphere layer alone 1280x720 (sky lit by the Sun and the Moon): {a_ms:.1f} ms")
+    print(f"atmosphere layer lit by the Sun alone 1280x720: {r_ms:.1f} ms{vs_floor(r_ms)}")
+    print(
+        f"atmosphere layer alone 1280x720 (sky lit by the Sun and the Moon): {a_ms:.1f} ms"
+        f"{vs_floor(a_ms)}"
+    )
     print(
         f"scene frame 1280x720 (+ Sun and Moon disks): {s_ms:.1f} ms, "
-        f"{s_ms / a_ms:.3f} x the atmosphere layer alone"
+        f"{s_ms / a_ms:.3f} x the atmosphere layer alone{vs_floor(s_ms)}"
     )
 
     minute = iter(range(1, 10_000))
@@ -107,7 +111,7 @@ def main() -> None:
         return step
 
     at_ms = median_ms(new_time(sky), args.repeats)
-    print(f"at(t) (astronomy + Moon integral + sky-view tables): {at_ms:.1f} ms")
+    print(f"at(t) (astronomy + Moon integral + sky-view tables): {at_ms:.1f} ms{vs_floor(at_ms)}")
     air_small = AtmosphereLayer(air.params, sky_view_size=(128, 128))
     small = Sky(PLACE, TIME, layers=[SunLayer(), MoonLayer(), air_small])
     small_ms = median_ms(new_time(small), args.repeats)
@@ -126,7 +130,8 @@ def main() -> None:
     life_ms = median_ms(lifetime, args.repeats)
     print(f"a Sky made, drawn once at 64x32 and released: {life_ms:.1f} ms")
 
-    print(f"draw 1920x1080 (no read-back): {draw_ms(sky, cam, (1920, 1080), args.repeats):.1f} ms")
+    drawn = draw_ms(sky, cam, (1920, 1080), args.repeats)
+    print(f"draw 1920x1080 (no read-back): {drawn:.1f} ms{vs_floor(drawn)}")
 
     if not args.no_timelapse:
         with tempfile.TemporaryDirectory() as d:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 
-from timing import frame_args, median_ms
+from timing import frame_args, median_ms, vs_floor
 
 from skydome import Sky
 from skydome.atmosphere.precompute_config import PrecomputeConfig
@@ -48,14 +48,15 @@ def frame_ms(size, repeats, *, particles: bool = True, fresh_table: bool = False
 def main() -> None:
     r, size = frame_args(__doc__)
     clear = frame_ms(size, r)
-    print(f"clear sky: {clear:.0f} ms")
+    print(f"clear sky: {clear:.0f} ms{vs_floor(clear)}")
     for label, weather, sun in (("fog (200 m, 150 m deep)", "fog", 20.0),
                                 ("mist (2.5 km, 300 m deep)", "mist", 30.0)):  # fmt: skip
         kept = frame_ms(size, r, sun=sun, weather=weather)
         fresh = frame_ms(size, r, sun=sun, weather=weather, fresh_table=True)
         print(
             f"{label}: {kept:.0f} ms (+{100 * (kept / clear - 1):.0f} %) with its direction "
-            f"table kept, {fresh:.0f} ms (+{100 * (fresh / clear - 1):.0f} %) marching it"
+            f"table kept{vs_floor(kept)}, {fresh:.0f} ms (+{100 * (fresh / clear - 1):.0f} %) "
+            f"marching it{vs_floor(fresh)}"
         )
     for name, clouds in (("rain", "nimbostratus"), ("snow", "nimbostratus"),
                          ("thunderstorm", "storm")):  # fmt: skip
@@ -65,7 +66,7 @@ def main() -> None:
         print(
             f"{name}: {clouds} alone {alone:.0f} ms, with the {name} volume {bare:.0f} ms "
             f"(+{100 * (bare / alone - 1):.0f} %), with its particles {full:.0f} ms "
-            f"(+{100 * (full / bare - 1):.0f} %)"
+            f"(+{100 * (full / bare - 1):.0f} %){vs_floor(full)}"
         )
     ctx = shared_context()
     for label, weather in (("clear air (4 orders)", None), ("hazy, 8 km", Weather("hazy")),
