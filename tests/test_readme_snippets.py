@@ -80,6 +80,8 @@ def test_python_snippet_runs(line, source, tmp_path, monkeypatch):
 SLOW_COMMANDS: dict[str, str] = {
     "precompute --atmosphere hazy --orders 6": "21 s of CPU, 52 s wall (2 shared cores)",
     "timelapse --place Valletta --start 2018-03-01T00:00Z": "1441 frames: 49 s wall (2 cores)",
+    # (its spec a path of the repository; tests/test_docs.py runs docs/examples/batch.sh)
+    "batch docs/examples/batch_spec.toml": "a Dask cluster of 2 workers, 12 skies: ~40 s",
 }
 _OUTPUT_OPTIONS = ("-o", "--output")
 
