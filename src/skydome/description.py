@@ -150,7 +150,9 @@ class SkyDescription:
         sun_disk: draw the Sun's disk (False: the sky without it, e.g. an environment map
             for a renderer that lights with its own Sun lamp; the air is lit all the same).
         ground: what lies below the horizon (``skydome.atmosphere.ground``): None, the
-            atmosphere's own ground; an albedo 0-1; "none", a ground that reflects nothing
+            atmosphere's own ground (the measured Earth's: grassland); an albedo 0-1; a
+            surface's spectral albedo by name ("grassland", "cropland", "forest", "desert",
+            "snow", "ocean", "urban"); "none", a ground that reflects nothing
             (the air in front of it only); "black", zero wherever a ray meets the ground; an
             image file, a landscape panorama in front of the sky (``LandscapeLayer``).
     """
