@@ -54,6 +54,13 @@ def register(app: typer.Typer) -> None:
             help="Turn the camera by this many degrees of azimuth every frame (a scripted "
             "tour; every frame is then drawn anew), -180..180.",
         ),
+        frame_budget: float = typer.Option(
+            33.0,
+            "--frame-budget",
+            help="Dynamic resolution: draw a moving view at a reduced size chosen to hold this "
+            "frame time (ms), upsampled; a still view is drawn again at full resolution. "
+            "0: off (every frame at full resolution), up to 1000.",
+        ),
         screenshot: list[str] = typer.Option(
             None,
             "--screenshot",
@@ -108,6 +115,9 @@ def register(app: typer.Typer) -> None:
             check_range("--turn", turn, -180.0, 180.0, "deg")
         if frames is not None:
             check_int("--frames", frames, 1, MAX_FRAMES)
+        from skydome.viewer.dynamic_resolution import check_frame_budget
+
+        frame_budget = check_frame_budget(frame_budget, "--frame-budget")
         shots = [check_output_path(p) for p in (screenshot or [])]
         if shots and frames is None:
             raise ParameterError("--screenshot saves the last of --frames N frames: add --frames")
@@ -160,6 +170,7 @@ def register(app: typer.Typer) -> None:
                 fields["pitch_deg"] = flags.pitch
             scene = ViewerScene(sky, Controls(initial_state(sky, **fields)))
             scene.metering, scene.glare = flags.metering, flags.glare
+            scene.frame_budget_ms = frame_budget
             if window.panel is not None:
                 window.panel.configure(description)
             on_frame = None
@@ -174,21 +185,31 @@ def register(app: typer.Typer) -> None:
                 if window.panel is not None:
                     window.panel.stop_rebuild()
             if frames is not None:
-                typer.echo(fps_report(timer))
+                typer.echo(fps_report(timer, scene))
                 report_times(timer)
                 for p in getattr(window, "saved", []):
                     typer.echo(f"wrote {p}")
             scene.release()
 
 
-def fps_report(timer) -> str:
+def fps_report(timer, scene=None) -> str:
     """The line ``--frames`` prints: drawn frames per second and ms per redraw (frames that
-    drew the sky anew; a still view shows its kept frame again), and every frame's rate."""
+    drew the sky anew; a still view shows its kept frame again), and every frame's rate;
+    with the ``scene`` (a ViewerScene), the median render scale of the frames drawn anew
+    (dynamic resolution) and the frame budget."""
+    import statistics
+
     drawn, ms = timer.drawn_fps(), timer.median_redraw_ms()
     count = f"{timer.redraws} of {timer.frames} frames drawn anew"
     if not drawn:
         return f"0.0 fps drawn ({count})"
-    return f"{drawn:.1f} fps drawn ({ms:.1f} ms per redraw; {count})"
+    line = f"{drawn:.1f} fps drawn ({ms:.1f} ms per redraw; {count})"
+    scales = list(getattr(scene, "drawn_scales", ()))
+    if scales:
+        budget = scene.frame_budget_ms
+        line += f"; render scale {statistics.median(scales):g} (median"
+        line += f", frame budget {budget:g} ms)" if budget > 0 else ", dynamic resolution off)"
+    return line
 
 
 def report_times(timer) -> None:

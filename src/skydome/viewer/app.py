@@ -272,6 +272,8 @@ class ViewerWindow:
                 screen.viewport = (0, 0, *window_size)
                 screen.clear(0.0, 0.0, 0.0, 1.0)
         screen.viewport = (0, 0, *size)
+        if screenshot or (self.panel is not None and self.panel.screenshot_requested):
+            scene.full_resolution_next = True  # a screenshot at full resolution
         with timer.cpu("sky"):
             scene.draw(screen, size, dt_s)
         pixels = None

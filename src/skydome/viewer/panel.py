@@ -247,7 +247,9 @@ class Panel:
         s = scene.controls.state
         sky = scene.sky()
         sun = sky.state.sun
-        line = redraw_line(timer, getattr(scene, "redrew", True))
+        line = redraw_line(
+            timer, getattr(scene, "redrew", True), getattr(scene, "render_scale", None)
+        )
         line += f"   Sun {sun.elevation_deg:+.1f} deg"
         if sky.state.moon is not None:
             line += f"   Moon {sky.state.moon.elevation_deg:+.1f} deg"
@@ -627,6 +629,13 @@ class Panel:
         changed, v = imgui.checkbox("vsync", s.vsync)
         if changed:
             c.set(vsync=v)
+        # dynamic resolution: the frame time a moving view is held to (0: off)
+        changed, v = imgui.slider_float(
+            "frame budget", scene.frame_budget_ms, 0.0, 100.0, "%.0f ms", _clamp(imgui)
+        )
+        self._mark("frame_budget", frame=True)
+        if changed:
+            scene.frame_budget_ms = round(v)
 
     def _times(self, timer) -> None:
         imgui = self.imgui
@@ -663,13 +672,17 @@ def _logarithmic(imgui) -> int:
     return int(imgui.SliderFlags_.logarithmic)
 
 
-def redraw_line(timer, redrawing: bool) -> str:
+def redraw_line(timer, redrawing: bool, scale: float | None = None) -> str:
     """The panel's speed readout: drawn frames per second and the median ms per redraw
-    while the view changes; "still" with the last redraws' ms while a kept frame is shown
-    (showing it again costs a copy, not a frame)."""
+    while the view changes, with the render scale of the last frame (dynamic resolution:
+    the fraction of each side drawn) when below 1; "still" with the last redraws' ms while
+    a kept frame is shown (showing it again costs a copy, not a frame)."""
     ms = timer.median_redraw_ms()
     if ms is None:
         return "-- fps"
     if redrawing:
-        return f"{1e3 / ms:.1f} fps drawn ({ms:.0f} ms per redraw)"
+        line = f"{1e3 / ms:.1f} fps drawn ({ms:.0f} ms per redraw)"
+        if scale is not None and scale < 1.0:
+            line += f", scale {scale:g}"
+        return line
     return f"still (a redraw takes {ms:.0f} ms)"

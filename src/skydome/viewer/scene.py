@@ -10,7 +10,9 @@ window and the notebook widget both use it.
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections import deque
 from typing import Any
 
 import numpy as np
@@ -18,12 +20,21 @@ import numpy as np
 from skydome.astro import Observer
 from skydome.astro.time import Time
 from skydome.core.frame import Frame
+from skydome.core.services import AirService
 from skydome.display.adaptation import EyeAdaptation
 from skydome.display.exposure import scale_to_ev100
 from skydome.errors import ParameterError
 from skydome.scene.state import abstract_state, state_at
 from skydome.sky import Sky, default_look, exposure_scale
 from skydome.viewer.controls import Controls, ViewState
+from skydome.viewer.dynamic_resolution import (
+    DEFAULT_FRAME_BUDGET_MS,
+    MAX_SCALE,
+    ResolutionController,
+    Upsampler,
+    disk_floor,
+    reduced_size,
+)
 from skydome.viewer.jumps import next_event
 
 #: The most the Sun or the Moon may move (deg) before a new time is drawn: a tenth of
@@ -87,6 +98,29 @@ class ViewerScene:
         #: The exposure (EV100) of the last frame drawn, and its tone map.
         self.last_ev100: float | None = None
         self._cache: FrameCache | None = None
+        #: Dynamic resolution: the render scale of a moving view, held to the frame budget
+        #: (:attr:`frame_budget_ms`; ``viewer.dynamic_resolution``).
+        self.resolution = ResolutionController(DEFAULT_FRAME_BUDGET_MS)
+        #: The render scale (fraction of each side) of the last frame drawn anew, and those
+        #: of the recent frames drawn anew.
+        self.render_scale = MAX_SCALE
+        self.drawn_scales: deque[float] = deque(maxlen=600)
+        #: Whether the last frame drew the sky anew (the frame timer's drawn frames).
+        self.redrew = False
+        #: Draw the next frame at full resolution even if the view moves (a screenshot).
+        self.full_resolution_next = False
+        self._upsampler: Upsampler | None = None
+
+    @property
+    def frame_budget_ms(self) -> float:
+        """The frame time (ms) a moving view is held to by drawing it at a reduced size
+        (dynamic resolution); 0: off, every frame at full resolution."""
+        return self.resolution.budget_ms
+
+    @frame_budget_ms.setter
+    def frame_budget_ms(self, value: float) -> None:
+        self.resolution = ResolutionController(value)
+        self.render_scale = MAX_SCALE
 
     # ------------------------------------------------------------------ the sky now
 
@@ -243,7 +277,13 @@ class ViewerScene:
         same view, its float frame, kept on the GPU, is tone-mapped into the scene's own
         8-bit target, which is copied (a blit) into ``framebuffer`` for as long as nothing
         changes. When only the display changes (an exposure, the tone map, night vision,
-        overlays) the post passes alone run again, from the kept float frame."""
+        overlays) the post passes alone run again, from the kept float frame.
+
+        Dynamic resolution (:attr:`frame_budget_ms` > 0): a new view whose previous frame was
+        drawn anew too (the view moves) is drawn, measured and tone-mapped at the
+        controller's :attr:`render_scale` and upsampled to ``size``
+        (``viewer.dynamic_resolution``); ``dt_s``, the time since the last frame, is that
+        frame's time. When the view stops, the next frame is drawn at full resolution."""
 
         s = self.controls.state
         self.view_width_px = int(size[0])
@@ -264,8 +304,27 @@ class ViewerScene:
                 cache.release()
             cache = self._cache = FrameCache(graph.ctx)
         moved = not cache.holds_view(graph, sky.state, view, size)
-        #: Whether this frame drew the sky anew (the frame timer's drawn frames).
+        scale = MAX_SCALE
+        if moved:
+            if self.redrew and dt_s > 0.0:  # the last frame was drawn anew: its time
+                self.resolution.observe(dt_s * 1e3, self.render_scale)
+            if (
+                self.frame_budget_ms > 0.0
+                and self.redrew
+                and not self.full_resolution_next
+                and not cache.same_view(graph, sky.state, view, size)
+            ):
+                scale = self.resolution.scale
+                if scale < MAX_SCALE:  # the Sun's and the Moon's disks a pixel across at least
+                    lights = (sky.state.sun, sky.state.moon)
+                    scale = max(scale, disk_floor(s.camera(), size, lights))
+            self.render_scale = scale
+            self.drawn_scales.append(scale)
+        self.full_resolution_next = False
         self.redrew = moved
+        if moved and scale < MAX_SCALE:
+            self._draw_reduced(framebuffer, size, scale, sky, view, display, cache)
+            return
         if moved:
             texture = graph.frame_texture(
                 sky.state, s.camera(), *size, altitude_m=self.altitude_m()
@@ -296,6 +355,46 @@ class ViewerScene:
         if not moved:
             cache.show(framebuffer, size)
         #: The EV100 of the exposure applied (compensation included).
+        self.last_ev100 = None if cache.scale is None else scale_to_ev100(cache.scale)
+
+    def _draw_reduced(self, framebuffer, size, scale, sky, view, display, cache) -> None:
+        """Draw the moving view at ``scale``: the layers, the exposure, the display passes
+        and the tone map at the reduced size, into the upsampler's 8-bit target, then
+        upsampled into ``framebuffer`` over ``size``. The kept float frame is the reduced
+        one (the next frame of the same view refines it at full resolution)."""
+        s = self.controls.state
+        graph = sky.graph
+        camera = s.camera()
+        altitude_m = self.altitude_m()
+        exposure, comp = self.exposure()
+        adapt = s.exposure_mode == "adapt"
+        rsize = camera.frame_size(*reduced_size(size, scale))
+        up = self._upsampler
+        if up is None or up.ctx is not graph.ctx:
+            if up is not None:
+                up.release()
+            up = self._upsampler = Upsampler(graph.ctx)
+        target = up.target(rsize)
+        if cache.reduced_size is not None and cache.reduced_size != rsize:
+            graph.release_targets(keep=size)  # the last scale's targets: not kept
+        texture = graph.frame_texture(sky.state, camera, *rsize, altitude_m=altitude_m)
+        cache.keep_view(graph, sky.state, view, size, texture, reduced=rsize)
+        target.viewport = (0, 0, *rsize)
+        used = graph.draw(
+            sky.state, target, camera, altitude_m=altitude_m, size=rsize,
+            exposure=exposure_scale(exposure, comp), compensation_ev=comp, tonemap=s.tonemap,
+            measure=adapt, read_back=True, texture=texture, metering=self.metering,
+            glare=self.glare, adaptation=self.eye.adapted_luminance if adapt else None,
+        )  # fmt: skip
+        luminance = graph.exposure_pass().read() if adapt else None
+        cache.keep_display(display, exposure, used, luminance, graph, kept=False)
+        air = graph.find_service(AirService)
+        bottom_m = 6_371_000.0 if air is None else float(air.bottom_radius_m)
+        section = contextlib.nullcontext()
+        if graph.profiler is not None:
+            section = graph.profiler.section("upsample")
+        with section:
+            up.draw(framebuffer, size, camera, altitude_m=altitude_m, bottom_radius_m=bottom_m)
         self.last_ev100 = None if cache.scale is None else scale_to_ev100(cache.scale)
 
     def invalidate(self) -> None:
@@ -344,6 +443,9 @@ class ViewerScene:
         if self._cache is not None:
             self._cache.release()
             self._cache = None
+        if self._upsampler is not None:
+            self._upsampler.release()
+            self._upsampler = None
         self.base.release()
 
 
@@ -375,12 +477,27 @@ class FrameCache:
         self._graph = None
         self._state = None
         self._target = None  # (size, texture, framebuffer)
+        #: The size (w, h) the kept float frame was drawn at when it is a moving view's
+        #: reduced frame (dynamic resolution), else None.
+        self.reduced_size: tuple[int, int] | None = None
+
+    def same_view(self, graph, state, view: tuple, size: tuple[int, int]) -> bool:
+        """Whether the kept frame is of this view (at any resolution; drawn with the
+        targets as they are)."""
+        return (
+            self.texture is not None
+            and graph is self._graph
+            and state is self._state
+            and graph.generation == self._generation
+            and (view, size) == self._view
+        )
 
     def holds_view(self, graph, state, view: tuple, size: tuple[int, int]) -> bool:
         """Whether the kept float texture is the frame of this view (and no layer is still
         settling over frames: the clouds' interactive accumulation)."""
         return (
             self.texture is not None
+            and self.reduced_size is None
             and not any(getattr(la, "settling", False) for la in graph.layers if la.enabled)
             and graph is self._graph
             and state is self._state
@@ -388,9 +505,12 @@ class FrameCache:
             and (view, size) == self._view
         )
 
-    def keep_view(self, graph, state, view: tuple, size: tuple[int, int], texture) -> None:
-        """``texture`` (just drawn by ``graph``) is the frame of this view; the kept image
-        is not its tone map."""
+    def keep_view(
+        self, graph, state, view: tuple, size: tuple[int, int], texture, *, reduced=None
+    ) -> None:
+        """``texture`` (just drawn by ``graph``) is the frame of this view (``reduced``: at
+        that reduced size (w, h), a moving view's); the kept image is not its tone map."""
+        self.reduced_size = None if reduced is None else tuple(reduced)
         self._graph, self._state, self._view = graph, state, (view, size)
         self.texture = texture
         self._generation = graph.generation
@@ -441,6 +561,7 @@ class FrameCache:
         """Free the 8-bit target; forget the kept frame."""
         self._release_target()
         self.texture = self._graph = self._state = self._view = self._display = None
+        self.reduced_size = None
 
 
 def _separation_deg(a, b) -> float:
