@@ -261,6 +261,7 @@ SLOW_TESTS: dict[str, tuple[str, ...]] = {
     "test_sky_view.py": ("test_sky_view_matches_direct_lookups_for_other_atmospheres",),
     "test_smooth_layers.py": ("test_reduced_light_alone_equals_the_field[equirect-tiled]",),
     "test_stars.py": ("test_flux_is_the_illuminance[camera1-4096-2048]",),
+    "test_time_steps.py": ("test_planets_while_the_time_runs_match_each_instant_computed_alone",),
     "test_viewer_panel.py": ("test_the_clouds_and_the_bortle_class_from_the_panel",),
     "test_viewer_soak.py": ("test_soak_keeps_memory_flat_and_leaks_no_gl_objects",),
 }  # fmt: skip

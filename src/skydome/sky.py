@@ -277,7 +277,10 @@ class Sky:
     def at(self, time: Any) -> Sky:
         """The same sky at another ``time``: a new Sky with its own layers and settings (the
         layers on and off, night vision and overlays as this one's now), sharing this one's
-        atmosphere tables and cloud noise."""
+        atmosphere tables and cloud noise, and its atmosphere layer's compiled passes and
+        sky-view tables: a light that moved in azimuth alone, or in elevation by less than
+        ``atmosphere.sky_view.REAIM_*``, keeps its table; the Moon's disk integrals follow
+        when the geometry they were taken for still holds (``celestial.moon``)."""
         if self.observer is None:
             raise ParameterError("an abstract sky (a Sun elevation) has no time: make a new Sky")
         return self._remade(self.description.with_(time=time))

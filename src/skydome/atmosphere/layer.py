@@ -44,6 +44,25 @@ from skydome.spectra import solar_luminance
 MODELS = ("precomputed", "single")
 
 
+#: The Moon's light on the air is left out (its sky-view table not re-aimed, nothing drawn
+#: for it) while the Sun's airless elevation is at least this (deg) and the Moon gives less
+#: than MOON_OUTSHONE_RATIO of the Sun's illuminance (the full Moon gives ~2.5e-6 of it): the
+#: moonlit sky then adds < 1e-5 of the sunlit one at any pixel of sky or ground (measured,
+#: a Moon 34 deg up, 4 days past full: 7.7e-6 at Sun 2.4 deg, 2.9e-6 at 7 deg; checked
+#: < 1e-4 in tests/test_time_steps.py), far below an 8-bit step; the clouds and the ground
+#: see the same lights. During a solar eclipse the Moon's light is kept.
+MOON_OUTSHONE_ABOVE_DEG = 2.0
+MOON_OUTSHONE_RATIO = 1e-4
+
+
+def _outshone(moon, sun) -> bool:
+    """Whether the Sun's light makes the Moon's on the air negligible (see above)."""
+    return (
+        elevation_deg(sun.direction_true) >= MOON_OUTSHONE_ABOVE_DEG
+        and moon.illuminance_lux < MOON_OUTSHONE_RATIO * sun.illuminance_lux
+    )
+
+
 def atmosphere_params(atmosphere: str | AtmosphereParams) -> AtmosphereParams:
     """A preset by name, or the given AtmosphereParams."""
 
@@ -108,6 +127,8 @@ class AtmosphereLayer(Layer):
         self.cache = bool(cache)
         self._progress = progress
         self.sky: PrecomputedSky | SingleScatteringSky | None = None
+        self._holder: _SharedSky | None = None  # self.sky, shared with fresh() copies
+        self._donor: _SharedSky | None = None
         self.spectral_basis: SpectralBasis | None = None
         self._lights: AirLights | None = None
         self._last_sun = None
@@ -125,6 +146,10 @@ class AtmosphereLayer(Layer):
 
     def prepare(self, host: LayerHost) -> None:
         super().prepare(host)
+        donor, self._donor = self._donor, None
+        if self.sky is None and donor is not None and donor.serves(host.ctx):
+            donor.refs += 1
+            self._holder, self.sky = donor, donor.sky
         if self.sky is None:
             if self.model == "single":
                 self.sky = SingleScatteringSky(
@@ -137,8 +162,21 @@ class AtmosphereLayer(Layer):
                     host.ctx, self.params, self.config, cache=self.cache,
                     progress=self._progress, sky_view=self.sky_view, **extra,
                 )  # fmt: skip
+                self._holder = _SharedSky(self.sky)
         output = "rgbs" if self.model == "single" else self.sky.config.output
         self.spectral_basis = SpectralBasis.for_wavelengths(self.sky.wavelengths_nm, output)
+
+    def fresh(self) -> AtmosphereLayer:
+        """A new layer with this one's arguments (``Layer.fresh``) that, once prepared on
+        the same context, shares this one's precomputed sky: its tables, compiled passes
+        and sky-view tables, which a new instant then re-aims only as far as the lights
+        moved (``SkyViewTables.still_aimed``): ``Sky.at`` makes no shader and no table
+        anew. The last layer of the set to be released frees it."""
+        layer = super().fresh()
+        if self._holder is not None and self.model == "precomputed" and self.cache:
+            layer._donor = self._holder
+            layer._last_sun = self._last_sun  # the Sun's table, kept while it is dark
+        return layer
 
     def services(self) -> tuple:
         return (_AirOfLayer(self),) if self.model == "precomputed" else ()
@@ -152,7 +190,10 @@ class AtmosphereLayer(Layer):
         direction = sun.direction if self.model == "single" else sun.direction_true
         moon_direction, moon_scale = None, (0.0,) * 4
         moon = state.moon
-        if self.moonlight and moon is not None and self.model == "precomputed":
+        if (
+            self.moonlight and moon is not None and self.model == "precomputed"
+            and not (state.solar_eclipse is None and _outshone(moon, sun))
+        ):  # fmt: skip
             ratio = moon.illuminance_lux / self._solar_lux() / self.params.solar_scale
             moon_direction = tuple(float(v) for v in moon.direction_true)
             moon_scale = tuple(float(v) for v in ratio * self._moon_tint(moon))
@@ -274,6 +315,30 @@ class AtmosphereLayer(Layer):
             release_all(fbo, tex)
         self._transmittance.clear()
         if self.sky is not None:
+            holder, self._holder = self._holder, None
+            if holder is None:
+                self.sky.release()
+            else:
+                holder.drop()
+            self.sky = None
+
+
+class _SharedSky:
+    """A precomputed (or single) sky shared by an atmosphere layer and its ``fresh()``
+    copies: released with the last of them."""
+
+    def __init__(self, sky):
+        self.sky = sky
+        self.refs = 1
+
+    def serves(self, ctx) -> bool:
+        """Whether the sky is still alive and on ``ctx``."""
+        return self.sky is not None and self.sky.ctx is ctx
+
+    def drop(self) -> None:
+        """One holder fewer; the last one releases the sky."""
+        self.refs -= 1
+        if self.refs <= 0 and self.sky is not None:
             self.sky.release()
             self.sky = None
 

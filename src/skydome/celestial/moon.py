@@ -23,7 +23,7 @@ through the frame's spectral basis.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -35,6 +35,7 @@ from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.gpu.inputs import ShaderInputs
 from skydome.physics.constants import AU_KM
+from skydome.physics.geometry import horizon_dip_rad
 from skydome.physics.packing import mat3
 from skydome.spectra import SRGB_LUMINANCE
 from skydome.spectra.colour import conversion_matrix
@@ -45,6 +46,13 @@ from skydome.spectra.colour import conversion_matrix
 #: map's texels alias; 96 nodes: 0.09 % both, at 3x the time). With a uniform albedo the
 #: sunlit integral matches the closed form to 1.5e-7 (1.4e-6 for a 170 deg crescent).
 NODES = 64
+#: The disk is not drawn (nor its integrals taken) while its apparent elevation is below
+#: -HIDDEN_BELOW_DEG (deg), or below the horizon's dip + HIDDEN_MARGIN_DEG from a camera
+#: high enough for the dip to matter (over SMALLEST_PLANET_RADIUS_KM: Mars, the smallest
+#: preset, the largest dip): the ground hides all of it (a disk of <= 0.28 deg radius).
+HIDDEN_BELOW_DEG = 18.0
+HIDDEN_MARGIN_DEG = 2.0
+SMALLEST_PLANET_RADIUS_KM = 3389.5
 
 
 def _gauss_legendre_01(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -214,6 +222,8 @@ class MoonLayer(Layer):
         self._info: dict = {}
         self._colour = None
         self._cache = None  # the last disk integrals and the geometry they were taken for
+        self._pending = None  # what the disk's scales need, until a draw that sees it
+        self._moon = None
         self._eclipse: LunarEclipseInputs | None = None
 
     def prepare(self, graph) -> None:
@@ -232,22 +242,15 @@ class MoonLayer(Layer):
         self._key = key
         moon, view = state.moon, state.moon_view
         if moon is None or view is None:
-            self._inputs, self._info = None, {}
+            self._inputs, self._info, self._pending = None, {}, None
             return
         self._moon = moon
         sin_r = math.sin(moon.angular_radius_rad)
         enu_to_moon = view.frame.T if self.albedo_map else np.eye(3)
         u = np.asarray(moon.direction_true, dtype=np.float64)
-        sunlit, opposition = self._integrals(u, sin_r, view.to_sun, enu_to_moon)
-        # Allen's law at the true distances: the phase law, and its full Moon for earthshine.
-        sun_moon_au = state.sun.distance_km / AU_KM  # the Sun-Moon distance is the Sun's +- 0.3 %
-        e_full = float(magnitude_to_lux(moon_magnitude(0.0, moon.distance_km, sun_moon_au)))
-        sunlit_scale = moon.illuminance_lux / sunlit if sunlit > 0 else 0.0
-        earthlit_scale = 0.0
-        if self.earthshine:
-            earthlit_scale = (
-                0.5 * e_full / opposition * view.earthshine_lux / state.sun.illuminance_lux
-            )
+        # The disk's scales need its integrals (~6 ms): taken at the first draw that can see
+        # the disk (_scaled), not for a Moon under the ground.
+        self._pending = (u, sin_r, view.to_sun, enu_to_moon, state)
         basis = self.graph.basis
         if self._colour is None or self._colour[0] is not basis:
             self._colour = (basis, basis.colour(moon_spectral_albedo(basis.wavelengths_nm)))
@@ -256,8 +259,8 @@ class MoonLayer(Layer):
             u_sin_angular_radius=sin_r,
             u_moon_to_sun=tuple(float(v) for v in view.to_sun),
             u_enu_to_moon=mat3(enu_to_moon),
-            u_sunlit_scale=sunlit_scale,
-            u_earthlit_scale=earthlit_scale,
+            u_sunlit_scale=0.0,
+            u_earthlit_scale=0.0,
             u_colour=tuple(float(v) for v in self._colour[1]),
             u_refraction_scale=state.refraction_scale,
             u_albedo_map=self._texture,
@@ -286,6 +289,41 @@ class MoonLayer(Layer):
             )
             self._info["moon_eclipse_factor"] = ecl.moon_light_factor
 
+    def hidden(self, altitude_m: float) -> bool:
+        """Whether the ground hides the whole disk from a camera at ``altitude_m``: its
+        apparent elevation below -max(HIDDEN_BELOW_DEG, the horizon's dip over the smallest
+        planet of the presets + HIDDEN_MARGIN_DEG)."""
+        if self._moon is None:
+            return True
+        r_km = SMALLEST_PLANET_RADIUS_KM + max(float(altitude_m), 0.0) / 1000.0
+        dip = math.degrees(horizon_dip_rad(r_km, SMALLEST_PLANET_RADIUS_KM))
+        return self._moon.elevation_deg < -max(HIDDEN_BELOW_DEG, dip + HIDDEN_MARGIN_DEG)
+
+    def _scaled(self, altitude_m: float) -> bool:
+        """Set the disk's scales from its integrals (once per update) unless the disk is
+        hidden from ``altitude_m``; False when it is (nothing to draw)."""
+        if self._pending is None:
+            return True
+        if self.hidden(altitude_m):
+            return False
+        u, sin_r, to_sun, enu_to_moon, state = self._pending
+        moon, view = state.moon, state.moon_view
+        sunlit, opposition = self._integrals(u, sin_r, to_sun, enu_to_moon)
+        # Allen's law at the true distances: the phase law, and its full Moon for earthshine.
+        sun_moon_au = state.sun.distance_km / AU_KM  # the Sun-Moon distance is the Sun's +- 0.3 %
+        e_full = float(magnitude_to_lux(moon_magnitude(0.0, moon.distance_km, sun_moon_au)))
+        sunlit_scale = moon.illuminance_lux / sunlit if sunlit > 0 else 0.0
+        earthlit_scale = 0.0
+        if self.earthshine:
+            earthlit_scale = (
+                0.5 * e_full / opposition * view.earthshine_lux / state.sun.illuminance_lux
+            )
+        self._inputs = replace(
+            self._inputs, u_sunlit_scale=sunlit_scale, u_earthlit_scale=earthlit_scale
+        )
+        self._pending = None
+        return True
+
     def _integrals(self, u, sin_r, to_sun, enu_to_moon) -> tuple[float, float]:
         """disk_integrals, reused while the geometry that decides them has not moved: the
         directions to the Sun and to the observer in the Moon's own frame (a turn of the
@@ -309,7 +347,7 @@ class MoonLayer(Layer):
         return values
 
     def draw(self, frame: DrawContext) -> None:
-        if self._inputs is None:
+        if self._inputs is None or not self._scaled(frame.altitude_m):
             return
         if self._eclipse is None:
             fpass = self.full_screen_pass(
@@ -330,6 +368,13 @@ class MoonLayer(Layer):
             self._moon.direction,
             1.1 * self._moon.angular_radius_rad,
         )
+
+    def fresh(self) -> MoonLayer:
+        """A new layer with this one's arguments and its last disk integrals (they hold for
+        the geometry they were taken for, whichever sky asks: ``Sky.at``)."""
+        layer = super().fresh()
+        layer._cache = self._cache
+        return layer
 
     def info(self) -> dict:
         return dict(self._info)

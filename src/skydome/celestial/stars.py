@@ -40,7 +40,7 @@ from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.errors import ParameterError
 from skydome.physics.constants import J2000_JD
-from skydome.physics.refraction import horizon_dip_sin, refract_enu
+from skydome.physics.refraction import SAEMUNDSSON, horizon_dip_sin, refract_enu
 from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
 from skydome.spectra.blackbody import planck_relative
 from skydome.spectra.tables import solar_irradiance
@@ -49,6 +49,9 @@ from skydome.spectra.tables import solar_irradiance
 APPARENT_PLACE_REFRESH_DAYS = 1.0 / 24.0
 #: Stars this far below the camera's geometric horizon are still drawn (deg).
 BELOW_HORIZON_MARGIN_DEG = 1.0
+#: Stars with an airless ENU z above this go through the refraction (Saemundsson's law is 0
+#: below its lowest altitude, -1.9 deg; 0.01 deg below it, to be safe at the edge).
+_REFRACTED_ABOVE_Z = math.sin(math.radians(SAEMUNDSSON[3] - 0.01))
 
 
 def black_body_colours(basis: SpectralBasis, temperature_k) -> np.ndarray:
@@ -148,8 +151,13 @@ class StarsLayer(Layer):
         enu *= (1.0 - beta * enu[:, 0])[:, None]
         enu[:, 0] += beta
         enu /= np.sqrt(np.einsum("ij,ij->i", enu, enu))[:, None]
-        # Refraction raises each star towards the zenith along its vertical.
-        return refract_enu(enu, state.pressure_hPa, state.temperature_C)
+        # Refraction raises each star towards the zenith along its vertical; Saemundsson's
+        # law refracts nothing below its lowest altitude, so only the stars above it (about
+        # half of them) go through it: the others keep their airless directions.
+        seen = enu[:, 2] > _REFRACTED_ABOVE_Z
+        alt = np.arcsin(np.clip(enu[:, 2], -1.0, 1.0))
+        enu[seen], alt[seen] = refract_enu(enu[seen], state.pressure_hPa, state.temperature_C)
+        return enu, alt
 
     def update(self, state: SkyState) -> None:
         key = id(state)
