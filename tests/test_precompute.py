@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from skydome.atmosphere import Spectrum, preset
+from skydome.atmosphere import precompute as precompute_module
 from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, gauss_legendre, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
@@ -317,6 +318,42 @@ def test_tolerance_stops_early_and_progress_reaches_one(ctx):
     assert {"transmittance", "density", "single_scattering", "irradiance"} <= {s for s, _ in calls}
     assert pa.timings["total"] > 0 and set(pa.timings) >= {"transmittance", "density", "total"}
     pa.release()
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize(
+    "atmosphere, changes",
+    [
+        ("earth", dict(wavelengths="fast")),  # one group: 4 nu per fragment
+        # a spectral Mie phase function (MIE_LOBES) and the orders >= 2 at 16 wavelengths (4
+        # groups: 2 nu per fragment), 16-bit log table
+        ("mars", dict(wavelengths="accurate", ms_wavelengths="same", ms_dtype="u2")),
+    ],
+)
+def test_several_views_per_fragment_give_the_same_tables(ctx, monkeypatch, atmosphere, changes):
+    # The density pass, the field of the orders >= 2 and their table's pass compute several nu
+    # (azimuths) per fragment, one draw buffer each, reordered on the read-back
+    # (precompute.views_per_fragment, interleave_views); with one per fragment they draw the
+    # plain layout. They do the same
+    # sums in the same order, so every table must be bit-identical (a misplaced nu, group or
+    # Sun cosine would move values by percents).
+    config = PrecomputeConfig(orders=3, **{**SMALL, **changes})
+    params = preset(atmosphere)
+    fast = precompute(ctx, params, config).to_arrays()
+    monkeypatch.setattr(precompute_module, "views_per_fragment", lambda n_nu, groups: 1)
+    plain = precompute(ctx, params, config).to_arrays()
+    assert precompute_module.views_per_fragment(4, 1) == 1
+    for name, want in plain.items():
+        assert np.array_equal(fast[name], want), name
+    assert np.ptp(plain["multiple_scattering"].astype(np.float64)) > 0
+
+
+def test_views_per_fragment_fit_the_draw_buffers():
+    # one draw buffer per (group, nu), at most 8 (OpenGL 3.3's guaranteed minimum)
+    views = precompute_module.views_per_fragment
+    assert [views(8, 1), views(8, 2), views(8, 4), views(8, 8), views(6, 1), views(7, 2)] == [
+        8, 4, 2, 1, 6, 1,
+    ]  # fmt: skip
 
 
 def test_sky_irradiance_against_monte_carlo():

@@ -43,6 +43,12 @@ implementation reorganizes it (measured in ``benchmarks/bench_precompute.py``):
    interpolated linearly; the tables cover the Sun down to -20 degrees (``mu_s_min``).
 5. 4 wavelengths per RGBA pass and all wavelength groups of a pass in one fragment (draw
    buffers), so the geometry and the transmittance lookups are shared by all wavelengths.
+7. Several nu per fragment (one draw buffer each, ``views_per_fragment``; reordered on the
+   read-back, ``interleave_views``): the density pass fetches each direction of the field once
+   for the 8 nu of a (r, mu, mu_s) (the fetches were 3/4 of that pass on llvmpipe); the pass of
+   the orders >= 2 marches a ray's nodes, columns and transmittances once for them (they do not
+   depend on nu), and so does the field of orders >= 2 for 8 azimuths of one cosine. Each pass
+   2-3x faster; the tables are bit-identical to one nu per fragment.
 """
 
 from __future__ import annotations
@@ -67,7 +73,7 @@ from skydome.atmosphere.inputs import (
     spectra_inputs,
 )
 from skydome.atmosphere.params import AtmosphereParams
-from skydome.atmosphere.precompute_config import PrecomputeConfig
+from skydome.atmosphere.precompute_config import MAX_GROUPS, PrecomputeConfig
 from skydome.atmosphere.transmittance import TransmittanceTable
 from skydome.errors import CacheError
 from skydome.gpu import FullscreenPass
@@ -682,18 +688,34 @@ class _Precomputation:
         self.field_fbo = self._keep(ctx.framebuffer(color_attachments=[self.field]))
         self.ground = self._keep(linear_clamped(ctx.texture((mu_s, gm), 4, dtype="f4"), ctx))
         self.ground_fbo = self._keep(ctx.framebuffer(color_attachments=[self.ground]))
-        self.j_arrays = [self._keep(ctx.texture_array((w, h, d), 4, dtype="f4")) for _ in range(gm)]
+        # J is drawn nu_per views per fragment, one draw buffer per (group, view)
+        self.nu_per = views_per_fragment(nu, gm)
+        self.j_arrays = [
+            self._keep(ctx.texture_array((w // self.nu_per, h, d), 4, dtype="f4"))
+            for _ in range(gm * self.nu_per)
+        ]
         self.j_fbo = self._keep(ctx.framebuffer(color_attachments=self.j_arrays))
 
     def _field(self, order: int, log_j: np.ndarray | None = None) -> None:
         """The radiance field of ``order`` (from ln J of that order)."""
-        defines = {**self.ms_defines, "FIELD_SINGLE": int(order == 1)}
+        # orders >= 2: nv azimuths per fragment (one draw buffer each, reordered on read-back)
+        nv = 1 if order == 1 else views_per_fragment(self.cfg.directions[2], 1)
+        defines = {**self.ms_defines, "FIELD_SINGLE": int(order == 1), "NU_PER_FRAGMENT": nv}
         prog = _program(self.ctx, "atmosphere/precompute_field.glsl", defines)
         if log_j is not None:
             self.j3d.write(np.ascontiguousarray(log_j, dtype="f4").tobytes())
-        self.field_fbo.viewport = (0, 0, *self.field.size)
         inputs = replace(self.ms_inputs, u_density=self.j3d, u_ground_irradiance=self.ground)
-        prog.draw(self.field_fbo, inputs)
+        if nv == 1:
+            self.field_fbo.viewport = (0, 0, *self.field.size)
+            prog.draw(self.field_fbo, inputs)
+            return
+        w, h = self.field.size
+        parts = [self._keep(self.ctx.texture((w // nv, h), 4, dtype="f4")) for _ in range(nv)]
+        fbo = self._keep(self.ctx.framebuffer(color_attachments=parts))
+        fbo.viewport = (0, 0, w // nv, h)
+        prog.draw(fbo, inputs)
+        field = interleave_views([_read_2d(t)[None] for t in parts], 1)
+        self.field.write(np.ascontiguousarray(field).tobytes())
 
     def _ground_irradiance(self) -> None:
         prog = _program(self.ctx, "atmosphere/precompute_ground_irradiance.glsl", self.ms_defines)
@@ -702,13 +724,18 @@ class _Precomputation:
 
     def _density(self) -> np.ndarray:
         """ln J_n from the field of order n-1, as (groups * r, mu, nu * mu_s, 4) float32."""
-        prog = _program(
-            self.ctx, "atmosphere/precompute_density.glsl", self.ms_defines, layered=True
-        )
+        nv = self.nu_per
+        defines = {**self.ms_defines, "NU_PER_FRAGMENT": nv}
+        prog = _program(self.ctx, "atmosphere/precompute_density.glsl", defines, layered=True)
         w, h, d = self.j_shape
-        self.j_fbo.viewport = (0, 0, w, h)
+        self.j_fbo.viewport = (0, 0, w // nv, h)
         prog.draw(self.j_fbo, replace(self.ms_inputs, u_field=self.field), layers=(0, d))
-        return np.concatenate([_read_array(a) for a in self.j_arrays], axis=0)
+        reads = [_read_array(a) for a in self.j_arrays]  # draw buffer g * nv + t
+        mu_s = self.cfg.ms_size[2]
+        groups = [
+            interleave_views(reads[g * nv : (g + 1) * nv], mu_s) for g in range(self.ms_groups)
+        ]
+        return np.concatenate(groups, axis=0)
 
     def _upload_density(self, j_total: np.ndarray) -> None:
         log_j = np.log(np.maximum(j_total, 1e-37)).astype("f4")
@@ -731,10 +758,12 @@ class _Precomputation:
             return linear_clamped(
                 ctx.texture3d((w, h, d), 4, data.tobytes(), dtype=_GL_DTYPE[cfg.ms_dtype]), ctx
             ), log_range
-        arr = self._keep(ctx.texture_array((w, h, d), 4, dtype="f4"))
-        fbo = self._keep(ctx.framebuffer(color_attachments=[arr]))
-        fbo.viewport = (0, 0, w, h)
-        defines = dict(self.ms_defines)
+        # nv views (nu) per fragment, one draw buffer each (see _density)
+        nv = views_per_fragment(cfg.multiple_size[3], 1)
+        arrays = [self._keep(ctx.texture_array((w // nv, h, d), 4, dtype="f4")) for _ in range(nv)]
+        fbo = self._keep(ctx.framebuffer(color_attachments=arrays))
+        fbo.viewport = (0, 0, w // nv, h)
+        defines = {**self.ms_defines, "NU_PER_FRAGMENT": nv}
         inputs = replace(self.ms_inputs, u_density=self.j3d)
         interp = self._ms_interp()
         if interp is not None:
@@ -748,12 +777,10 @@ class _Precomputation:
             )
         prog = _program(ctx, "atmosphere/precompute_ms_scattering.glsl", defines, layered=True)
         prog.draw(fbo, inputs, layers=(0, d))
-        if cfg.ms_dtype == "f4":
-            return self._to_3d(arr), (0.0, 1.0)
-        data, log_range = encode_log_table(_read_array(arr), cfg.ms_dtype)
-        return linear_clamped(
-            ctx.texture3d((w, h, d), 4, data.tobytes(), dtype="nu2"), ctx
-        ), log_range
+        log_table = interleave_views([_read_array(a) for a in arrays], cfg.multiple_size[2])
+        data, log_range = encode_log_table(log_table, cfg.ms_dtype)
+        tex = ctx.texture3d((w, h, d), 4, data.tobytes(), dtype=_GL_DTYPE[cfg.ms_dtype])
+        return linear_clamped(tex, ctx), log_range
 
     def _single_scattering(self):
         """The single-scattering tables at the render wavelengths (divided by F)."""
@@ -847,6 +874,25 @@ class _Precomputation:
             )
 
         return log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))
+
+
+def views_per_fragment(n_nu: int, groups: int) -> int:
+    """How many of ``n_nu`` views (nu, or the field's azimuths) one fragment computes: the
+    largest divisor of ``n_nu`` with one draw buffer per (group, view) within MAX_GROUPS (8, the
+    draw buffers OpenGL 3.3 guarantees). The views share the fragment's fetches of the field
+    (density pass) or its ray's nodes and transmittances (the passes of the orders >= 2)."""
+    most = max(MAX_GROUPS // max(groups, 1), 1)
+    return max(k for k in range(1, min(most, n_nu) + 1) if n_nu % k == 0)
+
+
+def interleave_views(parts: list[np.ndarray], n_mu_s: int) -> np.ndarray:
+    """A 4D table as (r, mu, nu * mu_s, 4) from the draw buffers of a pass that computed
+    ``len(parts)`` nu per fragment: part t is (r, mu, blocks * mu_s, 4) and holds the nu
+    indices block * len(parts) + t."""
+    nv = len(parts)
+    d, h, wb, c = parts[0].shape
+    stacked = np.stack(parts).reshape(nv, d, h, wb // n_mu_s, n_mu_s, c)
+    return stacked.transpose(1, 2, 3, 0, 4, 5).reshape(d, h, wb * nv, c)
 
 
 #: Orders fall geometrically once two successive ratios of an order's scattering density to

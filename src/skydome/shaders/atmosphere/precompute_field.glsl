@@ -13,12 +13,20 @@
 // E_n = integral L_n cos (atmosphere/precompute_ground_irradiance.glsl) are sums over this field: the
 // radiance of a point does not depend on the view direction, so it is computed once per
 // (r, mu_s, direction) instead of once per texel of the 4D table and direction.
+// Orders >= 2 (FIELD_SINGLE 0) with NU_PER_FRAGMENT > 1: a fragment computes that many azimuths
+// j = block * NU_PER_FRAGMENT + t of one cosine a, output t each (texel x = group * N_DIR /
+// NU_PER_FRAGMENT + a * N_PHI / NU_PER_FRAGMENT + block; precompute.py reorders): they share
+// the ray's nodes, columns and transmittances (which depend on the cosine only).
+#ifndef NU_PER_FRAGMENT
+#define NU_PER_FRAGMENT 1
+#endif
 #include "atmosphere/precompute_ray.glsl"
 
 uniform vec4 u_density_size;             // the grid of J (NU, MU_S, MU, R)
 uniform sampler3D u_density;             // log J_n, NUM_GROUPS tables stacked in depth (n >= 2)
 uniform sampler2D u_ground_irradiance;   // log E_{n-1} on the ground: x = mu_s (table mapping), y = group
 
+#if FIELD_SINGLE || NU_PER_FRAGMENT == 1
 out vec4 frag;
 
 void main() {
@@ -72,3 +80,54 @@ void main() {
     }
     frag = radiance * weight;
 }
+#else
+#define NV NU_PER_FRAGMENT
+layout(location = 0) out vec4 frags[NV];
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    const int per_group = N_DIR / NV;
+    const int blocks = N_PHI / NV;
+    int g = p.x / per_group;
+    int i = p.x - g * per_group;
+    int a = i / blocks;
+    int block = i - a * blocks;
+    int n_mu_s = int(u_density_size.y);
+    int k = p.y / n_mu_s;
+    int jm = p.y - k * n_mu_s;
+
+    float r, mu_unused, mu_s, nu_unused;
+    bool hg_unused;
+    scattering_texel_params(ivec2(jm, 0), k, u_density_size, true, r, mu_unused, mu_s, nu_unused,
+                            hg_unused);
+    float weight;
+    float nus[NV];
+    float mu;
+    for (int t = 0; t < NV; ++t) {
+        vec3 omega = quadrature_direction(a, block * NV + t, r, weight);
+        mu = omega.z;
+        nus[t] = dot(omega, sun_in_frame(mu_s));
+    }
+    bool hits_ground = a >= N_MU_SKY;  // the quadrature is split at the horizon
+    float Rb = u_bottom_radius;
+    vec4 ray[NUM_GROUPS * NV];
+    scattered_radiance_views(u_density, u_density_size, r, mu, mu_s, nus, hits_ground, g, g + 1,
+                             ray);
+    float L = ray_length(r, mu, true);
+    float mu_g = clamp_cosine((r * mu + L) / Rb);
+    vec4 T = hits_ground
+                 ? exp(-optical_depth(g, view_column(column_to_top(r, -mu), Rb, mu_g, true)))
+                 : vec4(0.0);
+    for (int t = 0; t < NV; ++t) {
+        vec4 radiance = ray[g * NV + t];
+        if (hits_ground) {
+            float mu_s_g = clamp_cosine((r * mu_s + L * nus[t]) / Rb);
+            vec2 uv = vec2(texcoord_from_unit(mu_s_unit_smooth(u_bottom_radius, mu_s_g), u_density_size.y),
+                           (float(g) + 0.5) / float(NUM_GROUPS));
+            vec4 E = exp(texture(u_ground_irradiance, uv)) * sun_cutoff_fade(mu_s_g);
+            radiance += u_ground_albedo[g] * INV_PI * T * E;
+        }
+        frags[t] = radiance * weight;
+    }
+}
+#endif

@@ -9,6 +9,9 @@
 // them to single Rayleigh scattering, they are stored as they are: P_R(nu) would double their
 // variation with nu, which the texels at the edges of the (mu, mu_s, nu) domain (zenith Sun or
 // view, where all nu collapse to one) cannot represent.
+#ifndef NU_PER_FRAGMENT
+#define NU_PER_FRAGMENT 1  // views (nu) per fragment: see main()
+#endif
 #include "atmosphere/precompute_ray.glsl"
 
 uniform vec4 u_ms_size;       // this table (NU, MU_S, MU, R)
@@ -23,29 +26,43 @@ uniform mat4 u_render_to_table[NUM_RENDER_GROUPS];
 #endif
 
 flat in int v_layer;
-out vec4 frag;
+// NU_PER_FRAGMENT views (nu) per fragment, sharing the ray's nodes and transmittances: the pass
+// draws (MU_S * NU / NU_PER_FRAGMENT, MU) texels per layer; output t holds the nu index
+// block * NU_PER_FRAGMENT + t of the fragment's block (precompute.py reorders).
+layout(location = 0) out vec4 frag[NU_PER_FRAGMENT];
 
 void main() {
-    float r, mu, mu_s, nu;
+    ivec2 texel = ivec2(gl_FragCoord.xy);
+    int n_mu_s = int(u_ms_size.y);
+    int block = texel.x / n_mu_s;
+    int i_mu_s = texel.x - block * n_mu_s;
+    float r, mu, mu_s;
     bool hits_ground;
-    scattering_texel_params(ivec2(gl_FragCoord.xy), v_layer, u_ms_size, true, r, mu, mu_s, nu,
-                            hits_ground);
-    vec4 radiance[NUM_GROUPS];
-    scattered_radiance(u_density, u_density_size, r, mu, mu_s, nu, hits_ground, 0, NUM_GROUPS,
-                       radiance);
-    vec4 v = vec4(0.0);
-#if MS_LOG_INTERP
-    vec4 L4 = radiance[0];
-    float hi = max(max(L4.x, L4.y), max(L4.z, L4.w));
-    float lo = min(min(L4.x, L4.y), min(L4.z, L4.w));
-    if (lo > 1e-6 * hi && hi > 0.0) {
-        vec4 ln4 = log(L4);
-        for (int k = 0; k < NUM_RENDER_GROUPS; ++k) v += u_render_to_table[k] * exp(u_ms_log_interp[k] * ln4);
-    } else {
-        v = u_spectral_to_table[0] * L4;  // (near) zero somewhere: linear interpolation
+    float nus[NU_PER_FRAGMENT];
+    for (int t = 0; t < NU_PER_FRAGMENT; ++t) {
+        ivec2 full = ivec2((block * NU_PER_FRAGMENT + t) * n_mu_s + i_mu_s, texel.y);
+        scattering_texel_params(full, v_layer, u_ms_size, true, r, mu, mu_s, nus[t], hits_ground);
     }
+    vec4 radiance[NUM_GROUPS * NU_PER_FRAGMENT];
+    scattered_radiance_views(u_density, u_density_size, r, mu, mu_s, nus, hits_ground, 0,
+                             NUM_GROUPS, radiance);
+    for (int t = 0; t < NU_PER_FRAGMENT; ++t) {
+        vec4 v = vec4(0.0);
+#if MS_LOG_INTERP
+        vec4 L4 = radiance[t];
+        float hi = max(max(L4.x, L4.y), max(L4.z, L4.w));
+        float lo = min(min(L4.x, L4.y), min(L4.z, L4.w));
+        if (lo > 1e-6 * hi && hi > 0.0) {
+            vec4 ln4 = log(L4);
+            for (int k = 0; k < NUM_RENDER_GROUPS; ++k)
+                v += u_render_to_table[k] * exp(u_ms_log_interp[k] * ln4);
+        } else {
+            v = u_spectral_to_table[0] * L4;  // (near) zero somewhere: linear interpolation
+        }
 #else
-    for (int g = 0; g < NUM_GROUPS; ++g) v += u_spectral_to_table[g] * radiance[g];
+        for (int g = 0; g < NUM_GROUPS; ++g)
+            v += u_spectral_to_table[g] * radiance[g * NU_PER_FRAGMENT + t];
 #endif
-    frag = to_log(v);
+        frag[t] = to_log(v);
+    }
 }

@@ -65,3 +65,40 @@ void scattered_radiance(sampler3D density, vec4 density_size, float r, float mu,
         }
     }
 }
+
+#ifdef NU_PER_FRAGMENT
+// scattered_radiance for NU_PER_FRAGMENT views that share (r, mu, mu_s) and differ in nu (all
+// groups): the ray's nodes, its view columns and transmittances do not depend on nu, so they
+// are computed once; only the Sun's cosine along the ray and the lookups of J are per view.
+// radiance[g * NU_PER_FRAGMENT + t] = group g of view t, for g0 <= g < g1 (the others are
+// zero); the same sums as scattered_radiance.
+void scattered_radiance_views(sampler3D density, vec4 density_size, float r, float mu,
+                              float mu_s, float nu[NU_PER_FRAGMENT], bool hits_ground, int g0,
+                              int g1, out vec4 radiance[NUM_GROUPS * NU_PER_FRAGMENT]) {
+    for (int k = 0; k < NUM_GROUPS * NU_PER_FRAGMENT; ++k) radiance[k] = vec4(0.0);
+    float L = ray_length(r, mu, hits_ground);
+    vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
+    for (int i = 0; i < RAY_SAMPLES; ++i) {
+        float t, dt;
+        ray_node(i, r, mu, L, t, dt);
+        float r_t, mu_t, mu_s_t;
+        ray_point(r, mu, mu_s, nu[0], t, r_t, mu_t, mu_s_t);
+        vec3 c = view_column(c0, r_t, mu_t, hits_ground);
+        vec4 T[NUM_GROUPS];
+        for (int g = 0; g < NUM_GROUPS; ++g) {
+            if (g < g0 || g >= g1) continue;
+            T[g] = exp(-optical_depth(g, c));
+        }
+        for (int v = 0; v < NU_PER_FRAGMENT; ++v) {
+            ray_point(r, mu, mu_s, nu[v], t, r_t, mu_t, mu_s_t);
+            vec4 uvwz = scattering_uvwz(r_t, mu_t, mu_s_t, nu[v], hits_ground, density_size, true);
+            float fade = sun_cutoff_fade(mu_s_t);
+            for (int g = 0; g < NUM_GROUPS; ++g) {
+                if (g < g0 || g >= g1) continue;
+                vec4 J = exp(sample_scattering(density, uvwz, density_size, g, NUM_GROUPS)) * fade;
+                radiance[g * NU_PER_FRAGMENT + v] += J * T[g] * dt;
+            }
+        }
+    }
+}
+#endif
