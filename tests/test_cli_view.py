@@ -95,7 +95,7 @@ def test_frames_and_screenshot(tmp_path, x_display):  # noqa: F811
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
     # a still view: the first frame drawn, the others its kept frame shown again
-    assert re.search(r"^\d+\.\d fps drawn \(.* ms per redraw; 1 of 5 frames drawn anew\)$",
+    assert re.search(r"^\d+\.\d fps drawn \(.* ms per redraw; 1 of 5 frames drawn anew\)(; render scale .*)?$",
                      r.stdout, re.M), r.stdout  # fmt: skip
     img = np.asarray(Image.open(png).convert("RGB"))
     assert img.shape == (180, 320, 3) and img.std() > 2.0
@@ -108,7 +108,7 @@ def test_turn_draws_every_frame_anew(tmp_path, x_display):  # noqa: F811
     r = run_cli("view", *PLACE, "--no-night", "--size", "160x90", "--yaw", "90", "--pitch", "10",
                 "--exposure", "14", "--frames", "5", "--turn", "15", "--no-panel")  # fmt: skip
     assert r.returncode == 0, r.stderr
-    assert re.search(r"^\d+\.\d fps drawn \(.* ms per redraw; 5 of 5 frames drawn anew\)$",
+    assert re.search(r"^\d+\.\d fps drawn \(.* ms per redraw; 5 of 5 frames drawn anew\)(; render scale .*)?$",
                      r.stdout, re.M), r.stdout  # fmt: skip
     bad = run_cli("view", *PLACE, "--frames", "2", "--turn", "400")
     assert bad.returncode == 2 and "--turn" in bad.stderr and len(bad.stderr.splitlines()) == 1
