@@ -5,10 +5,12 @@ On Dask (``pip install "skydome[batch]"``), each worker process renders with its
 context and tables, made in that process on its first job by :class:`SkyWorkerPlugin` (a
 ``distributed.WorkerPlugin``): one thread of the plugin's does every GL call, and no context
 exists before a worker process starts (the local cluster's processes are spawned, never
-forked). A job whose worker dies is run again on another (Dask's rescheduling, then
-``retries``); its files are written atomically by whoever runs it (a temporary file, then a
-rename), and only this process, which collects the results, writes the manifest: a row per
-job, whatever ran twice.
+forked). The plugin also sets glibc's allocator for frames
+(:mod:`skydome.batch.worker_memory`: a nanny's worker would map every array from the kernel).
+A job whose worker dies is run again on another (Dask's rescheduling, then ``retries``); its
+files are written atomically by whoever runs it (a temporary file, then a rename), and only
+this process, which collects the results, writes the manifest: a row per job, whatever ran
+twice.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ from rich.progress import (
 from skydome.batch.jobs import Job
 from skydome.batch.manifest import Manifest, complete, job_row
 from skydome.batch.runner import JobRunner
+from skydome.batch.worker_memory import fit_allocator_to_frames
 from skydome.errors import ParameterError
 from skydome.io.atomic import remove_stale_temps
 
@@ -86,6 +89,8 @@ class SkyWorkerPlugin(WorkerPlugin):
         self.__init__()
 
     def setup(self, worker=None) -> None:
+        # A nanny's worker allocates every frame's arrays from the kernel unless told not to.
+        fit_allocator_to_frames()
         self._thread = ThreadPoolExecutor(1, thread_name_prefix="skydome-gl")
 
     def teardown(self, worker=None) -> None:
