@@ -30,7 +30,7 @@ import numpy as np
 from skydome.astro.photometry import magnitude_to_lux, moon_magnitude
 from skydome.celestial.moon_albedo import albedo_at, moon_albedo_map, moon_spectral_albedo
 from skydome.celestial.surface_laws import lommel_seeliger_law
-from skydome.core.cameras import CameraInputs
+from skydome.core.cameras import CameraInputs, disk_samples
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.gpu.inputs import ShaderInputs
@@ -164,7 +164,7 @@ class MoonInputs(ShaderInputs):
     """``celestial/moon.glsl``: the disk's airless centre and angular size, the Sun's
     direction from the Moon, the ENU -> Moon-fixed matrix (column-major), the scales of the
     sunlit and earthlit photometric laws, the Moon's colour, the refraction factor, the
-    albedo map."""
+    albedo map, the points a pixel averages per side (``disk_samples``)."""
 
     u_moon_direction_true: tuple[float, float, float]
     u_sin_angular_radius: float
@@ -175,6 +175,7 @@ class MoonInputs(ShaderInputs):
     u_colour: tuple[float, float, float, float]
     u_refraction_scale: float
     u_albedo_map: object
+    u_disk_samples: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -349,18 +350,22 @@ class MoonLayer(Layer):
     def draw(self, frame: DrawContext) -> None:
         if self._inputs is None or not self._scaled(frame.altitude_m):
             return
+        samples = disk_samples(
+            frame.camera, *frame.frame_size, self._moon.direction, self._moon.angular_radius_rad
+        )
+        moon = replace(self._inputs, u_disk_samples=float(samples))
         if self._eclipse is None:
             fpass = self.full_screen_pass(
                 frame.ctx, self.shader, (CameraInputs, MoonInputs), frame.camera
             )
-            inputs = (frame.view, self._inputs)
+            inputs = (frame.view, moon)
         else:
             samples = len(self._eclipse.u_ecl_umbra) // 4
             fpass = self.full_screen_pass(
                 frame.ctx, self.shader, (CameraInputs, MoonInputs, LunarEclipseInputs),
                 frame.camera, {"LUNAR_ECLIPSE": 1, "UMBRA_SAMPLES": samples},
             )  # fmt: skip
-            inputs = (frame.view, self._inputs, self._eclipse)
+            inputs = (frame.view, moon, self._eclipse)
         self.draw_small(
             frame,
             fpass,

@@ -8,12 +8,12 @@ same way, in the atmosphere layer).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from skydome.celestial.limb_darkening import disk_normalisation, limb_coefficients
-from skydome.core.cameras import CameraInputs
+from skydome.core.cameras import CameraInputs, disk_samples
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.gpu.inputs import ShaderInputs
@@ -25,7 +25,8 @@ class SunInputs(ShaderInputs):
     """``celestial/sun.glsl``: the disk's airless centre (unit ENU) and angular radius, its
     irradiance relative to the tabulated spectrum at 1 au, the spectral conversion (one mat4
     per wavelength group), the limb darkening's coefficients and normalisations, the
-    weather's factor on the refraction."""
+    weather's factor on the refraction, the points a pixel averages per side
+    (``disk_samples``)."""
 
     u_sun_direction_true: tuple[float, float, float]
     u_sin_angular_radius: float
@@ -37,6 +38,7 @@ class SunInputs(ShaderInputs):
     u_moon_direction_true: tuple[float, float, float] = (0.0, 0.0, 1.0)
     u_moon_sin_radius: float = 0.0
     u_corona_scale: float = 0.0
+    u_disk_samples: float = 1.0
 
 
 def limb_uniforms(wavelengths_nm, angular_radius_rad: float, darkened: bool = True) -> dict:
@@ -111,10 +113,13 @@ class SunLayer(Layer):
         )  # fmt: skip
         # The apparent disk lies within its true radius of the apparent centre (refraction
         # only flattens it); 10 % spare.
+        samples = disk_samples(
+            frame.camera, *frame.frame_size, self._sun.direction, self._sun.angular_radius_rad
+        )
         self.draw_small(
             frame,
             fpass,
-            (frame.view, self._inputs),
+            (frame.view, replace(self._inputs, u_disk_samples=float(samples))),
             self._sun.direction,
             self._reach * self._sun.angular_radius_rad,
         )

@@ -8,6 +8,7 @@ both R = a / tan(h + b / (h + c)) arcmin, scaled by the weather's (P / 1010 hPa)
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -88,6 +89,54 @@ def refract_enu(
     scale = np.where(seen, np.cos(alt) / np.where(seen, horizontal, 1.0), 0.0)
     out = np.stack([v[..., 0] * scale, v[..., 1] * scale, np.sin(alt)], axis=-1)
     return np.where(seen[..., None], out, v), alt
+
+
+#: Nodes of the tabulated Saemundsson refraction (:func:`refract_altitudes_tabulated`), evenly
+#: spaced in the airless altitude from the law's lowest (-1.9 deg) to 90 deg (0.0056 deg
+#: apart): linear interpolation between them is within 0.01" of the law (tested).
+SAEMUNDSSON_TABLE_SIZE = 16384
+
+
+@lru_cache(maxsize=8)
+def saemundsson_table(scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Saemundsson's refraction at SAEMUNDSSON_TABLE_SIZE airless altitudes from the law's
+    lowest to 90 deg, for the weather's factor ``scale``, as linear pieces (read-only): the
+    apparent altitude (rad) and cos(apparent) / cos(airless) at each node, and their steps
+    to the next node: what :func:`refract_enu` computes per vector, once."""
+    lowest = np.radians(SAEMUNDSSON[3])
+    h0 = np.linspace(lowest, 0.5 * np.pi, SAEMUNDSSON_TABLE_SIZE)
+    alt = h0 + np.radians(cot_refraction(np.degrees(h0), SAEMUNDSSON, scale) / 60.0)
+    ratio = np.cos(alt) / np.maximum(np.cos(h0), 1e-300)
+    ratio[-1] = 1.0  # the zenith: nothing to turn
+    out = (alt, np.append(np.diff(alt), 0.0), ratio, np.append(np.diff(ratio), 0.0))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+def refract_altitudes_tabulated(
+    enu: np.ndarray, airless_alt_rad: np.ndarray, scale: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`refract_enu` for many unit vectors ``enu`` (N, 3) whose airless altitudes
+    ``airless_alt_rad`` (N,) are known, by linear interpolation in
+    :func:`saemundsson_table` (the weather's factor ``scale``, :func:`refraction_scale`):
+    (apparent unit vectors, apparent altitudes rad). Less than half the law's cost for a
+    catalogue of stars."""
+    alt0, alt_step, ratio0, ratio_step = saemundsson_table(float(scale))
+    lowest = math.radians(SAEMUNDSSON[3])
+    per_rad = (SAEMUNDSSON_TABLE_SIZE - 1) / (0.5 * math.pi - lowest)
+    x = (airless_alt_rad - lowest) * per_rad
+    np.clip(x, 0.0, SAEMUNDSSON_TABLE_SIZE - 1.0, out=x)
+    i = x.astype(np.intp)
+    f = x - i
+    alt = alt0[i] + f * alt_step[i]
+    ratio = ratio0[i] + f * ratio_step[i]
+    below = airless_alt_rad < lowest  # the law refracts nothing there
+    if below.any():
+        alt[below], ratio[below] = airless_alt_rad[below], 1.0
+    out = enu * ratio[:, None]
+    out[:, 2] = np.sin(alt)
+    return out, alt
 
 
 def airless_offset(z, scale: float = 1.0) -> np.ndarray:

@@ -24,9 +24,9 @@ the pixel's own direction are left out, so the ground/sky edge stays as sharp as
 window's pixels (a fisheye's rim, its horizon, is bilinear). Point sources (stars, planets)
 are drawn by the reduced frame with a PSF in its own pixels, whose weights sum to 1
 (``celestial.point_sources``): every star's light is in the reduced frame, spread over more
-of the window's pixels (softer, not lost). The Sun's and the Moon's disks are drawn per
-pixel (point-sampled, not conserved): :func:`disk_floor` keeps a reduced pixel no wider than
-a disk in view. Nothing is drawn at full resolution while the view moves: the post passes
+of the window's pixels (softer, not lost). The Sun's and the Moon's disks average their
+light over each reduced pixel's area (``core.cameras.disk_samples``): they keep their light
+at any scale (softer too). Nothing is drawn at full resolution while the view moves: the post passes
 (glare, the eye's colours, the tone map) cost more at 1280 x 720 on a CPU rasterizer than
 the layers, so they run at the reduced size too.
 """
@@ -79,28 +79,6 @@ def quantise_scale(scale: float) -> float:
     """``scale`` snapped to the nearest SCALE_STEP within [MIN_SCALE, MAX_SCALE]."""
     s = min(max(float(scale), MIN_SCALE), MAX_SCALE)
     return min(max(round(s / SCALE_STEP) * SCALE_STEP, MIN_SCALE), MAX_SCALE)
-
-
-def disk_floor(camera: Camera, size: tuple[int, int], lights) -> float:
-    """The smallest scale at which each of ``lights`` (the Sun's and the Moon's
-    ``LightState``, None skipped) that is up (above -1 deg) and in the frame spans at least
-    one reduced pixel across: their disks are drawn per pixel (point-sampled, not
-    conserved), and a disk smaller than a pixel may be missed or drawn as the whole pixel
-    (its light times the pixel's area over the disk's). MIN_SCALE when none is in view;
-    quantised upwards."""
-    w, h = size
-    need = MIN_SCALE
-    pixel = camera.pixel_angle(w, h)
-    for light in lights:
-        if light is None or light.elevation_deg < -1.0 or light.angular_radius_rad <= 0.0:
-            continue
-        d = np.asarray(light.direction, dtype=np.float64).reshape(1, 3)
-        x, y, ok = camera.project(d, w, h)
-        if not (ok[0] and -2.0 <= x[0] <= w + 2.0 and -2.0 <= y[0] <= h + 2.0):
-            continue
-        need = max(need, pixel / (2.0 * light.angular_radius_rad))
-    steps = math.ceil(need / SCALE_STEP - 1e-9)
-    return min(max(steps * SCALE_STEP, MIN_SCALE), MAX_SCALE)
 
 
 def reduced_size(size: tuple[int, int], scale: float) -> tuple[int, int]:

@@ -32,7 +32,6 @@ from skydome.viewer.dynamic_resolution import (
     MAX_SCALE,
     ResolutionController,
     Upsampler,
-    disk_floor,
     reduced_size,
 )
 from skydome.viewer.jumps import next_event
@@ -315,9 +314,6 @@ class ViewerScene:
                 and not cache.same_view(graph, sky.state, view, size)
             ):
                 scale = self.resolution.scale
-                if scale < MAX_SCALE:  # the Sun's and the Moon's disks a pixel across at least
-                    lights = (sky.state.sun, sky.state.moon)
-                    scale = max(scale, disk_floor(s.camera(), size, lights))
             self.render_scale = scale
             self.drawn_scales.append(scale)
         self.full_resolution_next = False

@@ -41,10 +41,10 @@ vec4 umbra_light(float d) {
 #endif
 out vec4 frag;
 
-void main() {
-    frag = vec4(0.0);
+// The Moon seen through the point xy of the frame.
+vec4 moon_radiance(vec2 xy) {
     vec3 true_dir;
-    if (!pixel_sees_sphere(gl_FragCoord.xy, u_moon_direction_true, u_sin_angular_radius, true_dir)) return;
+    if (!pixel_sees_sphere(xy, u_moon_direction_true, u_sin_angular_radius, true_dir)) return vec4(0.0);
     vec3 n = sphere_normal(true_dir, u_moon_direction_true, u_sin_angular_radius);
     float mu = max(dot(n, -true_dir), 0.0);
     float mu0 = dot(n, u_moon_to_sun);
@@ -62,8 +62,15 @@ void main() {
     vec3 rel = p - u_ecl_earth_km;
     float d = length(rel - dot(rel, axis) * axis);
     vec4 lit = u_colour * visible + umbra_light(d);
-    frag = albedo * (u_sunlit_scale * lommel_seeliger_law(mu0, mu) * lit + u_earthlit_scale * u_colour);
+    return albedo * (u_sunlit_scale * lommel_seeliger_law(mu0, mu) * lit + u_earthlit_scale * u_colour);
 #else
-    frag = u_colour * (albedo * (u_sunlit_scale * lommel_seeliger_law(mu0, mu) + u_earthlit_scale));
+    return u_colour * (albedo * (u_sunlit_scale * lommel_seeliger_law(mu0, mu) + u_earthlit_scale));
 #endif
+}
+
+void main() {
+    int n = int(u_disk_samples + 0.5);
+    vec4 sum = vec4(0.0);
+    for (int i = 0; i < n * n; ++i) sum += moon_radiance(disk_sample_xy(gl_FragCoord.xy, i, n));
+    frag = sum / float(n * n);
 }

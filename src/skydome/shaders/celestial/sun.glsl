@@ -38,24 +38,33 @@ vec4 limb_darkening(int g, float mu) {
          + mu * (u_limb[k + 4] + mu * u_limb[k + 5]))));
 }
 
-void main() {
-    frag = vec4(0.0);
+// The disk (or the corona) seen through the point xy of the frame.
+vec4 sun_radiance(vec2 xy) {
+    vec4 radiance = vec4(0.0);
     vec3 true_dir;
-    if (!pixel_sees_sphere(gl_FragCoord.xy, u_sun_direction_true, u_sin_angular_radius, true_dir)) {
-        if (u_corona_scale <= 0.0 || dot(true_dir, u_sun_direction_true) <= 0.0) return;
-        if (ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return;
+    if (!pixel_sees_sphere(xy, u_sun_direction_true, u_sin_angular_radius, true_dir)) {
+        if (u_corona_scale <= 0.0 || dot(true_dir, u_sun_direction_true) <= 0.0) return radiance;
+        if (ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return radiance;
         float rho_c = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
-        if (rho_c > 6.0) return;
+        if (rho_c > 6.0) return radiance;
         for (int g = 0; g < NUM_GROUPS; ++g)
-            frag += u_spectral_to_rgbs[g] * vec4(1.0);
-        frag *= u_sun_scale * u_corona_scale * baumbach_corona(rho_c);
-        return;
+            radiance += u_spectral_to_rgbs[g] * vec4(1.0);
+        radiance *= u_sun_scale * u_corona_scale * baumbach_corona(rho_c);
+        return radiance;
     }
-    if (u_moon_sin_radius > 0.0 && ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return;
+    if (u_moon_sin_radius > 0.0 && ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return radiance;
     // Heliocentric angle: sin(psi) = sin(theta) / sin(alpha) (exact for a sphere).
     float rho = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
     float mu = sqrt(max(1.0 - rho * rho, 0.0));
     for (int g = 0; g < NUM_GROUPS; ++g)
-        frag += u_spectral_to_rgbs[g] * (limb_darkening(g, mu) * u_limb_norm[g]);
-    frag *= u_sun_scale;
+        radiance += u_spectral_to_rgbs[g] * (limb_darkening(g, mu) * u_limb_norm[g]);
+    radiance *= u_sun_scale;
+    return radiance;
+}
+
+void main() {
+    int n = int(u_disk_samples + 0.5);
+    vec4 sum = vec4(0.0);
+    for (int i = 0; i < n * n; ++i) sum += sun_radiance(disk_sample_xy(gl_FragCoord.xy, i, n));
+    frag = sum / float(n * n);
 }
