@@ -63,6 +63,31 @@ def test_at_shares_the_precomputed_sky_and_frees_it_with_the_last_holder(ctx):
     assert shared.sky_view is None  # the last holder freed it
 
 
+def test_at_shares_the_night_layers_work_and_draws_what_a_new_sky_draws(ctx):
+    # A moonless night at La Palma: a minute later, Sky.at's sky takes the stars' apparent
+    # places of date (good for an hour: celestial.stars) and the Milky Way's mipmapped map
+    # from the sky it came from (the map freed with the last holder), and draws the frame a
+    # Sky made from scratch at that minute draws, to float32 rounding (the places of date
+    # computed at 02:00 against at 02:01 differ by < 0.02": under 1e-4 of a pixel here).
+    place, cam = (28.7606, -17.8816, 2396.0), PerspectiveCamera(fov_deg=60.0, pitch_deg=40.0)
+    first = Sky(place, "2019-04-05T02:00Z", ctx=ctx)
+    first.render(cam, 64, 32, exposure=None)
+    later = first.at("2019-04-05T02:01Z")
+    later.graph.update(later.state)
+    stars, milky_way = later.layer("stars"), later.layer("milky_way")
+    assert stars._places is first.layer("stars")._places
+    holder = first.layer("milky_way")._holder
+    assert milky_way._texture is holder.resource and holder.refs == 2
+    first.release()
+    assert holder.refs == 1 and holder.resource is milky_way._texture  # still held
+    a = later.render(cam, 96, 48, exposure=None).data
+    b = Sky(place, "2019-04-05T02:01Z", ctx=ctx).render(cam, 96, 48, exposure=None).data
+    assert np.isfinite(a).all() and a.max() > 0.0
+    np.testing.assert_allclose(a, b, rtol=1e-4, atol=1e-9)
+    later.release()
+    assert holder.refs == 0 and holder.resource is None  # the last holder freed it
+
+
 def test_a_light_turned_in_azimuth_alone_keeps_its_table_and_the_frame(ctx, base):
     cam = EquirectCamera()
     base.render(cam, 64, 32, exposure=None)

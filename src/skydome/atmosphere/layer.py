@@ -35,6 +35,7 @@ from skydome.core.layer import DrawContext, Layer, LayerHost
 from skydome.core.lights import SkyState
 from skydome.core.services import AirLights, AirService, EclipseSkyInputs, LookupTables
 from skydome.errors import ParameterError, check_choice
+from skydome.gpu.shared import SharedResource
 from skydome.gpu.textures import release_all
 from skydome.physics.constants import AU_KM
 from skydome.physics.geometry import elevation_deg
@@ -127,8 +128,8 @@ class AtmosphereLayer(Layer):
         self.cache = bool(cache)
         self._progress = progress
         self.sky: PrecomputedSky | SingleScatteringSky | None = None
-        self._holder: _SharedSky | None = None  # self.sky, shared with fresh() copies
-        self._donor: _SharedSky | None = None
+        self._holder: SharedResource | None = None  # self.sky, shared with fresh() copies
+        self._donor: SharedResource | None = None
         self.spectral_basis: SpectralBasis | None = None
         self._lights: AirLights | None = None
         self._last_sun = None
@@ -148,8 +149,7 @@ class AtmosphereLayer(Layer):
         super().prepare(host)
         donor, self._donor = self._donor, None
         if self.sky is None and donor is not None and donor.serves(host.ctx):
-            donor.refs += 1
-            self._holder, self.sky = donor, donor.sky
+            self._holder, self.sky = donor, donor.take()
         if self.sky is None:
             if self.model == "single":
                 self.sky = SingleScatteringSky(
@@ -162,7 +162,7 @@ class AtmosphereLayer(Layer):
                     host.ctx, self.params, self.config, cache=self.cache,
                     progress=self._progress, sky_view=self.sky_view, **extra,
                 )  # fmt: skip
-                self._holder = _SharedSky(self.sky)
+                self._holder = SharedResource(self.sky, host.ctx)
         output = "rgbs" if self.model == "single" else self.sky.config.output
         self.spectral_basis = SpectralBasis.for_wavelengths(self.sky.wavelengths_nm, output)
 
@@ -320,26 +320,6 @@ class AtmosphereLayer(Layer):
                 self.sky.release()
             else:
                 holder.drop()
-            self.sky = None
-
-
-class _SharedSky:
-    """A precomputed (or single) sky shared by an atmosphere layer and its ``fresh()``
-    copies: released with the last of them."""
-
-    def __init__(self, sky):
-        self.sky = sky
-        self.refs = 1
-
-    def serves(self, ctx) -> bool:
-        """Whether the sky is still alive and on ``ctx``."""
-        return self.sky is not None and self.sky.ctx is ctx
-
-    def drop(self) -> None:
-        """One holder fewer; the last one releases the sky."""
-        self.refs -= 1
-        if self.refs <= 0 and self.sky is not None:
-            self.sky.release()
             self.sky = None
 
 

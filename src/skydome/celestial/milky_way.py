@@ -52,6 +52,7 @@ from skydome.core.lights import SkyState
 from skydome.core.refraction_table import AirlessTableInputs, RefractionTable
 from skydome.errors import ParameterError
 from skydome.gpu.inputs import ShaderInputs
+from skydome.gpu.shared import SharedResource
 from skydome.io.packaged import read_packaged_npz
 from skydome.physics.packing import mat3
 from skydome.spectra.blackbody import planck_relative
@@ -231,6 +232,8 @@ class MilkyWayLayer(Layer):
             raise ParameterError(f"Milky Way scale = {scale!r} must lie in [0, 100]")
         self.scale = scale
         self._texture = None
+        self._holder: SharedResource | None = None  # the texture, shared with fresh() copies
+        self._donor: SharedResource | None = None
         self._inputs: MilkyWayInputs | None = None
         self._key = None
         self._np_cache: tuple[int, np.ndarray] | None = None
@@ -245,11 +248,25 @@ class MilkyWayLayer(Layer):
         ctx = graph.ctx
         m = milky_way_map()
         h, w = m.shape
-        self._texture = ctx.texture((w, h), 1, np.ascontiguousarray(m).tobytes(), dtype="f4")
-        self._texture.build_mipmaps()
-        self._texture.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
-        self._texture.repeat_x, self._texture.repeat_y = True, False
+        donor, self._donor = self._donor, None
+        if donor is not None and donor.serves(ctx):  # Sky.at: the map of the sky it came from
+            self._holder, self._texture = donor, donor.take()
+        else:
+            self._texture = ctx.texture((w, h), 1, np.ascontiguousarray(m).tobytes(), dtype="f4")
+            self._texture.build_mipmaps()
+            self._texture.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
+            self._texture.repeat_x, self._texture.repeat_y = True, False
+            self._holder = SharedResource(self._texture, ctx)
         self._log2_texels_per_rad = math.log2(w / (2.0 * math.pi))
+
+    def fresh(self) -> MilkyWayLayer:
+        """A new layer with this one's arguments that, prepared on the same context, shares
+        this one's map texture (uploaded and mipmapped once for a sky and its ``Sky.at``
+        copies; freed with the last of them) and its precession-nutation of the day."""
+        layer = super().fresh()
+        layer._donor = self._holder
+        layer._np_cache = self._np_cache
+        return layer
 
     def update(self, state: SkyState) -> None:
         key = (id(state), id(self.graph.basis), self.scale)
@@ -301,7 +318,7 @@ class MilkyWayLayer(Layer):
 
     def release(self) -> None:
         super().release()
-        if self._texture is not None:
-            self._texture.release()
-            self._texture = None
+        if self._holder is not None:
+            self._holder.drop()
+        self._holder = self._texture = None
         self._refraction_table.release()

@@ -167,6 +167,14 @@ class StarsLayer(Layer):
         enu[seen], alt[seen] = refract_altitudes_tabulated(enu[seen], alt[seen], scale)
         return enu, alt
 
+    def fresh(self) -> StarsLayer:
+        """A new layer with this one's arguments and its stars' apparent places of date (they
+        hold for APPARENT_PLACE_REFRESH_DAYS, whichever sky asks: ``Sky.at``) and colours."""
+        layer = super().fresh()
+        layer._places_jd, layer._places = self._places_jd, self._places
+        layer._colours = self._colours
+        return layer
+
     def update(self, state: SkyState) -> None:
         key = id(state)
         if key == self._state_key:
