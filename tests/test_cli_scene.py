@@ -229,3 +229,20 @@ def test_timelapse_killed_leaves_a_temporary_file_the_next_run_removes(tmp_path)
     r = run_cli(*short, "-o", tmp_path / "short.mp4")
     assert r.returncode == 0, r.stderr
     assert os.listdir(tmp_path) == ["short.mp4"]
+
+
+def test_timelapse_shows_the_night_layers_in_a_total_eclipse(ctx):
+    # The time-lapse leaves the night layers out by day (the Sun >= 10 deg: under 0.6 % of the
+    # darkest sky), but not while an eclipse hides >= 90 % of the Sun: at Dallas on
+    # 2024-04-08 the Sun stood 60-67 deg up both in the partial phase an hour before totality
+    # (layers off) and in totality at 18:42 UTC (on: Venus and Jupiter were seen).
+    from skydome import Sky
+    from skydome.cli.timelapse_cmd import show_night_sky
+    from skydome.description import NIGHT_LAYERS
+
+    for when, on in (("2024-04-08T17:40Z", False), ("2024-04-08T18:42Z", True)):
+        with Sky("Dallas", when, ctx=ctx) as sky:
+            assert sky.state.sun.elevation_deg > 60.0
+            show_night_sky(sky.graph, sky.state)
+            night = [la for la in sky.layers if la.name in NIGHT_LAYERS]
+            assert night and all(la.enabled is on for la in night), when

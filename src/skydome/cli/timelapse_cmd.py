@@ -37,13 +37,22 @@ CHUNK = 1000
 #: at Sun 10 deg, `earth`): under one 8-bit code value near mid-grey, and Sirius 20 times
 #: less; so they are left out by day, for speed.
 NIGHT_SKY_BELOW_DEG = 10.0
+#: ... and while a solar eclipse hides at least this fraction of the Sun: the day sky's light
+#: falls with the Sun's visible part (to first order; far more in the umbra), so near
+#: totality Venus's 0.6 % of the darkest sky at 10 deg becomes 6 % and more (the planets
+#: and the brightest stars come out in totality).
+NIGHT_SKY_ECLIPSE_HIDDEN = 0.9
 
 
 def show_night_sky(graph, state) -> None:
-    """Turn the night layers of ``graph`` on while the Sun is below NIGHT_SKY_BELOW_DEG."""
+    """Turn the night layers of ``graph`` on while the Sun is below NIGHT_SKY_BELOW_DEG or a
+    solar eclipse hides NIGHT_SKY_ECLIPSE_HIDDEN of it."""
     from skydome.description import NIGHT_LAYERS
 
-    on = state.sun.elevation_deg < NIGHT_SKY_BELOW_DEG
+    eclipse = state.solar_eclipse
+    on = state.sun.elevation_deg < NIGHT_SKY_BELOW_DEG or (
+        eclipse is not None and eclipse.hidden_fraction >= NIGHT_SKY_ECLIPSE_HIDDEN
+    )
     for layer in graph.layers:
         if layer.name in NIGHT_LAYERS:
             layer.enabled = on
