@@ -18,6 +18,7 @@ from skydome.display.gpu_tonemap import upload_frame
 from skydome.display.night_vision import (
     BLUE_GREY,
     NOISE_CAP,
+    PHOTOPIC_ANY_SP_CD_M2,
     NightVision,
     acuity_cycles_per_deg,
     blur_plan,
@@ -297,13 +298,28 @@ def test_gpu_matches_reference_without_noise(ctx, nv, adaptation, pixel_deg, sha
 
 
 def test_photopic_returns_input(ctx, nv):
-    # m = 1: no pass runs at all; the input texture itself comes back.
+    # m = 1: no pass runs at all; the input texture itself comes back. At 50 cd/m^2 not even
+    # the S/P ratio is measured (m = 1 whatever it is: below).
     tex = upload_frame(ctx, random_frame(np.random.default_rng(1), 100.0).astype(np.float32))
     try:
         assert nv.apply(tex, (W, H), pixel_angle_rad=1e-3, adaptation=50.0) is tex
-        assert nv.last_state["m"] == 1.0
+        assert nv.last_state["m"] == 1.0 and nv.last_state["lmes"] == 50.0
+        assert nv.last_state["sp"] is None
+        nv.apply(tex, (W, H), pixel_angle_rad=1e-3, adaptation=5.0)  # mesopic: measured
+        assert nv.last_state["sp"] > 0.0
     finally:
         tex.release()
+
+
+def test_from_photopic_any_sp_cd_m2_mes2_is_photopic_whatever_the_sp_ratio():
+    # The fact that lets apply() skip the S/P ratio by day: CIE 191:2010 MES2 gives m = 1 and
+    # L_mes = L_p from L_p = 7.01 cd/m^2 on (its first step from m = 0.5 gives L_mes >= 0.713
+    # L_p >= 5 cd/m^2, where m = 0.767 + 0.3334 log10(5) = 1), for any scotopic luminance, so
+    # from PHOTOPIC_ANY_SP_CD_M2 = 10 with room to spare; and not below 5 cd/m^2 in general.
+    for lp in np.geomspace(PHOTOPIC_ANY_SP_CD_M2, 1e7, 60):
+        for ls in (0.0, *np.geomspace(1e-6, 1e9, 60)):
+            assert mesopic_coefficient(float(lp), float(ls)) == (1.0, float(lp))
+    assert mesopic_coefficient(4.0, 0.0)[0] < 1.0
 
 
 def test_noise_repeatable_and_matches_reference(ctx, nv):

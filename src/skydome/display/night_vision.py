@@ -65,6 +65,11 @@ SCOTOPIC_LIMIT_CD_M2 = 0.005
 MES2_ITERATIONS = 64
 #: Convergence tolerance on m (CIE 191 asks for iteration "until m converges").
 MES2_TOLERANCE = 1e-12
+#: At or above this photopic adaptation luminance (cd/m^2) MES2 gives m = 1 whatever the S/P
+#: ratio: its first step from m = 0.5 gives L_mes >= L_p / (1 + V'(555)) = 0.713 L_p, at least
+#: 5 cd/m^2 (m = 1) from L_p = 7.01 on. The S/P ratio (a grid pass, its mipmaps and a
+#: read-back a frame) is then not measured: by day the eye's colours cost nothing.
+PHOTOPIC_ANY_SP_CD_M2 = 10.0
 
 # -- Blue shift -----------------------------------------------------------------------------
 #: CIE 1931 xy of the blue grey in which scotopic luminance is drawn: a bluish white near a
@@ -315,8 +320,10 @@ class NightVision:
     1 x 1 level of a mipmapped grid) is read back once per frame, and the passes are chosen on
     the CPU from it: none at m = 1; one pass (blend and noise) without blur; for a blur at
     m = 0 (scotopic: only the scotopic channel is seen) the scotopic channel alone, four
-    pixels to a texel; for a wide blur a reduced-resolution copy (:func:`blur_plan`).
-    :attr:`last_state` holds what the last :meth:`apply` used.
+    pixels to a texel; for a wide blur a reduced-resolution copy (:func:`blur_plan`). At an
+    adaptation of PHOTOPIC_ANY_SP_CD_M2 or more the S/P ratio is not measured (m = 1 whatever
+    it is). :attr:`last_state` holds what the last :meth:`apply` used (``sp`` and ``ls``
+    None when not measured).
 
     Below 5 cd/m^2 the output's luminance is each pixel's mesopic luminance, not its photopic
     one: a moonlit sky (S/P about 2.5) comes out about twice as luminous. An exposure taken
@@ -412,14 +419,17 @@ class NightVision:
                 f"adaptation must be a luminance in cd/m^2 or a GpuExposure, got "
                 f"{type(adaptation).__name__}"
             )
-        sp = self.measure_sp_ratio(hdr_texture)
-        m, lmes = mesopic_coefficient(lp, lp * sp)
+        if lp >= PHOTOPIC_ANY_SP_CD_M2:  # m = 1 whatever the S/P ratio: not measured
+            sp, (m, lmes) = None, (1.0, lp)
+        else:
+            sp = self.measure_sp_ratio(hdr_texture)
+            m, lmes = mesopic_coefficient(lp, lp * sp)
         sigma = blur_sigma_px(lp, px) if self.acuity and m < 1.0 else 0.0
         level, s = blur_plan(sigma, (w, h))
         self.last_state = {
             "lp": lp,
             "sp": sp,
-            "ls": lp * sp,
+            "ls": None if sp is None else lp * sp,
             "m": m,
             "lmes": lmes,
             "sigma_px": sigma,
