@@ -313,6 +313,7 @@ def description_settings():
 @example({"place": "Valletta", "time": "2018-03-01T19:00Z", "pressure_hPa": [0]})
 @example({"place": "Valletta", "time": "2018-03-01T19:00Z", "temperature_C": []})
 @example({"place": "Valletta", "time": 10**400})
+@example({"place": "Valletta", "time": 1.3221776208540553e40})  # a finite JD no theory holds
 def test_sky_description(kwargs):
     from skydome.description import SkyDescription
 

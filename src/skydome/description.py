@@ -22,6 +22,7 @@ import numpy as np
 
 from skydome.astro import Observer, Time, to_time
 from skydome.astro.places import Place, parse_place, time_zone
+from skydome.astro.time import VALID_JD_RANGE
 from skydome.atmosphere.cie_layer import CieSkyLayer
 from skydome.atmosphere.ground import (
     BlackGroundLayer,
@@ -201,6 +202,12 @@ class SkyDescription:
             not isinstance(self.time, Time) or np.shape(self.time.jd_utc) != ()
         ):
             raise ParameterError("time must be one instant (skydome.astro.Time)")
+        if self.time is not None:
+            jd, (lo, hi) = float(self.time.jd_utc), VALID_JD_RANGE
+            if not lo <= jd <= hi:  # (not finite: outside too)
+                raise ParameterError(
+                    f"time JD {jd:.6g} is outside the years -3000 to 4000 the astronomy holds for"
+                )
         if self.timezone:
             time_zone(self.timezone)  # a zone zoneinfo knows
         for name, lo, hi, unit in (

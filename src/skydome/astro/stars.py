@@ -61,6 +61,7 @@ from typing import Any
 import numpy as np
 
 from skydome.astro import frames, photometry, sun
+from skydome.astro.time import VALID_JD_RANGE
 from skydome.errors import ParameterError, SkydomeError
 
 __all__ = [
@@ -428,9 +429,10 @@ def _jd_array(jd_tt: Any) -> np.ndarray:
         raise ParameterError(f"jd_tt must be finite Julian Dates, got {jd_tt!r}")
     # The precession/nutation series and the low-precision Earth position are meant for
     # a few millennia around J2000; beyond that the linear space motion is meaningless too.
-    if jd.size and (jd.min() < 625_673.5 or jd.max() > 3_182_395.5):  # years -3000..+4000
+    lo, hi = VALID_JD_RANGE
+    if jd.size and (jd.min() < lo or jd.max() > hi):
         raise ParameterError(
-            f"jd_tt = {jd.min()}..{jd.max()} is outside the valid range [625673.5, 3182395.5] "
+            f"jd_tt = {jd.min()}..{jd.max()} is outside the valid range [{lo}, {hi}] "
             "(years -3000 to 4000)"
         )
     return jd

@@ -49,6 +49,7 @@ from skydome.errors import ParameterError
 from skydome.physics.constants import ARCSEC_RAD, J2000_JD
 
 __all__ = [
+    "VALID_JD_RANGE",
     "J2000",
     "LocalTimeError",
     "Time",
@@ -70,6 +71,10 @@ __all__ = [
 J2000 = J2000_JD
 MJD0 = 2400000.5
 UNIX_EPOCH_JD = 2440587.5
+#: The Julian Dates the astronomy holds for: years -3000 to 4000 (the precession-nutation
+#: series, the star catalogue's space motion and the planetary theories are meant for a few
+#: millennia around J2000).
+VALID_JD_RANGE = (625_673.5, 3_182_395.5)
 TT_MINUS_TAI = 32.184  # seconds
 SECONDS_PER_DAY = 86400.0
 _TWO_PI = 2.0 * np.pi
