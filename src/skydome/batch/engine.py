@@ -25,14 +25,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rich.console import Console
-from rich.progress import (
-    BarColumn,
-    MofNCompleteColumn,
-    Progress,
-    TextColumn,
-    TimeElapsedColumn,
-    TimeRemainingColumn,
-)
+from rich.progress import TextColumn
 
 from skydome.batch.jobs import Job
 from skydome.batch.manifest import Manifest, complete, job_row
@@ -40,6 +33,7 @@ from skydome.batch.runner import JobRunner
 from skydome.batch.worker_memory import fit_allocator_to_frames
 from skydome.errors import ParameterError
 from skydome.io.atomic import remove_stale_temps
+from skydome.io.progress import eta_progress
 
 try:  # optional: pip install "skydome[batch]"
     import dask
@@ -125,11 +119,8 @@ def _failed_row(job: Job, exc: BaseException) -> dict:
 
 def _progress_bar(enabled: bool):
     console = Console(stderr=True)
-    return Progress(
-        TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-        TextColumn("{task.fields[failed]} failed"), TimeElapsedColumn(), TextColumn("ETA"),
-        TimeRemainingColumn(), console=console, disable=not (enabled and console.is_terminal),
-    )  # fmt: skip
+    failed = TextColumn("{task.fields[failed]} failed")
+    return eta_progress(console, "{task.description}", failed, enabled=enabled)
 
 
 def render_many(

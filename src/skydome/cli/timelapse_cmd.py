@@ -104,14 +104,6 @@ def register(app: typer.Typer) -> None:
         """Render a time-lapse of the sky over a place: an H.264 MP4 or numbered frames."""
         import numpy as np
         from rich.console import Console
-        from rich.progress import (
-            BarColumn,
-            MofNCompleteColumn,
-            Progress,
-            TextColumn,
-            TimeElapsedColumn,
-            TimeRemainingColumn,
-        )
 
         from skydome.core.cameras import (
             CAMERAS,
@@ -124,6 +116,7 @@ def register(app: typer.Typer) -> None:
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
         from skydome.display.exposure import DEFAULT_KEY, METERINGS
         from skydome.display.glare import GLARES
+        from skydome.io.progress import eta_progress
         from skydome.io.video import (
             FrameSequenceWriter,
             Mp4Writer,
@@ -225,17 +218,7 @@ def register(app: typer.Typer) -> None:
             writer = Mp4Writer(target, fps, (width, height), preset="veryfast")
         else:
             writer = FrameSequenceWriter(target, "." + frame_format, frame_count=frames)
-        bar = Progress(
-            TextColumn("rendering"),
-            BarColumn(),
-            MofNCompleteColumn(),
-            TimeElapsedColumn(),
-            TextColumn("ETA"),
-            TimeRemainingColumn(),
-            console=console,
-            transient=not console.is_terminal,
-            disable=not console.is_terminal,
-        )
+        bar = eta_progress(console, "rendering", transient=not console.is_terminal)
         try:
             with writer, bar:
                 task = bar.add_task("frames", total=frames)
