@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from skydome import Sky
+from skydome.astro import to_time
 from skydome.atmosphere.layer import AtmosphereLayer
 from skydome.celestial.moon import MoonLayer
 from skydome.celestial.sun import SunLayer
@@ -23,11 +24,12 @@ from skydome.core.cameras import (
     disk_scissor,
 )
 from skydome.core.layer import Layer
+from skydome.description import observer_for
 from skydome.display.exposure import log_average_luminance
 from skydome.display.gpu_tonemap import gpu_tonemap
 from skydome.errors import ParameterError
 from skydome.gpu.inputs import ShaderInputs
-from skydome.scene.state import state_series
+from skydome.scene.state import state_at, state_series
 from tests.air_frames import precomputed_frames as precomputed_renderer
 
 VALLETTA = (35.8989, 14.5146, 56.0)
@@ -369,3 +371,19 @@ def test_lights_below_the_dark_bound_add_exactly_nothing(valletta):
         sun = direction_from_angles(dark - 0.01, 180.0)
         frame = renderer.render(EquirectCamera(), 128, 64, sun_direction=sun, altitude_m=altitude)
         assert np.all(frame.data == 0.0)
+
+
+def test_state_at_keeps_the_time_it_is_given():
+    # A Time made with a TT - UT1 of its own (here 100 s more than the model's) must be the
+    # time the state is for: the Moon moves ~0.55"/s against the stars, so 100 s moves it by
+    # ~55" (measured 0.015 deg); state_at once re-read the tables from the UTC alone.
+    obs = observer_for(VALLETTA)
+    model = to_time("2018-03-01T23:00Z")
+    dt_s = float((model.jd_tt - model.jd_ut1) * 86400.0) + 100.0
+    shifted = to_time("2018-03-01T23:00Z", delta_t=dt_s)
+    a = state_at(obs, shifted).moon.direction
+    b = state_series(obs, to_time(["2018-03-01T23:00Z"], delta_t=dt_s))[0].moon.direction
+    c = state_at(obs, model).moon.direction
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    moved_deg = math.degrees(math.acos(min(1.0, float(np.dot(a, c)))))
+    assert 0.005 < moved_deg < 0.03

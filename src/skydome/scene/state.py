@@ -69,7 +69,10 @@ def state_at(observer, time) -> SkyState:
     t = to_time(time)
     if t.shape != ():
         raise ParameterError(f"a sky is for one instant; got {t.shape} times")
-    return state_series(observer, t.jd_utc.reshape(1))[0]
+    # The Time itself, as a 1-sequence: its UT1 and TT kept (a Time made with a delta_t of
+    # its own keeps it; the tables are not read a second time).
+    one = Time(t.jd_utc.reshape(1), t.jd_ut1.reshape(1), t.jd_tt.reshape(1))
+    return state_series(observer, one)[0]
 
 
 def state_series(observer, times) -> list[SkyState]:
