@@ -55,12 +55,21 @@ def test_at_shares_the_precomputed_sky_and_frees_it_with_the_last_holder(ctx):
     shared = first.layer("atmosphere").sky
     later = first.at("2018-03-01T19:01Z")
     assert later.layer("atmosphere").sky is shared
+    # The Moon's albedo map (2 MB) is uploaded once for both.
+    albedo = first.layer("moon")._holder
+    assert later.layer("moon")._texture is albedo.resource and albedo.refs == 2
     first.release()
     assert shared.sky_view is not None  # still held by `later`
+    assert albedo.refs == 1 and albedo.resource is later.layer("moon")._texture
     cam = later.camera("moon", fov_deg=60)
-    assert np.isfinite(later.render(cam, 32, 16, exposure=None).data).all()
+    frame = later.render(cam, 32, 16, exposure=None).data
+    assert np.isfinite(frame).all()
+    # The Moon's disk is drawn from the map (a uniform map would be 0.5-1.5x in places).
+    b = Sky(VALLETTA, "2018-03-01T19:01Z", night=False, ctx=ctx).render(cam, 32, 16, exposure=None)
+    np.testing.assert_allclose(frame, b.data, rtol=1e-5, atol=1e-9)
     later.release()
     assert shared.sky_view is None  # the last holder freed it
+    assert albedo.refs == 0 and albedo.resource is None
 
 
 def test_at_shares_the_night_layers_work_and_draws_what_a_new_sky_draws(ctx):

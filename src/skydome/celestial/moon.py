@@ -34,6 +34,7 @@ from skydome.core.cameras import CameraInputs, disk_samples
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.gpu.inputs import ShaderInputs
+from skydome.gpu.shared import SharedResource
 from skydome.physics.constants import AU_KM
 from skydome.physics.geometry import horizon_dip_rad
 from skydome.physics.packing import mat3
@@ -218,6 +219,8 @@ class MoonLayer(Layer):
         self.earthshine = bool(earthshine)
         self.albedo_map = bool(albedo_map)
         self._texture = None
+        self._holder: SharedResource | None = None  # the albedo map, shared with fresh() copies
+        self._donor: SharedResource | None = None
         self._inputs: MoonInputs | None = None
         self._key = None
         self._info: dict = {}
@@ -230,11 +233,16 @@ class MoonLayer(Layer):
     def prepare(self, graph) -> None:
         super().prepare(graph)
         ctx = graph.ctx
+        donor, self._donor = self._donor, None
+        if donor is not None and donor.serves(ctx):  # Sky.at: the map of the sky it came from
+            self._holder, self._texture = donor, donor.take()
+            return
         a = moon_albedo_map() if self.albedo_map else np.ones((2, 4), np.float32)
         h, w = a.shape
         self._texture = ctx.texture((w, h), 1, np.ascontiguousarray(a, "f4").tobytes(), dtype="f4")
         self._texture.filter = (ctx.LINEAR, ctx.LINEAR)
         self._texture.repeat_x, self._texture.repeat_y = True, False
+        self._holder = SharedResource(self._texture, ctx)
 
     def update(self, state: SkyState) -> None:
         key = (id(state), id(self.graph.basis))
@@ -376,9 +384,12 @@ class MoonLayer(Layer):
 
     def fresh(self) -> MoonLayer:
         """A new layer with this one's arguments and its last disk integrals (they hold for
-        the geometry they were taken for, whichever sky asks: ``Sky.at``)."""
+        the geometry they were taken for, whichever sky asks: ``Sky.at``) that, prepared on
+        the same context, shares this one's albedo map (uploaded once for a sky and its
+        ``Sky.at`` copies; freed with the last of them)."""
         layer = super().fresh()
         layer._cache = self._cache
+        layer._donor = self._holder
         return layer
 
     def info(self) -> dict:
@@ -386,6 +397,6 @@ class MoonLayer(Layer):
 
     def release(self) -> None:
         super().release()
-        if self._texture is not None:
-            self._texture.release()
-            self._texture = None
+        if self._holder is not None:
+            self._holder.drop()
+        self._holder = self._texture = None

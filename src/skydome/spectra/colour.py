@@ -6,6 +6,8 @@ luminance in cd/m^2; a fourth channel carries the scotopic luminance in scotopic
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from skydome.errors import ParameterError
@@ -124,7 +126,14 @@ def conversion_matrix(wavelengths_nm, output: str = "rgbs") -> np.ndarray:
         return np.eye(4)
     if output != "rgbs":
         raise ParameterError(f"output {output!r} must be one of {', '.join(OUTPUTS)}")
-    return spectral_to_rgbs_matrix(wl)
+    return _rgbs_matrix_of(tuple(wl.tolist())).copy()
+
+
+@functools.lru_cache(maxsize=32)
+def _rgbs_matrix_of(wavelengths_nm: tuple[float, ...]) -> np.ndarray:
+    """spectral_to_rgbs_matrix of a few wavelength sets, kept (0.3 ms each: every layer of
+    every ``Sky.at`` asks for its basis's)."""
+    return spectral_to_rgbs_matrix(np.asarray(wavelengths_nm))
 
 
 def solar_luminance(wavelengths_nm) -> float:

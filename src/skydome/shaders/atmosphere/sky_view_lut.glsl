@@ -17,6 +17,14 @@ void main() {
     vec3 light = u_light_direction;
     bool hits_ground;
     vec3 dir = sky_view_texel_direction(ivec2(gl_FragCoord.xy), light, u_sky_view_size, hits_ground);
+    // Each half's rays all hit the ground or all leave the air: a constant, so that the
+    // compiler drops the other arm of every hits_ground choice below (a CPU rasterizer would
+    // run both: the sky half 2.3 -> 1.6 ms at 256^2 on llvmpipe).
+#ifdef GROUND_HALF
+    hits_ground = true;
+#else
+    hits_ground = false;
+#endif
     float r = u_view_radius;
     vec3 camera = vec3(0.0, 0.0, r);
     float mu = dir.z;
