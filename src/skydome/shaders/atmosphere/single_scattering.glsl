@@ -14,9 +14,11 @@ uniform float u_sun_angular_radius;  // rad
 // (column_to_top(r0, mu0), or column_to_top(r0, -mu0) for rays that hit the ground).
 // T(x -> y) = T(x -> top) / T(y -> top) for rays that do not hit the ground, and with the
 // directions reversed for rays that do (Bruneton 2017, GetTransmittance).
+// One table fetch whichever the side: the choice is made on its argument, not between two
+// fetched results (a CPU rasterizer runs both arms of a per-pixel choice).
 vec3 column_between(vec3 c0, float r_t, float mu_t, bool hits_ground) {
-    vec3 c = hits_ground ? column_to_top(r_t, -mu_t) - c0 : c0 - column_to_top(r_t, mu_t);
-    return max(c, vec3(0.0));
+    vec3 c_t = column_to_top(r_t, hits_ground ? -mu_t : mu_t);
+    return max(hits_ground ? c_t - c0 : c0 - c_t, vec3(0.0));
 }
 
 // Column densities from radius r towards the Sun (cosine mu_s), or -1 if the planet blocks it.
