@@ -26,7 +26,7 @@ def test_include_and_defines_expand():
     assert "#define ANSWER 42" in src.text and "#define SCALE 0.5" in src.text
     assert "#define FLAG 1" in src.text
     assert src.text.count("const float PI") == 1  # each file included once
-    assert src.files == ["<defines>", "probe.glsl", "common/constants.glsl"]
+    assert src.files == ("<defines>", "probe.glsl", "common/constants.glsl")
 
 
 def test_compile_error_names_file_and_line(ctx):

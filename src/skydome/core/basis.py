@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,8 +29,13 @@ class SpectralBasis:
 
     @classmethod
     def for_wavelengths(cls, wavelengths_nm, output: str = "rgbs") -> SpectralBasis:
+        """The basis of these wavelengths (nm) and output: one instance per set, so that
+        what layers keep per basis (the stars' colours, ...) serves every sky made with it
+        (``Sky.at``'s copies too). Its arrays are read-only."""
         wl = np.asarray(wavelengths_nm, dtype=np.float64)
-        return cls(wl, conversion_matrix(wl, output), output)
+        if cls is not SpectralBasis or wl.ndim != 1:
+            return cls(wl, conversion_matrix(wl, output), output)
+        return _basis_of(tuple(wl.tolist()), output)
 
     @property
     def groups(self) -> int:
@@ -59,3 +65,12 @@ class SpectralBasis:
         f = f / f.max(axis=0, keepdims=True)  # any scale: the colour is per unit luminance
         y = SRGB_LUMINANCE @ (conversion_matrix(self.wavelengths_nm, "rgbs") @ f)[:3]
         return (self.to_output @ f / y).T
+
+
+@functools.lru_cache(maxsize=16)
+def _basis_of(wavelengths_nm: tuple[float, ...], output: str) -> SpectralBasis:
+    wl = np.array(wavelengths_nm, dtype=np.float64)
+    to_output = conversion_matrix(wl, output)
+    wl.setflags(write=False)
+    to_output.setflags(write=False)
+    return SpectralBasis(wl, to_output, output)

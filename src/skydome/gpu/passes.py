@@ -4,9 +4,19 @@ A :class:`ShaderProgram` is a program of the shader library compiled with its in
 (``skydome.gpu.inputs``): checked against the program when it is compiled, and given
 exactly one instance of each when it draws. A :class:`FullscreenPass` draws one over a whole
 framebuffer (or over layers of a layered one) with the full-screen triangle.
+
+Equal programs on one context are one GL program, counted: every holder of a
+:class:`ShaderProgram` made with the same shader, defines and inputs shares it, and the last
+to release it frees it. A program holds no state between draws that a holder relies on
+(each draw sets every active uniform and binds its textures: ``check_values``), and a new
+program costs a CPU rasterizer its shader's compilation at the first draw (llvmpipe: a
+few milliseconds each; a sky's ``Sky.at`` copy at night draws with a dozen).
 """
 
 from __future__ import annotations
+
+import threading
+import weakref
 
 import moderngl
 import numpy as np
@@ -15,6 +25,31 @@ from skydome.gpu.inputs import ShaderInputs, active_uniforms, check_program, che
 from skydome.gpu.shaders import compile_program
 
 _TEXTURES = (moderngl.Texture, moderngl.Texture3D, moderngl.TextureArray, moderngl.TextureCube)
+
+# context -> {key: _Shared}: the programs alive on each context.
+_PROGRAMS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_LOCK = threading.Lock()
+
+
+class _Shared:
+    """One compiled and checked program and the count of its holders."""
+
+    def __init__(self, program, active: frozenset[str]):
+        self.program = program
+        self.active = active
+        self.refs = 0
+
+
+def _key(fragment, defines, source, layered, vertex, inputs) -> tuple | None:
+    """What makes two programs equal, or None where a define's value cannot be a key."""
+    # each define's type too: 1, 1.0 and True are equal keys but different GLSL
+    typed = tuple((k, type(v), v) for k, v in (defines or {}).items())
+    key = (fragment, typed, source, layered, vertex, inputs)
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
 
 
 class ShaderProgram:
@@ -44,16 +79,28 @@ class ShaderProgram:
     ):
         self.ctx = ctx
         self.name = fragment
-        self.program, text = compile_program(
-            ctx, fragment, defines, source=source, layered=layered, vertex=vertex
-        )
         self.inputs = tuple(inputs)
-        try:
-            check_program(fragment, self.program, text, self.inputs)
-        except Exception:
-            self.program.release()
-            raise
-        self.active = active_uniforms(self.program)
+        key = _key(fragment, defines, source, layered, vertex, self.inputs)
+        with _LOCK:
+            programs = _PROGRAMS.setdefault(ctx, {})
+            shared = programs.get(key) if key is not None else None
+            if shared is None:
+                program, text = compile_program(
+                    ctx, fragment, defines, source=source, layered=layered, vertex=vertex
+                )
+                try:
+                    check_program(fragment, program, text, self.inputs)
+                except Exception:
+                    program.release()
+                    raise
+                shared = _Shared(program, active_uniforms(program))
+                if key is not None:
+                    programs[key] = shared
+            shared.refs += 1
+        self._shared: _Shared | None = shared
+        self._key = key
+        self.program = shared.program
+        self.active = shared.active
 
     def apply(self, *given: ShaderInputs, first_unit: int = 0) -> None:
         """Set the uniforms of ``given`` (one instance of each input type) and bind their
@@ -70,14 +117,31 @@ class ShaderProgram:
                 unit += 1
             elif isinstance(value, (list, tuple, np.ndarray)) and np.size(value) > 1:
                 # Vectors, matrices and arrays go as raw float32 bytes in declared order (the
-                # compiler may shorten an array to the elements the shader can reach).
+                # compiler may shorten an array to the elements the shader can reach); an
+                # array given fewer elements is filled with zeros, so that nothing of an
+                # earlier draw (another holder's: the programs are shared) stays in it.
                 n = member.array_length * member.dimension
-                member.write(np.asarray(value, dtype="f4").ravel()[:n].tobytes())
+                flat = np.asarray(value, dtype="f4").ravel()[:n]
+                if flat.size < n:
+                    flat = np.concatenate([flat, np.zeros(n - flat.size, dtype="f4")])
+                member.write(flat.tobytes())
             else:
                 member.value = value
 
     def release(self) -> None:
-        self.program.release()
+        """This holder's share: the program is freed with its last holder (twice is
+        harmless)."""
+        with _LOCK:
+            shared, self._shared = self._shared, None
+            if shared is None:
+                return
+            shared.refs -= 1
+            if shared.refs > 0:
+                return
+            programs = _PROGRAMS.get(self.ctx)
+            if programs is not None and programs.get(self._key) is shared:
+                del programs[self._key]
+        shared.program.release()
 
 
 class FullscreenPass:
@@ -116,4 +180,4 @@ class FullscreenPass:
 
     def release(self) -> None:
         self.vao.release()
-        self.program.release()
+        self.shader.release()

@@ -8,6 +8,7 @@ mapped back to ``file.glsl:12``.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import re
 from functools import cache
@@ -51,7 +52,7 @@ class ShaderSource:
 
     def __init__(self, text: str, files: list[str]):
         self.text = text
-        self.files = files
+        self.files = tuple(files)
 
     def locate(self, message: str) -> str:
         """Rewrite driver messages 'S:L(C)' / 'S(L)' into 'file.glsl:line'."""
@@ -71,8 +72,27 @@ def expand(
     """Expand shader ``name`` (or the given ``source`` text, labelled ``name``).
 
     Adds ``#version 330 core``, then one ``#define KEY VALUE`` per entry of ``defines``,
-    then the file with its ``#include "x.glsl"`` lines replaced (each file once).
+    then the file with its ``#include "x.glsl"`` lines replaced (each file once). A library
+    file's expansion is kept per set of defines (a new sky's passes, ``Sky.at``'s, read and
+    join no file again).
     """
+    if source is None:
+        try:
+            typed = tuple((k, type(v), v) for k, v in (defines or {}).items())
+            return _expand_file(name, typed)
+        except TypeError:  # a define's value that cannot be a key: expanded afresh
+            pass
+    return _expand(name, defines, source)
+
+
+@functools.lru_cache(maxsize=512)
+def _expand_file(name: str, defines: tuple) -> ShaderSource:
+    """``_expand`` of a library file, ``defines`` as (key, type, value) triples (1, 1.0 and
+    True are equal keys but different GLSL)."""
+    return _expand(name, {k: v for k, _, v in defines}, None)
+
+
+def _expand(name: str, defines: dict[str, object] | None, source: str | None) -> ShaderSource:
     files: list[str] = ["<defines>"]
     seen: set[str] = set()
     out = [VERSION_LINE]

@@ -130,6 +130,7 @@ class FrameGraph:
         solar_scale: float | None = None,
     ):
         self.ctx = ctx or shared_context()
+        self.make_current()
         names = [layer.name for layer in layers]
         if len(set(names)) != len(names):
             raise ParameterError(f"layer names must be unique, got {names}")
@@ -239,7 +240,17 @@ class FrameGraph:
         for key in [k for k in self._staging if k != keep]:
             del self._staging[key]
 
+    def make_current(self) -> None:
+        """Make this graph's context the thread's current one. moderngl makes a context
+        current when it is made, and GL calls go to the current one: after a context of
+        its own (another sky's, a window's) a graph would otherwise draw into that one
+        (a new sky's tables and passes made there drew a sky 500 times too dark). Nothing
+        once the context itself is released."""
+        if type(self.ctx.mglo).__name__ != "InvalidObject":
+            self.ctx.__enter__()
+
     def update(self, state) -> None:
+        self.make_current()
         for layer in self.layers:
             if layer.enabled:
                 layer.update(state)
@@ -358,6 +369,7 @@ class FrameGraph:
         """Draw a whole frame (one tile: at most TILE_SIZE on a side) and return the float
         texture holding it, still on the GPU (valid until the next draw of this size): for
         front ends that tone-map or measure it there (time-lapses, windows)."""
+        self.make_current()
         w, h = camera.frame_size(width, height)
         if max(w, h) > TILE_SIZE or isinstance(camera, DirectionsCamera):
             raise ParameterError(
@@ -399,6 +411,7 @@ class FrameGraph:
         without its blur and noise) below 5 cd/m^2. ``glare`` ("off", "eye", "lens"): the
         point spread function on the image (``display.glare``); ``Frame.data`` is the same.
         """
+        self.make_current()
         metering = check_metering(metering)
         glare = check_glare(glare)
         w, h = camera.frame_size(width, height)
@@ -514,6 +527,7 @@ class FrameGraph:
         ``adaptation`` luminance (cd/m^2, an adapting eye's), the exposure is the eye's key
         of it over the mesopic adaptation luminance, as ``render`` chooses it (``scale`` is
         then unused). :attr:`last_display_scale` holds the scale used (m^2/cd)."""
+        self.make_current()
         metering = check_metering(metering)
         auto_key = None
         if metering == "eye" and adaptation is not None:
@@ -642,6 +656,7 @@ class FrameGraph:
         it over the mesopic adaptation luminance (``exposure`` unused), as in
         :meth:`display_image`.
         Returns the exposure scale used (m^2/cd) when it is known on the CPU, else None."""
+        self.make_current()
         metering = check_metering(metering)
         glare = check_glare(glare)
         w, h = size or tuple(framebuffer.viewport[2:]) or framebuffer.size
@@ -754,6 +769,7 @@ class FrameGraph:
 
     def release(self) -> None:
         """Free the targets, the post passes and every layer's GPU resources."""
+        self.make_current()
         self.generation += 1
         for texs, fbos, depth in self._targets.values():
             release_all(*fbos, *texs, depth)
