@@ -22,7 +22,7 @@ import moderngl
 import numpy as np
 
 from skydome.gpu.inputs import ShaderInputs, active_uniforms, check_program, check_values
-from skydome.gpu.shaders import compile_program
+from skydome.gpu.shaders import compile_program, defines_key
 
 _TEXTURES = (moderngl.Texture, moderngl.Texture3D, moderngl.TextureArray, moderngl.TextureCube)
 
@@ -42,14 +42,8 @@ class _Shared:
 
 def _key(fragment, defines, source, layered, vertex, inputs) -> tuple | None:
     """What makes two programs equal, or None where a define's value cannot be a key."""
-    # each define's type too: 1, 1.0 and True are equal keys but different GLSL
-    typed = tuple((k, type(v), v) for k, v in (defines or {}).items())
-    key = (fragment, typed, source, layered, vertex, inputs)
-    try:
-        hash(key)
-    except TypeError:
-        return None
-    return key
+    typed = defines_key(defines)
+    return None if typed is None else (fragment, typed, source, layered, vertex, inputs)
 
 
 class ShaderProgram:

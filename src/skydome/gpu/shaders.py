@@ -8,10 +8,9 @@ mapped back to ``file.glsl:12``.
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import re
-from functools import cache
+from functools import cache, lru_cache
 from importlib import resources
 from pathlib import Path
 
@@ -76,19 +75,26 @@ def expand(
     file's expansion is kept per set of defines (a new sky's passes, ``Sky.at``'s, read and
     join no file again).
     """
-    if source is None:
-        try:
-            typed = tuple((k, type(v), v) for k, v in (defines or {}).items())
-            return _expand_file(name, typed)
-        except TypeError:  # a define's value that cannot be a key: expanded afresh
-            pass
+    key = defines_key(defines) if source is None else None
+    if key is not None:
+        return _expand_file(name, key)
     return _expand(name, defines, source)
 
 
-@functools.lru_cache(maxsize=512)
+def defines_key(defines: dict[str, object] | None) -> tuple | None:
+    """``defines`` as a hashable key of (name, type, value) triples (1, 1.0 and True are
+    equal values but different GLSL), or None where a value cannot be a key."""
+    key = tuple((k, type(v), v) for k, v in (defines or {}).items())
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
+
+
+@lru_cache(maxsize=512)
 def _expand_file(name: str, defines: tuple) -> ShaderSource:
-    """``_expand`` of a library file, ``defines`` as (key, type, value) triples (1, 1.0 and
-    True are equal keys but different GLSL)."""
+    """``_expand`` of a library file, ``defines`` as :func:`defines_key` gives them."""
     return _expand(name, {k: v for k, _, v in defines}, None)
 
 
