@@ -86,6 +86,52 @@ def test_earth_velocity_matches_de421():
     assert rel.max() < 1e-4  # the brief's requirement (measured 6e-5)
 
 
+def test_earth_state_is_the_position_and_velocity_in_one_pass():
+    """sun.earth_heliocentric_state (what Observer.sky uses) against the position and the
+    derivative of every term summed directly, for 80,000 random times over 1900-2050:
+    enough per 16-day segment that the cost model interpolates them (checked below), so the
+    interpolation of sparse times is what is tested. Tolerances: the interpolation bar of
+    test_chebyshev_interpolation_is_lossless (1e-4", 1 m); for the velocity, the rate terms'
+    selection bar, 2e-5 relative (frames._earth_lbr_rates; 0.4 mas of aberration; measured
+    1.2e-5, and 2.8e-5 for the separate rate series, whose values drop small terms too)."""
+    rng = np.random.default_rng(7)
+    jd = 2415020.5 + rng.random(80_000) * 54786.0
+    n_seg = np.unique(np.floor((jd - 2451545.0) / 16.0)).size
+    assert n_seg * 13 + jd.size * 13 * 0.02 < jd.size  # smooth's rule: interpolated
+    pos, vel = sun.earth_heliocentric_state(jd)
+    lon, lat, r = F.cartesian_to_spherical(pos)
+    ref = vsop("earth").lbr(jd)
+    dl = (lon - ref[0] + np.pi) % (2 * np.pi) - np.pi
+    assert np.abs(dl).max() / F.ARCSEC < 1e-4
+    assert np.abs(lat - ref[1]).max() / F.ARCSEC < 1e-4
+    assert np.abs(r - ref[2]).max() * F.AU_KM < 1e-3
+    every = np.ones(vsop("earth").a.size, dtype=bool)
+    v_ref = F.velocity_from_lbr_rates(vsop("earth").lbr_rates(jd, every, every))
+    rel = np.linalg.norm(vel - v_ref, axis=1) / np.linalg.norm(v_ref, axis=1)
+    assert rel.max() < 2e-5
+    # a few times: summed directly, same values
+    pos3, vel3 = sun.earth_heliocentric_state(jd[:3])
+    np.testing.assert_allclose(pos3, pos[:3], rtol=0, atol=1e-4 * F.ARCSEC)
+    np.testing.assert_allclose(vel3, vel[:3], rtol=1e-6)
+
+
+def test_earth_state_velocity_matches_de421():
+    ts, eph = skyfield()
+    jd = np.linspace(2415020.5, 2469807.5, 1000)
+    t = ts.tt_jd(jd)
+    helio = (eph["earth"].at(t).velocity.au_per_d - eph["sun"].at(t).velocity.au_per_d).T
+    _, v_ecl = sun.earth_heliocentric_state(jd)
+    ours = np.einsum("nij,nj->ni", F.ecliptic_of_date_to_j2000_matrix(jd), v_ecl)
+    rel = np.linalg.norm(ours - helio, axis=1) / np.linalg.norm(helio, axis=1)
+    assert rel.max() < 1e-4  # as test_earth_velocity_matches_de421 (measured 6e-5)
+
+
+def test_rates_need_their_terms_in_the_values():
+    keep = F._earth_rate_terms()
+    with pytest.raises(ValueError, match="kept for the values"):
+        vsop("earth").lbr_rates(np.array([2451545.0]), ~keep, keep)
+
+
 def test_aberration_first_order():
     u = np.array([[1.0, 0.0, 0.0]])
     v = np.array([[0.0, 1e-4 * F.C_AU_PER_DAY, 0.0]])  # v/c = 1e-4 perpendicular

@@ -76,23 +76,30 @@ class VSOPSeries:
             out = out * tau + sums[:, p]
         return out
 
-    def lbr_rates(self, jd_tt: np.ndarray, keep: np.ndarray) -> np.ndarray:
-        """L, B, R and their rates per day from the terms selected by ``keep``; (6, N).
+    def lbr_rates(
+        self, jd_tt: np.ndarray, keep_rates: np.ndarray, keep_values: np.ndarray | None = None
+    ) -> np.ndarray:
+        """L, B, R from the terms ``keep_values`` (default ``keep_rates``) and their rates per
+        day from the terms ``keep_rates``; (6, N). One set of phasors serves both.
 
         d/dtau [tau^a A cos(B + C tau)] = a tau^(a-1) A cos(.) - tau^a A C sin(.), and
-        -A C sin(B + C tau) = Re(i A C exp(iB) exp(iC tau)).
+        -A C sin(B + C tau) = Re(i A C exp(iB) exp(iC tau)). The rate's first part takes
+        the values' sums, so a term kept for the rates must be kept for the values too.
         """
-        key = keep.tobytes()
+        keep_values = keep_rates if keep_values is None else keep_values
+        if np.any(keep_rates & ~keep_values):
+            raise ValueError("every term kept for the rates must be kept for the values")
+        key = keep_rates.tobytes() + keep_values.tobytes()
         if key not in self._rate_sums:
             n_rows = 3 * (self.max_power + 1)
-            rows = (self.coord * (self.max_power + 1) + self.power)[keep]
-            freq = self.term_freq[keep]
-            w = (self.a * np.exp(1j * self.b))[keep]
+            rows = self.coord * (self.max_power + 1) + self.power
+            w = self.a * np.exp(1j * self.b)
+            kv, kr = keep_values, keep_rates
             self._rate_sums[key] = PhasorSums(
                 self.plan,
-                np.concatenate([freq, freq]),
-                np.concatenate([w, 1j * self.c[keep] * w]),
-                np.concatenate([rows, n_rows + rows]),
+                np.concatenate([self.term_freq[kv], self.term_freq[kr]]),
+                np.concatenate([w[kv], 1j * self.c[kr] * w[kr]]),
+                np.concatenate([rows[kv], n_rows + rows[kr]]),
                 2 * n_rows,
             )
         tau = (np.asarray(jd_tt, dtype=float).ravel() - J2000) / DAYS_PER_MILLENNIUM
@@ -406,22 +413,26 @@ def smooth(
     jd: np.ndarray,
     step_days: float,
     degree: int,
-    min_gain: float = 3.0,
+    step_cost: float = 0.02,
 ) -> np.ndarray:
     """Evaluate ``func(jd) -> (C, N)`` directly or by piecewise Chebyshev interpolation.
 
     The time axis is cut into segments ``[J2000 + i*step, J2000 + (i+1)*step)``; ``func``
     is evaluated at ``degree + 1`` Chebyshev nodes of every segment that holds a requested
-    time, and the interpolant is evaluated at the times. This is used only when it saves at
-    least a factor ``min_gain`` of evaluations; otherwise ``func`` is called on ``jd``.
+    time, and the interpolant is evaluated at the times. Whichever is cheaper is done:
+    M segments cost M (degree + 1) evaluations of ``func`` plus N (degree + 1) Clenshaw
+    steps, against N direct evaluations; ``step_cost`` is one Clenshaw step at one time
+    (all components) as a fraction of one direct evaluation (measured 0.005 for the
+    Earth's 191 terms and 0.007 for the nutation's 63; 0.02 leaves a margin for the
+    interpolation's fixed costs). Arrays shorter than 12 (degree + 1) are always direct.
     """
     jd = np.asarray(jd, dtype=float).ravel()
     n = degree + 1
-    if jd.size < 4 * n * min_gain:
+    if jd.size < 12 * n:
         return func(jd)
     seg = np.floor((jd - J2000) / step_days)
     useg, inverse = np.unique(seg, return_inverse=True)
-    if useg.size * n * min_gain > jd.size:
+    if useg.size * n + jd.size * n * step_cost >= jd.size:
         return func(jd)
     nodes, mat = cheb_matrix(n)
     t_nodes = J2000 + (useg[:, None] + 0.5 * (nodes[None, :] + 1.0)) * step_days

@@ -342,12 +342,18 @@ def _earth_velocity_ecliptic_of_date(jd_tt) -> np.ndarray:
     """Heliocentric velocity of the Earth, mean ecliptic of date axes, au/day, (..., 3)."""
     jd = np.asarray(jd_tt, dtype=float)
     lbr = smooth(_earth_lbr_rates, jd, step_days=16.0, degree=9)
-    lon, lat, r, dl, db, dr = lbr
+    return velocity_from_lbr_rates(lbr).reshape(jd.shape + (3,))
+
+
+def velocity_from_lbr_rates(lbr_rates: np.ndarray) -> np.ndarray:
+    """Cartesian velocity (N, 3) from spherical L, B, R and their rates, rows (6, N): the
+    time derivative of (R cos B cos L, R cos B sin L, R sin B)."""
+    lon, lat, r, dl, db, dr = lbr_rates
     cl, sl, cb, sb = np.cos(lon), np.sin(lon), np.cos(lat), np.sin(lat)
     vx = dr * cb * cl - r * sb * cl * db - r * cb * sl * dl
     vy = dr * cb * sl - r * sb * sl * db + r * cb * cl * dl
     vz = dr * sb + r * cb * db
-    return np.stack([vx, vy, vz], axis=-1).reshape(jd.shape + (3,))
+    return np.stack([vx, vy, vz], axis=-1)
 
 
 def earth_velocity_au_per_day(jd_tt) -> np.ndarray:

@@ -371,11 +371,10 @@ def moon_selenographic_sun(jd_tt: Any) -> dict[str, np.ndarray]:
     """
     jd = _jd(jd_tt)
     lam, beta, dist_km = moon.moon_ecliptic_of_date(jd)
-    helio = sun.earth_heliocentric_ecliptic(jd) + frames.spherical_to_cartesian(
-        lam, beta, dist_km / AU_KM
-    )
+    earth, v_earth = sun.earth_heliocentric_state(jd)
+    helio = earth + frames.spherical_to_cartesian(lam, beta, dist_km / AU_KM)
     to_sun = -helio / np.linalg.norm(helio, axis=-1, keepdims=True)
-    to_sun = frames.aberrate(to_sun, frames._earth_velocity_ecliptic_of_date(jd))
+    to_sun = frames.aberrate(to_sun, v_earth)
     lam_h, beta_h, _ = frames.cartesian_to_spherical(-to_sun)  # as if Sun -> Moon
     q = _chapter53(jd, lam_h, beta_h)
     l0 = q["l"]

@@ -179,8 +179,8 @@ class Observer:
         h = np.broadcast_to(np.asarray(self.elevation_m, float), shape).ravel()
         eps_a = frames.mean_obliquity(jd)
         dpsi, deps = frames.nutation_angles(jd)
-        nut = frames._nutation_matrix_from(eps_a, dpsi, deps)
-        ecl_to_true = nut @ frames.rot_x(-eps_a)
+        # mean ecliptic of date -> true equator: N R1(-eps_A) = R1(-(eps_A + deps)) R3(-dpsi)
+        ecl_to_true = frames.rot_x(-(eps_a + deps)) @ frames.rot_z(-dpsi)
         om = frames._fundamental_args(julian_centuries(jd))[4]
         eqeq = dpsi * np.cos(eps_a) + (0.00264 * np.sin(om) + 0.000063 * np.sin(2 * om)) * ARCSEC
         gast = gmst(t.jd_ut1.ravel(), jd) + eqeq
@@ -190,8 +190,7 @@ class Observer:
         y = s * r_itrs[:, 0] + c * r_itrs[:, 1]
         r_obs = np.stack([x, y, r_itrs[:, 2]], axis=-1) / AU_KM  # au, true equator of date
         v_obs = np.stack([-y, x, np.zeros_like(x)], axis=-1) / AU_KM * _OMEGA_RAD_PER_DAY
-        earth = sun.earth_heliocentric_ecliptic(jd)  # (N, 3) au, ecliptic of date
-        v_earth = frames._earth_velocity_ecliptic_of_date(jd)
+        earth, v_earth = sun.earth_heliocentric_state(jd)  # au, au/day; ecliptic of date
         v_total = np.einsum("nij,nj->ni", ecl_to_true, v_earth) + v_obs
         enu_m = frames.equatorial_to_enu_matrix(gast + lon, lat)
         return {

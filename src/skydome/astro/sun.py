@@ -28,6 +28,7 @@ __all__ = [
     "SUN_RADIUS_KM",
     "earth_heliocentric_lbr",
     "earth_heliocentric_ecliptic",
+    "earth_heliocentric_state",
     "earth_position_au",
     "sun_geocentric_mean_of_date",
     "sun_apparent_geocentric",
@@ -82,6 +83,28 @@ def earth_heliocentric_ecliptic(jd_tt: Any, fk5: bool | None = None) -> np.ndarr
     return frames.spherical_to_cartesian(lon, lat, r)
 
 
+def earth_heliocentric_state(jd_tt: Any, fk5: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Heliocentric position (au) and velocity (au/day) of the Earth, mean ecliptic of date
+    axes, each (..., 3), from one evaluation of the series.
+
+    The position is :func:`earth_heliocentric_ecliptic`'s (every term); the velocity takes
+    the terms that matter to it (``frames._earth_rate_terms``) as
+    ``frames._earth_velocity_ecliptic_of_date`` does. Both come from the same phasors,
+    interpolated together where that is cheaper (16-day segments of degree 12, as the
+    position alone).
+    """
+    jd = _jd(jd_tt)
+    series, keep = vsop("earth"), frames._earth_rate_terms()
+    every = np.ones_like(keep)
+    lbr6 = smooth(lambda x: series.lbr_rates(x, keep, every), jd, step_days=16.0, degree=12)
+    velocity = frames.velocity_from_lbr_rates(lbr6)
+    lbr = lbr6[:3]
+    if APPLY_FK5_CORRECTION if fk5 is None else fk5:
+        lbr = _fk5(lbr, jd.ravel())
+    position = frames.spherical_to_cartesian(*lbr)
+    return position.reshape(jd.shape + (3,)), velocity.reshape(jd.shape + (3,))
+
+
 def earth_position_au(jd_tt: Any) -> np.ndarray:
     """Heliocentric position of the Earth (au) in J2000 mean equatorial axes, (..., 3)."""
     jd = _jd(jd_tt)
@@ -106,10 +129,11 @@ def sun_apparent_geocentric(jd_tt: Any) -> dict[str, np.ndarray]:
     jd = _jd(jd_tt)
     eps_a = frames.mean_obliquity(jd)
     dpsi, deps = frames.nutation_angles(jd)
-    g = sun_geocentric_mean_of_date(jd)
+    earth, v_ecl = earth_heliocentric_state(jd)
+    to_mean_equator = frames.rot_x(-eps_a)
+    g = np.einsum("...ij,...j->...i", to_mean_equator, -earth)  # geocentric Sun, au
     r = np.linalg.norm(g, axis=-1)
-    v_ecl = frames._earth_velocity_ecliptic_of_date(jd)
-    v = np.einsum("...ij,...j->...i", frames.rot_x(-eps_a), v_ecl)
+    v = np.einsum("...ij,...j->...i", to_mean_equator, v_ecl)
     u = frames.aberrate(g / r[..., None], v)
     u = np.einsum("...ij,...j->...i", frames._nutation_matrix_from(eps_a, dpsi, deps), u)
     ra, dec, _ = frames.cartesian_to_spherical(u)
