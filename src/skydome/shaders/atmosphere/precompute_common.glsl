@@ -50,39 +50,15 @@ void piece_node(int j, int m, float r, float mu, float a, float b, out float t, 
     dt = 2.0 * l * q.x * q.y;
 }
 
-// The pieces of a ray's rule, decided once per ray and read at each node: node i lies in
-// piece j when start[j] <= i < start[j + 1], which has start[j + 1] - start[j] nodes on
-// [lo[j], hi[j]]. (Made at every node, inside the passes' loops, the decisions were up to 21
-// inlined copies of piece_node, and llvmpipe runs every branch any pixel of a SIMD group
-// takes: the single-scattering pass took 0.94 s, 0.56 s with one fixed rule, 0.76 s so;
-// the tables are bit-identical.)
-#ifdef RAY_KINK_SPLIT
-#define MAX_RAY_PIECES 8
-#else
-#define MAX_RAY_PIECES 4
-#endif
-struct RayPlan {
-    int count;                       // pieces (0: no node, t = dt = 0)
-    int start[MAX_RAY_PIECES + 1];
-    float lo[MAX_RAY_PIECES];
-    float hi[MAX_RAY_PIECES];
-};
-
-void add_piece(inout RayPlan plan, int nodes, float lo, float hi) {
-    plan.lo[plan.count] = lo;
-    plan.hi[plan.count] = hi;
-    plan.start[plan.count + 1] = plan.start[plan.count] + nodes;
-    plan.count += 1;
-}
-
-// n nodes (RAY_SAMPLES, or half of it for one of two lit intervals) on [a, b], split where
+// Node i of n (RAY_SAMPLES, or half of it for one of two lit intervals) on [a, b], split where
 // the integrand is not smooth: at the perigee t_p = -r mu (when `at_perigee`), where the
 // altitude turns, and, with RAY_KINK_SPLIT, where the ray crosses u_kink_radius, where the
 // aerosol's ln density has a kink (a Gauss-Legendre rule across a kink converges as 1/n^2:
 // 16 nodes left `earth`'s single scattering 1.2-1.6 % low, from the ground, at a 2 km
 // mixing-layer top). One piece gets all n nodes, two get n/2 each, three n/2 (the first),
 // n/4 and n/4, four n/4 each.
-void split_pieces(inout RayPlan plan, int n, float r, float mu, float a, float b, bool at_perigee) {
+void split_node(int i, int n, float r, float mu, float a, float b, bool at_perigee, out float t,
+                out float dt) {
     float p1 = b, p2 = b, p3 = b;  // inner breakpoints, sorted; b when unused
     int k = 1;
     float t_p = -r * mu;
@@ -113,69 +89,47 @@ void split_pieces(inout RayPlan plan, int n, float r, float mu, float a, float b
         }
     }
 #endif
-    if (k == 1) {
-        add_piece(plan, n, a, b);
-    } else if (k == 2) {
+    // the piece of node i: its first node's index, its nodes and its ends, chosen before one
+    // piece_node (llvmpipe runs every branch any pixel of a SIMD group takes, and a call in
+    // each branch, seven inlined rules, cost the passes that march rays a fifth)
+    int first = 0, m = n;
+    float lo = a, hi = b;
+    if (k == 2) {
         // at the perigee: half each; at the kink alone, a quarter below it, 3/4 above
-        int m = n / 2;
-        if (n == RAY_SAMPLES && p1 != t_p) m = altitude_at(r, mu, a) < altitude_at(r, mu, b) ? n / 4 : 3 * n / 4;
-        add_piece(plan, m, a, p1);
-        add_piece(plan, n - m, p1, b);
+        int m1 = n / 2;
+        if (n == RAY_SAMPLES && p1 != t_p) m1 = altitude_at(r, mu, a) < altitude_at(r, mu, b) ? n / 4 : 3 * n / 4;
+        bool upper = i >= m1;
+        first = upper ? m1 : 0;
+        m = upper ? n - m1 : m1;
+        lo = upper ? p1 : a;
+        hi = upper ? b : p1;
     } else if (k == 3) {
-        int m = n / 4;
-        add_piece(plan, 2 * m, a, p1);
-        add_piece(plan, m, p1, p2);
-        add_piece(plan, m, p2, b);
-    } else {
-        int m = n / 4;
-        add_piece(plan, m, a, p1);
-        add_piece(plan, m, p1, p2);
-        add_piece(plan, m, p2, p3);
-        add_piece(plan, m, p3, b);
+        int q = n / 4;
+        first = i < 2 * q ? 0 : i < 3 * q ? 2 * q : 3 * q;
+        m = i < 2 * q ? 2 * q : q;
+        lo = i < 2 * q ? a : i < 3 * q ? p1 : p2;
+        hi = i < 2 * q ? p1 : i < 3 * q ? p2 : b;
+    } else if (k >= 4) {
+        int q = n / 4;
+        int piece = i / q;
+        first = piece * q;
+        m = q;
+        lo = piece == 0 ? a : piece == 1 ? p1 : piece == 2 ? p2 : p3;
+        hi = piece == 0 ? p1 : piece == 1 ? p2 : piece == 2 ? p3 : b;
     }
+    piece_node(i - first, m, r, mu, lo, hi, t, dt);
 }
 
-RayPlan empty_plan() {
-    RayPlan plan;
-    plan.count = 0;
-    for (int j = 0; j <= MAX_RAY_PIECES; ++j) plan.start[j] = 0;
-    for (int j = 0; j < MAX_RAY_PIECES; ++j) plan.lo[j] = plan.hi[j] = 0.0;
-    return plan;
-}
-
-// The rule for the whole ray of length L from radius r with cosine mu.
-RayPlan ray_plan(float r, float mu, float L) {
-    RayPlan plan = empty_plan();
-    split_pieces(plan, RAY_SAMPLES, r, mu, 0.0, L, true);
-    return plan;
-}
-
-// Node i (t, dt, km) of a plan of the ray from radius r with cosine mu (the piece chosen by
-// selects over constant indices: no per-pixel array indexing).
-void plan_node(RayPlan plan, int i, float r, float mu, out float t, out float dt) {
-    if (plan.count == 0) {
-        t = 0.0;
-        dt = 0.0;
-        return;
-    }
-    int first = 0, nodes = plan.start[1];
-    float lo = plan.lo[0], hi = plan.hi[0];
-    for (int j = 1; j < MAX_RAY_PIECES; ++j) {
-        if (j < plan.count && i >= plan.start[j]) {
-            first = plan.start[j];
-            nodes = plan.start[j + 1] - plan.start[j];
-            lo = plan.lo[j];
-            hi = plan.hi[j];
-        }
-    }
-    piece_node(i - first, nodes, r, mu, lo, hi, t, dt);
+// Node i (t, dt, km) of the rule for the whole ray of length L from radius r with cosine mu.
+void ray_node(int i, float r, float mu, float L, out float t, out float dt) {
+    split_node(i, RAY_SAMPLES, r, mu, 0.0, L, true, t, dt);
 }
 
 // The same rule restricted to the sunlit part of the ray (single scattering is zero in the
 // planet's shadow): in twilight the lit part is a short segment high up, far from the ray's
 // dense low end, and a rule over the whole ray puts few nodes there (5% errors at a Sun 12 deg
 // below the horizon). `lit` = (a0, b0, a1, b1), the lit intervals from lit_segments (empty when
-// b <= a). One lit interval gets the full rule (split as split_pieces says); two get half the
+// b <= a). One lit interval gets the full rule (split as split_node says); two get half the
 // nodes each (split at the kink, not at the perigee).
 vec4 lit_segments(float r, float mu, float mu_s, float nu, float L) {
     vec2 s = shadow_interval(r, mu, mu_s, nu, L);
@@ -183,20 +137,21 @@ vec4 lit_segments(float r, float mu, float mu_s, float nu, float L) {
     return vec4(0.0, s.x, s.y, L);
 }
 
-RayPlan lit_plan(float r, float mu, vec4 lit) {
-    RayPlan plan = empty_plan();
+void lit_ray_node(int i, float r, float mu, vec4 lit, out float t, out float dt) {
     bool first = lit.y > lit.x;
     bool second = lit.w > lit.z;
-    const int half_n = RAY_SAMPLES / 2;
-    if (first && second) {
-        split_pieces(plan, half_n, r, mu, lit.x, lit.y, false);
-        split_pieces(plan, half_n, r, mu, lit.z, lit.w, false);
-    } else if (first) {
-        split_pieces(plan, RAY_SAMPLES, r, mu, lit.x, lit.y, true);
-    } else if (second) {
-        split_pieces(plan, RAY_SAMPLES, r, mu, lit.z, lit.w, true);
+    if (!first && !second) {
+        t = 0.0;
+        dt = 0.0;
+        return;
     }
-    return plan;
+    // the interval of node i and its index there, chosen before one split_node (see there)
+    const int half_n = RAY_SAMPLES / 2;
+    bool both = first && second;
+    bool in_second = both ? i >= half_n : second;
+    vec2 ends = in_second ? lit.zw : lit.xy;
+    split_node(both && in_second ? i - half_n : i, both ? half_n : RAY_SAMPLES, r, mu, ends.x, ends.y,
+               !both, t, dt);
 }
 
 // Column densities (km) from the start of a ray to the point at (r_t, mu_t) on it, given c0 =
