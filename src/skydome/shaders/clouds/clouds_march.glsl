@@ -143,9 +143,10 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
     // edge + offset dt and weighted by its whole length: the intervals tile the segment
     // exactly whatever the offset and however the steps grow.
     // The steps that meet no cloud (coarse through empty air, fine past a cloud's edge) run
-    // in tight loops of their own inside the loop, counting the same steps i: llvmpipe pays
-    // for the whole body of a loop on every pass through it, even where no pixel enters its
-    // branches, and the lighting below is most of this shader (the fair-weather still frame:
+    // in tight loops of their own inside the loop, counting the same steps i: llvmpipe runs
+    // the whole body of a loop on every pass, masked, even when all its pixels have left the
+    // pass by a `continue` (it skips only `if` blocks they all skip), and the lighting below
+    // is most of this shader (the fair-weather still frame:
     // 2.5 s -> 1.1 s, bit-identical). The inner loops test a flag, not `while (true)` with
     // breaks: Mesa 22.3 miscompiled that form here (frames 2 % off).
     float edge = seg.x;
