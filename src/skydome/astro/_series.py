@@ -87,10 +87,10 @@ class VSOPSeries:
         the values' sums, so a term kept for the rates must be kept for the values too.
         """
         keep_values = keep_rates if keep_values is None else keep_values
-        if np.any(keep_rates & ~keep_values):
-            raise ValueError("every term kept for the rates must be kept for the values")
         key = keep_rates.tobytes() + keep_values.tobytes()
         if key not in self._rate_sums:
+            if np.any(keep_rates & ~keep_values):
+                raise ValueError("every term kept for the rates must be kept for the values")
             n_rows = 3 * (self.max_power + 1)
             rows = self.coord * (self.max_power + 1) + self.power
             w = self.a * np.exp(1j * self.b)

@@ -179,8 +179,7 @@ class Observer:
         h = np.broadcast_to(np.asarray(self.elevation_m, float), shape).ravel()
         eps_a = frames.mean_obliquity(jd)
         dpsi, deps = frames.nutation_angles(jd)
-        # mean ecliptic of date -> true equator: N R1(-eps_A) = R1(-(eps_A + deps)) R3(-dpsi)
-        ecl_to_true = frames.rot_x(-(eps_a + deps)) @ frames.rot_z(-dpsi)
+        ecl_to_true = frames._ecliptic_to_true_matrix_from(eps_a, dpsi, deps)
         om = frames._fundamental_args(julian_centuries(jd))[4]
         eqeq = dpsi * np.cos(eps_a) + (0.00264 * np.sin(om) + 0.000063 * np.sin(2 * om)) * ARCSEC
         gast = gmst(t.jd_ut1.ravel(), jd) + eqeq

@@ -61,6 +61,12 @@ def _fk5(lbr: np.ndarray, jd: np.ndarray) -> np.ndarray:
     return out
 
 
+# The Earth's series' interpolation (_series.smooth): shortest significant period ~15 d (lunar
+# terms): 16-day segments of degree 12 interpolate to < 1e-4" (tested; the floor is the
+# 40-us resolution of a float64 Julian Date).
+_EARTH_SEGMENTS = (16.0, 12)
+
+
 def earth_heliocentric_lbr(jd_tt: Any, fk5: bool | None = None) -> np.ndarray:
     """Heliocentric ecliptic L, B (rad, L not wrapped) and R (au) of the Earth, mean
     ecliptic and equinox of date (VSOP87D); shape ``(3,) + jd_tt.shape``.
@@ -68,10 +74,7 @@ def earth_heliocentric_lbr(jd_tt: Any, fk5: bool | None = None) -> np.ndarray:
     ``fk5``: apply Meeus eq. 32.3 (default: ``APPLY_FK5_CORRECTION``).
     """
     jd = _jd(jd_tt)
-    # Shortest significant period ~15 d (lunar terms): 16-day segments of degree 12
-    # interpolate to < 1e-4" (tested; the floor is the
-    # 40-us resolution of a float64 Julian Date).
-    lbr = smooth(vsop("earth").lbr, jd, step_days=16.0, degree=12)
+    lbr = smooth(vsop("earth").lbr, jd, *_EARTH_SEGMENTS)
     if APPLY_FK5_CORRECTION if fk5 is None else fk5:
         lbr = _fk5(lbr, jd.ravel())
     return lbr.reshape((3,) + jd.shape)
@@ -90,13 +93,12 @@ def earth_heliocentric_state(jd_tt: Any, fk5: bool | None = None) -> tuple[np.nd
     The position is :func:`earth_heliocentric_ecliptic`'s (every term); the velocity takes
     the terms that matter to it (``frames._earth_rate_terms``) as
     ``frames._earth_velocity_ecliptic_of_date`` does. Both come from the same phasors,
-    interpolated together where that is cheaper (16-day segments of degree 12, as the
-    position alone).
+    interpolated together where that is cheaper (the position's segments).
     """
     jd = _jd(jd_tt)
     series, keep = vsop("earth"), frames._earth_rate_terms()
     every = np.ones_like(keep)
-    lbr6 = smooth(lambda x: series.lbr_rates(x, keep, every), jd, step_days=16.0, degree=12)
+    lbr6 = smooth(lambda x: series.lbr_rates(x, keep, every), jd, *_EARTH_SEGMENTS)
     velocity = frames.velocity_from_lbr_rates(lbr6)
     lbr = lbr6[:3]
     if APPLY_FK5_CORRECTION if fk5 is None else fk5:

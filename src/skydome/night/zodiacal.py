@@ -148,7 +148,7 @@ def enu_to_ecliptic_matrix(observer, time) -> np.ndarray:
     jd_ut1 = float(np.asarray(time.jd_ut1).ravel()[0])
     lst = float(gast(jd_ut1, jd_tt)) + math.radians(float(observer.longitude))
     enu = frames.equatorial_to_enu_matrix(lst, math.radians(float(observer.latitude)))
-    ecl_to_true = frames.nutation_matrix(jd_tt) @ frames.rot_x(-frames.mean_obliquity(jd_tt))
+    ecl_to_true = frames.ecliptic_to_true_equator_matrix(jd_tt)
     return (enu @ ecl_to_true).T
 
 
