@@ -216,6 +216,28 @@ def test_disk_scissor_holds_the_disk():
     assert len(disk_scissor(EquirectCamera(), 400, 200, direction_from_angles(0.0, 0.1), r)) == 2
 
 
+def test_disk_scissor_beside_a_perspective_camera_draws_nothing():
+    """A disk 90 deg off the view straddles the eye's plane (some of its rim in front, some
+    behind): outside the frustum's side plane it is out of the frame, not 'draw everywhere'
+    (a full-screen pass of n x n points a pixel, 24 ms a frame in a time-lapse). Just inside
+    the margin the rectangle stays, and its pixels are what the projection gives."""
+    cam = PerspectiveCamera(fov_deg=90, yaw_deg=180, pitch_deg=0)  # looking south
+    r = math.radians(0.3)
+    assert disk_scissor(cam, 640, 360, direction_from_angles(15.0, 90.0), r) == []  # east
+    assert disk_scissor(cam, 640, 360, direction_from_angles(-10.0, 270.0), r) == []  # west
+    # Above the frame's top edge (half-height 29.4 deg at 640x360, 90 deg wide): out.
+    assert disk_scissor(cam, 640, 360, direction_from_angles(31.0, 180.0), r) == []
+    # Its centre 1 pixel beyond the right edge (at 45 deg, 0.14 deg a pixel): the rim is in
+    # the 2-pixel margin, so a rectangle against the edge.
+    right = direction_from_angles(0.0, 180.0 + 45.0 + 0.14)
+    ((x, _, w, _),) = disk_scissor(cam, 640, 360, right, r)
+    assert x + w == 640 and w >= 1
+    # A disk wholly in view: its rectangle's width is the disk's 2r projected plus margins.
+    ((x, y, w, h),) = disk_scissor(cam, 640, 360, direction_from_angles(0.0, 180.0), r)
+    span = 2.0 * math.tan(r) / (2.0 * math.tan(math.radians(45.0))) * 640
+    assert span + 2 <= w <= span + 6 and span + 2 <= h <= span + 6
+
+
 def test_abstract_and_place_arguments_are_checked():
     with pytest.raises(ParameterError, match="a time needs a place"):
         Sky(time="2018-03-01T19:00Z")

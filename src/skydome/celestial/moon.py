@@ -30,7 +30,7 @@ import numpy as np
 from skydome.astro.photometry import magnitude_to_lux, moon_magnitude
 from skydome.celestial.moon_albedo import albedo_at, moon_albedo_map, moon_spectral_albedo
 from skydome.celestial.surface_laws import lommel_seeliger_law
-from skydome.core.cameras import CameraInputs, disk_samples
+from skydome.core.cameras import CameraInputs, disk_samples, disk_scissor
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.gpu.inputs import ShaderInputs
@@ -356,8 +356,16 @@ class MoonLayer(Layer):
         return values
 
     def draw(self, frame: DrawContext) -> None:
-        if self._inputs is None or not self._scaled(frame.altitude_m):
+        if self._inputs is None:
             return
+        rects = disk_scissor(
+            frame.camera,
+            *frame.frame_size,
+            self._moon.direction,
+            1.1 * self._moon.angular_radius_rad,
+        )
+        if rects == [] or not self._scaled(frame.altitude_m):
+            return  # out of the frame (then its integrals wait for a frame that shows it)
         samples = disk_samples(
             frame.camera, *frame.frame_size, self._moon.direction, self._moon.angular_radius_rad
         )
@@ -374,13 +382,7 @@ class MoonLayer(Layer):
                 frame.camera, {"LUNAR_ECLIPSE": 1, "UMBRA_SAMPLES": samples},
             )  # fmt: skip
             inputs = (frame.view, moon, self._eclipse)
-        self.draw_small(
-            frame,
-            fpass,
-            inputs,
-            self._moon.direction,
-            1.1 * self._moon.angular_radius_rad,
-        )
+        self.draw_in_rects(frame, fpass, inputs, rects)
 
     def fresh(self) -> MoonLayer:
         """A new layer with this one's arguments and its last disk integrals (they hold for

@@ -245,9 +245,23 @@ class PerspectiveCamera(Camera):
         return _unit(local @ self.basis().T), np.ones(np.broadcast(x, y).shape, bool)
 
     def _disk_rects(self, d, w, h):
-        forward = d @ self.basis()[:, 2]
+        local = d @ self.basis()  # (right, up, forward)
+        forward = local[:, 2]
         if np.all(forward <= 0.0):
             return []  # wholly behind the camera
+        # Wholly beyond one of the frustum's side planes (through the eye, DISK_MARGIN_PX
+        # beyond the frame's edge, as disk_scissor's rectangles): out of the frame. A disk
+        # beside the camera straddles the eye's plane and would otherwise be drawn everywhere.
+        tan_x = math.tan(math.radians(self.fov_deg) / 2.0) * (1.0 + 2.0 * DISK_MARGIN_PX / w)
+        tan_y = math.tan(math.radians(self.fov_deg) / 2.0) * (h + 2.0 * DISK_MARGIN_PX) / w
+        x, y = local[:, 0], local[:, 1]
+        if (
+            np.all(x > tan_x * forward)
+            or np.all(x < -tan_x * forward)
+            or np.all(y > tan_y * forward)
+            or np.all(y < -tan_y * forward)
+        ):
+            return []
         if np.any(forward <= 1e-6):
             return None
         x, y, _ = self.project(d, w, h)
@@ -445,17 +459,31 @@ def make_camera(name: str, **kwargs) -> Camera:
     return PerspectiveCamera(**kwargs)
 
 
-def _rim(direction: np.ndarray, radius_rad: float, points: int = 16) -> np.ndarray:
-    """The centre and ``points`` directions on a circle of angular radius ``radius_rad``
-    around the unit vector ``direction`` (N + 1, 3)."""
-    u = direction / np.linalg.norm(direction)
-    e1 = np.cross(u, [0.0, 0.0, 1.0] if abs(u[2]) < 0.9 else [1.0, 0.0, 0.0])
+#: The directions of _rim's circle: cosines and sines of RIM_POINTS angles, and the factor by
+#: which the polygon through them is widened to hold the circle (its vertices at
+#: radius / cos(pi / RIM_POINTS): the edges' midpoints on the circle).
+RIM_POINTS = 16
+_RIM_COS = np.cos(np.linspace(0.0, 2.0 * np.pi, RIM_POINTS, endpoint=False))[:, None]
+_RIM_SIN = np.sin(np.linspace(0.0, 2.0 * np.pi, RIM_POINTS, endpoint=False))[:, None]
+_RIM_WIDEN = 1.0 / math.cos(math.pi / RIM_POINTS)
+
+
+def _rim(direction: np.ndarray, radius_rad: float) -> np.ndarray:
+    """The centre and RIM_POINTS directions around the unit vector ``direction`` (N + 1, 3):
+    the vertices of a polygon holding the circle of angular radius ``radius_rad``."""
+    ux, uy, uz = (float(v) for v in direction)
+    norm = math.sqrt(ux * ux + uy * uy + uz * uz)
+    ux, uy, uz = ux / norm, uy / norm, uz / norm
+    # e1 = u x (z, or x near the poles), e2 = u x e1: a basis of the circle's plane.
+    if abs(uz) < 0.9:
+        e1 = np.array([uy, -ux, 0.0])
+    else:
+        e1 = np.array([0.0, uz, -uy])
     e1 /= np.linalg.norm(e1)
-    e2 = np.cross(u, e1)
-    a = np.linspace(0.0, 2.0 * np.pi, points, endpoint=False)
-    ring = math.cos(radius_rad) * u + math.sin(radius_rad) * (
-        np.cos(a)[:, None] * e1 + np.sin(a)[:, None] * e2
-    )
+    u = np.array([ux, uy, uz])
+    e2 = np.array([uy * e1[2] - uz * e1[1], uz * e1[0] - ux * e1[2], ux * e1[1] - uy * e1[0]])
+    a = radius_rad * _RIM_WIDEN
+    ring = math.cos(a) * u + math.sin(a) * (_RIM_COS * e1 + _RIM_SIN * e2)
     return np.vstack([u, ring])
 
 
@@ -486,8 +514,17 @@ def disk_samples(camera: Camera, width: int, height: int, direction, radius_rad:
     return min(max(n, 1), DISK_SAMPLES_MAX)
 
 
+#: Pixels around a disk's rectangle in disk_scissor (the pixels whose area reaches it).
+DISK_MARGIN_PX = 2
+
+
 def disk_scissor(
-    camera: Camera, width: int, height: int, direction, radius_rad: float, margin_px: int = 2
+    camera: Camera,
+    width: int,
+    height: int,
+    direction,
+    radius_rad: float,
+    margin_px: int = DISK_MARGIN_PX,
 ) -> list[tuple[int, int, int, int]] | None:
     """Pixel rectangles (x, y, w, h; GL: y up from the bottom) holding every pixel that can
     see a disk of angular radius ``radius_rad`` around ``direction`` (unit ENU), for drawing

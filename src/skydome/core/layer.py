@@ -168,8 +168,15 @@ class Layer:
         mapping): a full-screen pass costs every pixel on a CPU rasterizer even where it
         writes nothing."""
         w, h = frame.frame_size
+        Layer.draw_in_rects(
+            frame, fpass, inputs, disk_scissor(frame.camera, w, h, direction, radius_rad)
+        )
+
+    @staticmethod
+    def draw_in_rects(frame: DrawContext, fpass, inputs: tuple, rects: list | None):
+        """Draw ``fpass`` over the frame's pixel rectangles ``rects`` (``disk_scissor``'s:
+        x, y, w, h in the frame; None: everywhere) that fall in this tile."""
         x0, y0, tw, th = frame.tile
-        rects = disk_scissor(frame.camera, w, h, direction, radius_rad)
         if rects is None:
             fpass.draw(frame.fbo, *inputs)
             return

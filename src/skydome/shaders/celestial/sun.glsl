@@ -38,33 +38,39 @@ vec4 limb_darkening(int g, float mu) {
          + mu * (u_limb[k + 4] + mu * u_limb[k + 5]))));
 }
 
-// The disk (or the corona) seen through the point xy of the frame.
-vec4 sun_radiance(vec2 xy) {
-    vec4 radiance = vec4(0.0);
+// What the point xy of the frame sees, summed over a pixel's points: the disk's powers of mu
+// (mu^0..mu^2 in lo, mu^3..mu^5 in hi; mu the cosine of the heliocentric angle) and the
+// corona's profile. The radiance is linear in them, so the spectral work (the limb law of
+// every wavelength, the groups' matrices) is done once a pixel, not once a point.
+void sun_sample(vec2 xy, inout vec3 lo, inout vec3 hi, inout float corona) {
     vec3 true_dir;
     if (!pixel_sees_sphere(xy, u_sun_direction_true, u_sin_angular_radius, true_dir)) {
-        if (u_corona_scale <= 0.0 || dot(true_dir, u_sun_direction_true) <= 0.0) return radiance;
-        if (ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return radiance;
+        if (u_corona_scale <= 0.0 || dot(true_dir, u_sun_direction_true) <= 0.0) return;
+        if (ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return;
         float rho_c = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
-        if (rho_c > 6.0) return radiance;
-        for (int g = 0; g < NUM_GROUPS; ++g)
-            radiance += u_spectral_to_rgbs[g] * vec4(1.0);
-        radiance *= u_sun_scale * u_corona_scale * baumbach_corona(rho_c);
-        return radiance;
+        if (rho_c <= 6.0) corona += baumbach_corona(rho_c);
+        return;
     }
-    if (u_moon_sin_radius > 0.0 && ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return radiance;
+    if (u_moon_sin_radius > 0.0 && ray_meets_sphere(true_dir, u_moon_direction_true, u_moon_sin_radius)) return;
     // Heliocentric angle: sin(psi) = sin(theta) / sin(alpha) (exact for a sphere).
     float rho = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
     float mu = sqrt(max(1.0 - rho * rho, 0.0));
-    for (int g = 0; g < NUM_GROUPS; ++g)
-        radiance += u_spectral_to_rgbs[g] * (limb_darkening(g, mu) * u_limb_norm[g]);
-    radiance *= u_sun_scale;
-    return radiance;
+    float mu3 = mu * mu * mu;
+    lo += vec3(1.0, mu, mu * mu);
+    hi += mu3 * vec3(1.0, mu, mu * mu);
 }
 
 void main() {
     int n = int(u_disk_samples + 0.5);
-    vec4 sum = vec4(0.0);
-    for (int i = 0; i < n * n; ++i) sum += sun_radiance(disk_sample_xy(gl_FragCoord.xy, i, n));
-    frag = sum / float(n * n);
+    vec3 lo = vec3(0.0), hi = vec3(0.0);
+    float corona = 0.0;
+    for (int i = 0; i < n * n; ++i) sun_sample(disk_sample_xy(gl_FragCoord.xy, i, n), lo, hi, corona);
+    vec4 radiance = vec4(0.0);
+    for (int g = 0; g < NUM_GROUPS; ++g) {
+        int k = 6 * g;  // sum over the points of I(mu)/I(1) (limb_darkening's polynomial)
+        vec4 limb = u_limb[k] * lo.x + u_limb[k + 1] * lo.y + u_limb[k + 2] * lo.z
+                  + u_limb[k + 3] * hi.x + u_limb[k + 4] * hi.y + u_limb[k + 5] * hi.z;
+        radiance += u_spectral_to_rgbs[g] * (limb * u_limb_norm[g] + vec4(corona * u_corona_scale));
+    }
+    frag = radiance * (u_sun_scale / float(n * n));
 }
