@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from skydome import Sky
+from skydome.display.exposure import ev100_to_scale
 from skydome.display.glare import GpuGlare, glare_fit_error, glare_weights, level_variance_px2
-from skydome.display.gpu_tonemap import upload_frame
+from skydome.display.gpu_tonemap import gpu_tonemap, upload_frame
 from skydome.errors import ParameterError
 from tests.cli_helpers import run_cli
 
@@ -204,3 +205,32 @@ def test_a_moon_close_up_has_no_eye_halo_beyond_its_disk():
     corner = (slice(0, 12), slice(0, 12))  # 0.45 deg from the Moon's centre: sky
     diff = np.abs(images["eye"][corner].astype(int) - images["off"][corner].astype(int))
     assert diff.max() <= 2, diff.max()
+
+
+@pytest.mark.gl
+def test_the_tone_map_adds_the_halo_as_the_composite_does():
+    """By day the eye's pass leaves the frame as it is, so Sky.render lets the tone map add
+    the glare's halo as it reads the frame (GpuToneMapper with a GlareHalo) instead of
+    writing the glared frame first: the image must be the composite's, code for code."""
+    with Sky("Valletta", "2018-06-21T10:00Z") as sky:
+        cam = sky.camera("sun", fov_deg=90.0)
+        frame = sky.render(cam, 320, 180, tonemap="filmic", glare="eye")
+        assert frame.info["exposure_ev100"] > 10.0  # daylight: the fold is the path taken
+        graph = sky.graph
+        tex = upload_frame(graph.ctx, frame.data)
+        try:
+            scale = ev100_to_scale(frame.info["exposure_ev100"])
+            glare = graph._glare
+            halo = glare.halo(
+                tex, (320, 180), pixel_angle_rad=cam.pixel_angle(320, 180), glare="eye"
+            )
+            assert halo is not None and 0.0 < halo.u_glare_core < 1.0
+            folded = gpu_tonemap(tex, "filmic", scale, ctx=graph.ctx, glare_halo=halo)
+            composite = gpu_tonemap(
+                glare.composite(tex, (320, 180), halo), "filmic", scale, ctx=graph.ctx
+            )
+        finally:
+            tex.release()
+    assert np.array_equal(folded, composite)
+    # and the user's image is that image (the same frame, exposure and halo)
+    assert np.abs(frame.image.astype(int) - folded.astype(int)).max() <= 1

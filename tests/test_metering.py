@@ -21,7 +21,7 @@ from skydome.display.exposure import (
     metered_luminance,
     metering_weights,
 )
-from skydome.display.gpu_exposure import GpuExposure
+from skydome.display.gpu_exposure import GpuExposure, GridMean
 from skydome.display.gpu_tonemap import upload_frame
 from skydome.errors import ParameterError
 from tests.cli_helpers import run_cli
@@ -180,3 +180,24 @@ def test_the_eye_meters_a_magnified_views_centre():
     assert metering_weighting("eye", 5.0) == "eye" and metering_weighting("eye", None) == "eye"
     assert metering_weighting("spot", 1.0) == "spot"
     assert metering_weighting("average", 1.0) == "average"
+
+
+@pytest.mark.gl
+def test_grid_mean_is_the_mean_of_every_sample(ctx):
+    """GridMean (post/grid_mean.glsl, two passes) against NumPy's float64 mean of the same
+    grid: float32 sums of 256 and 128 values, so within a few 1e-7 of the mean's scale."""
+    rng = np.random.default_rng(7)
+    grid = rng.normal(3.0, 2.0, size=(128, 256, 4)).astype(np.float32)
+    grid[..., 2] = rng.random((128, 256)) > 0.3  # a weight channel of ones and zeros
+    tex = ctx.texture((256, 128), 4, grid.tobytes(), dtype="f4")
+    mean = GridMean(ctx)
+    try:
+        mean.average(tex)
+        got = mean.read()
+    finally:
+        mean.release()
+        tex.release()
+    want = grid.reshape(-1, 4).astype(np.float64).mean(axis=0)
+    np.testing.assert_allclose(got, want, rtol=0, atol=2e-6 * np.abs(grid).max())
+    with pytest.raises(ParameterError, match="blocks"):
+        GridMean(ctx, (250, 128))

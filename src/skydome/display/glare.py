@@ -204,6 +204,17 @@ class GlareInputs(ShaderInputs):
     u_coarse_on: float | None = None
 
 
+@dataclass(frozen=True)
+class GlareHalo(ShaderInputs):
+    """The glare still to be added to a frame (:meth:`GpuGlare.halo`), for a pass that adds
+    it as it reads the frame (``post/tonemap.glsl`` with GLARE_HALO): the frame's value is
+    ``u_glare_core`` times its own plus the cubic B-spline enlargement of ``u_glare_halo``
+    (RGBA32F, half the frame's size), what ``post/glare_composite.glsl`` would write."""
+
+    u_glare_halo: object
+    u_glare_core: float
+
+
 class GpuGlare:
     """The glare pass for one context: :meth:`apply` returns an RGBA32F texture owned by the
     pass (valid until the next apply of the same size), or the input when there is no halo.
@@ -218,11 +229,32 @@ class GpuGlare:
 
     def apply(self, hdr_texture, size: tuple[int, int], *, pixel_angle_rad: float, glare: str):
         """``hdr_texture`` (RGBA32F, GL rows, cd/m^2) with the halo of ``glare`` added."""
+        halo = self.halo(hdr_texture, size, pixel_angle_rad=pixel_angle_rad, glare=glare)
+        if halo is None:
+            return hdr_texture
+        return self.composite(hdr_texture, size, halo)
+
+    def composite(self, hdr_texture, size: tuple[int, int], halo: GlareHalo):
+        """``hdr_texture`` with ``halo`` (this pass's :meth:`halo` of it) added: an RGBA32F
+        texture owned by the pass."""
+        w, h = (int(v) for v in size)
+        out, fbo = self._targets.get("out", (w, h))
+        fbo.viewport = (0, 0, w, h)
+        self._composite.draw(fbo, GlareInputs(hdr_texture, halo.u_glare_halo, halo.u_glare_core))
+        return out
+
+    def halo(
+        self, hdr_texture, size: tuple[int, int], *, pixel_angle_rad: float, glare: str
+    ) -> GlareHalo | None:
+        """The halo of ``glare`` over ``hdr_texture`` (RGBA32F, GL rows, cd/m^2) and the
+        frame's core share, not yet added (the pyramid's passes, without the composite over
+        the whole frame); None when there is no halo. The texture is the pass's own, valid
+        until the next call of the same size."""
         w, h = (int(v) for v in size)
         weights, core = glare_weights(pixel_angle_rad, (w, h), glare)
         sizes = level_sizes(w, h)
         if not sizes or not np.any(weights > 0.0):
-            return hdr_texture
+            return None
         # Halve down to the coarsest level that carries a weight.
         last = int(np.nonzero(weights > 0.0)[0][-1]) + 1
         src = hdr_texture
@@ -252,10 +284,7 @@ class GpuGlare:
             below = downs[k - 1] if coarse is None else coarse
             self._up.draw(fbo, GlareInputs(downs[k - 1], below, float(weights[k - 1]), on))
             coarse = tex
-        out, fbo = self._targets.get("out", (w, h))
-        fbo.viewport = (0, 0, w, h)
-        self._composite.draw(fbo, GlareInputs(hdr_texture, coarse, float(core)))
-        return out
+        return GlareHalo(coarse, float(core))
 
     def release(self) -> None:
         self._targets.release()

@@ -2,9 +2,10 @@
 
 Reinhard et al. 2002 eq. 1 as :func:`skydome.display.exposure.log_average_luminance`
 computes it (pixels with no light ignored, delta subtracted again), over a 256 x 128 grid of
-samples spread evenly over the frame (``post/log_luminance.glsl``), averaged by the
-texture's mipmap chain: the tone-mapping pass reads the 1 x 1 level, so a window needs no
-read-back. :meth:`GpuExposure.read` fetches that one texel for reports and eye adaptation.
+samples spread evenly over the frame (``post/log_luminance.glsl``), averaged into one texel
+by :class:`GridMean` (``post/grid_mean.glsl``, two passes): the tone-mapping pass reads that
+texel, so a window needs no read-back. :meth:`GpuExposure.read` fetches it for reports and
+eye adaptation.
 """
 
 from __future__ import annotations
@@ -21,12 +22,15 @@ from skydome.display.exposure import (
     SPOT_AREA_FRACTION,
     check_metering,
 )
+from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
 from skydome.spectra import SRGB_LUMINANCE
 
-#: Sample grid (powers of two, so the mipmap chain averages exactly): 32768 samples.
+#: Sample grid (a multiple of GridMean's blocks, so every sample weighs the same): 32768.
 GRID = (256, 128)
+#: GridMean's first pass averages blocks of this many samples (its second, the blocks).
+GRID_BLOCK = (16, 16)
 
 
 @dataclass(frozen=True)
@@ -49,22 +53,66 @@ class AutoExposureInputs(ShaderInputs):
     u_delta: float
 
 
+@dataclass(frozen=True)
+class GridMeanInputs(ShaderInputs):
+    """``post/grid_mean.glsl``: the grid (or the block means) to average."""
+
+    u_src: object
+
+
+class GridMean:
+    """The mean of every texel of a GRID-sized RGBA32F sample grid, into one texel kept on
+    the GPU (:attr:`texture`, 1 x 1): the grid's GRID_BLOCK blocks averaged by one pass, then
+    those means by a second. In real arithmetic the mean of a power-of-two grid's mipmap
+    chain; on llvmpipe a fifth of glGenerateMipmap's time in a running pipeline."""
+
+    def __init__(self, ctx, grid: tuple[int, int] = GRID, block: tuple[int, int] = GRID_BLOCK):
+        if grid[0] % block[0] or grid[1] % block[1]:
+            raise ParameterError(f"grid {grid} is not a whole number of {block} blocks")
+        self.ctx = ctx
+        self._mid_size = (grid[0] // block[0], grid[1] // block[1])
+        self._blocks = FullscreenPass(
+            ctx, "post/grid_mean.glsl", {"BLOCK_W": block[0], "BLOCK_H": block[1]},
+            inputs=(GridMeanInputs,),
+        )  # fmt: skip
+        self._whole = FullscreenPass(
+            ctx, "post/grid_mean.glsl", {"BLOCK_W": self._mid_size[0], "BLOCK_H": self._mid_size[1]},
+            inputs=(GridMeanInputs,),
+        )  # fmt: skip
+        self._mid = ctx.texture(self._mid_size, 4, dtype="f4")
+        self.texture = ctx.texture((1, 1), 4, dtype="f4")
+        for tex in (self._mid, self.texture):
+            tex.filter = (ctx.NEAREST, ctx.NEAREST)
+        self._mid_fbo = ctx.framebuffer(color_attachments=[self._mid])
+        self._fbo = ctx.framebuffer(color_attachments=[self.texture])
+
+    def average(self, grid_texture) -> None:
+        """Average ``grid_texture`` (RGBA32F, the grid's size) into :attr:`texture`."""
+        self._mid_fbo.viewport = (0, 0, *self._mid_size)
+        self._blocks.draw(self._mid_fbo, GridMeanInputs(grid_texture))
+        self._fbo.viewport = (0, 0, 1, 1)
+        self._whole.draw(self._fbo, GridMeanInputs(self._mid))
+
+    def read(self) -> np.ndarray:
+        """The mean (4 float32) of the last averaged grid."""
+        return np.frombuffer(self.texture.read(), dtype=np.float32)
+
+    def release(self) -> None:
+        for obj in (self._mid_fbo, self._fbo, self._mid, self.texture, self._blocks, self._whole):
+            obj.release()
+
+
 class GpuExposure:
-    """The log-luminance pass and its mipmapped target for one context."""
+    """The log-luminance pass, its sample grid and the grid's mean for one context."""
 
     def __init__(self, ctx):
         self.ctx = ctx
         self._passes: dict[int, FullscreenPass] = {}
         self.pass_ = self._pass(0)
         self.texture = ctx.texture(GRID, 4, dtype="f4")
-        self.texture.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
-        self.top_level = int(math.log2(max(GRID)))
-        # The mip chain is allocated before the framebuffer holds level 0: Mesa (llvmpipe)
-        # reallocates a texture's storage at its first glGenerateMipmap, after which a
-        # framebuffer made before it no longer writes into the texture (every measure after
-        # the first read the first frame's average).
-        self.texture.build_mipmaps(0, self.top_level)
+        self.texture.filter = (ctx.NEAREST, ctx.NEAREST)
         self.fbo = ctx.framebuffer(color_attachments=[self.texture])
+        self.mean = GridMean(ctx)
 
     def _pass(self, metering_id: int) -> FullscreenPass:
         if metering_id not in self._passes:
@@ -86,21 +134,22 @@ class GpuExposure:
         weights = tuple(float(x) for x in SRGB_LUMINANCE)
         fpass = self._pass(METERING_IDS[check_metering(metering)])
         fpass.draw(self.fbo, LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA))
-        self.texture.build_mipmaps(0, self.top_level)
+        self.mean.average(self.texture)
 
     def inputs(self) -> AutoExposureInputs:
         """What ``post/tonemap.glsl`` compiled with AUTO_EXPOSURE reads."""
-        return AutoExposureInputs(self.texture, float(self.top_level), DEFAULT_DELTA)
+        return AutoExposureInputs(self.mean.texture, 0.0, DEFAULT_DELTA)
 
     def read(self) -> float:
         """The log-average luminance (cd/m^2) of the last measured frame (one texel read)."""
-        data = np.frombuffer(self.texture.read(level=self.top_level), dtype=np.float32)
+        data = self.mean.read()
         log_sum, weight = float(data[0]), float(data[1])
         if weight <= 0.0:
             return DEFAULT_DELTA
         return max(math.exp(log_sum / weight) - DEFAULT_DELTA, DEFAULT_DELTA)
 
     def release(self) -> None:
+        self.mean.release()
         self.fbo.release()
         self.texture.release()
         for fpass in self._passes.values():

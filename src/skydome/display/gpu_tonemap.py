@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skydome.display.glare import GlareHalo
 from skydome.display.gpu_exposure import AutoExposureInputs
 from skydome.display.tonemap import (
     FILMIC_DESATURATION_STOPS,
@@ -93,16 +94,23 @@ class GpuToneMapper:
         self._passes: dict[tuple[int, bool], FullscreenPass] = {}
         self._targets: dict[tuple[int, int], tuple] = {}
 
-    def program(self, name: str, auto_exposure: bool = False) -> FullscreenPass:
-        """The compiled pass of operator ``name`` (with AUTO_EXPOSURE when asked)."""
-        key = (get_operator(name).gl_id, bool(auto_exposure))
+    def program(
+        self, name: str, auto_exposure: bool = False, glare_halo: bool = False
+    ) -> FullscreenPass:
+        """The compiled pass of operator ``name`` (with AUTO_EXPOSURE, GLARE_HALO when
+        asked)."""
+        key = (get_operator(name).gl_id, bool(auto_exposure), bool(glare_halo))
         if key not in self._passes:
             defines = {**self._defines, "TONEMAP_OPERATOR": key[0]}
+            inputs = [ToneMapInputs]
             if key[1]:
                 defines["AUTO_EXPOSURE"] = 1
-            inputs = (ToneMapInputs, AutoExposureInputs) if key[1] else (ToneMapInputs,)
+                inputs.append(AutoExposureInputs)
+            if key[2]:
+                defines["GLARE_HALO"] = 1
+                inputs.append(GlareHalo)
             self._passes[key] = FullscreenPass(
-                self.ctx, "post/tonemap.glsl", defines, inputs=inputs
+                self.ctx, "post/tonemap.glsl", defines, inputs=tuple(inputs)
             )
         return self._passes[key]
 
@@ -131,6 +139,7 @@ class GpuToneMapper:
         exposure_scale: float,
         *,
         auto_exposure=None,
+        glare_halo: GlareHalo | None = None,
         **params: float,
     ) -> None:
         """Tone-map ``texture`` (RGBA32F, GL row order) into ``fbo`` over ``viewport`` =
@@ -138,14 +147,18 @@ class GpuToneMapper:
 
         With ``auto_exposure`` (a :class:`skydome.display.gpu_exposure.GpuExposure` that has
         measured ``texture``), ``exposure_scale`` is the key times 2^compensation and the
-        shader divides it by the measured log-average luminance: no read-back.
+        shader divides it by the measured log-average luminance: no read-back. With
+        ``glare_halo`` (:meth:`skydome.display.glare.GpuGlare.halo` of ``texture``) the
+        glare is added as the frame is read: the image of the glared frame, one pass less.
         """
         w, h = viewport
         fbo.viewport = (0, 0, w, h)
         inputs = [self.inputs(texture, (w, h), name, exposure_scale, **params)]
-        fpass = self.program(name, auto_exposure is not None)
+        fpass = self.program(name, auto_exposure is not None, glare_halo is not None)
         if auto_exposure is not None:
             inputs.append(auto_exposure.inputs())
+        if glare_halo is not None:
+            inputs.append(glare_halo)
         fpass.draw(fbo, *inputs)
 
     def _target(self, width: int, height: int):
@@ -155,9 +168,17 @@ class GpuToneMapper:
         return self._targets[(width, height)]
 
     def render(
-        self, source, name: str, exposure_scale: float, *, overlay=None, **params: float
+        self,
+        source,
+        name: str,
+        exposure_scale: float,
+        *,
+        overlay=None,
+        glare_halo: GlareHalo | None = None,
+        **params: float,
     ) -> np.ndarray:
-        """Tone-map ``source`` and read it back as uint8 (H, W, 3), row 0 at the top.
+        """Tone-map ``source`` and read it back as uint8 (H, W, 3), row 0 at the top
+        (``glare_halo``: as in :meth:`draw`, for a texture ``source``).
 
         ``source`` is a NumPy frame (H, W, 4) in cd/m^2 (row 0 at the top; uploaded with
         :func:`upload_frame`; a ``Frame`` object's ``.data`` too) or a moderngl RGBA float
@@ -192,7 +213,7 @@ class GpuToneMapper:
         try:
             w, h = texture.size
             _, fbo = self._target(w, h)
-            self.draw(texture, fbo, (w, h), name, exposure_scale, **params)
+            self.draw(texture, fbo, (w, h), name, exposure_scale, glare_halo=glare_halo, **params)
             if overlay is not None:
                 overlay(fbo, (w, h))
             return read_rgb8(fbo, w, h)
@@ -215,16 +236,25 @@ _mappers: dict[int, GpuToneMapper] = {}
 
 
 def gpu_tonemap(
-    source, name: str, exposure_scale: float, *, ctx=None, overlay=None, **params: float
+    source,
+    name: str,
+    exposure_scale: float,
+    *,
+    ctx=None,
+    overlay=None,
+    glare_halo: GlareHalo | None = None,
+    **params: float,
 ) -> np.ndarray:
     """GPU twin of :func:`skydome.display.tonemap.tonemap`: uint8 (H, W, 3), row 0 at the top.
 
     ``source`` is a NumPy frame or an RGBA32F texture (GL row order); ``overlay(fbo, size)``
-    draws over the image before the read-back. The mapper for each context is created once
-    and reused.
+    draws over the image before the read-back; ``glare_halo`` adds a texture's glare
+    (:meth:`GpuToneMapper.draw`). The mapper for each context is created once and reused.
     """
     ctx = ctx or shared_context()
     mapper = _mappers.get(id(ctx))
     if mapper is None or mapper.ctx is not ctx:
         mapper = _mappers[id(ctx)] = GpuToneMapper(ctx)
-    return mapper.render(source, name, exposure_scale, overlay=overlay, **params)
+    return mapper.render(
+        source, name, exposure_scale, overlay=overlay, glare_halo=glare_halo, **params
+    )

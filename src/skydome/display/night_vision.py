@@ -43,7 +43,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from skydome.display.exposure import DEFAULT_DELTA
-from skydome.display.gpu_exposure import LogLuminanceInputs
+from skydome.display.gpu_exposure import GridMean, LogLuminanceInputs
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
@@ -67,9 +67,16 @@ MES2_ITERATIONS = 64
 MES2_TOLERANCE = 1e-12
 #: At or above this photopic adaptation luminance (cd/m^2) MES2 gives m = 1 whatever the S/P
 #: ratio: its first step from m = 0.5 gives L_mes >= L_p / (1 + V'(555)) = 0.713 L_p, at least
-#: 5 cd/m^2 (m = 1) from L_p = 7.01 on. The S/P ratio (a grid pass, its mipmaps and a
+#: 5 cd/m^2 (m = 1) from L_p = 7.01 on. The S/P ratio (a grid pass, its mean and a
 #: read-back a frame) is then not measured: by day the eye's colours cost nothing.
 PHOTOPIC_ANY_SP_CD_M2 = 10.0
+
+
+def leaves_frame(adaptation_cd_m2: float) -> bool:
+    """Whether :meth:`NightVision.apply` at a photopic adaptation of ``adaptation_cd_m2``
+    returns its frame as it is (m = 1 whatever the S/P ratio): then no pass reads it."""
+    return float(adaptation_cd_m2) >= PHOTOPIC_ANY_SP_CD_M2
+
 
 # -- Blue shift -----------------------------------------------------------------------------
 #: CIE 1931 xy of the blue grey in which scotopic luminance is drawn: a bluish white near a
@@ -317,7 +324,7 @@ class NightVision:
     photopic vision (m = 1), where the pass changes nothing, it returns the input texture.
 
     The adaptation state (two numbers: the photopic log-average and the S/P ratio, each the
-    1 x 1 level of a mipmapped grid) is read back once per frame, and the passes are chosen on
+    mean of a sample grid) is read back once per frame, and the passes are chosen on
     the CPU from it: none at m = 1; one pass (blend and noise) without blur; for a blur at
     m = 0 (scotopic: only the scotopic channel is seen) the scotopic channel alone, four
     pixels to a texel; for a wide blur a reduced-resolution copy (:func:`blur_plan`). At an
@@ -348,12 +355,9 @@ class NightVision:
             inputs=(LogLuminanceInputs,),
         )  # fmt: skip
         self._grid = ctx.texture(GRID, 4, dtype="f4")
-        self._grid.filter = (ctx.LINEAR_MIPMAP_LINEAR, ctx.LINEAR)
-        self._grid_level = int(math.log2(max(GRID)))
-        # Mip chain first (see skydome.display.gpu_exposure: Mesa reallocates the storage at
-        # the first glGenerateMipmap, and a framebuffer made before it then writes nowhere).
-        self._grid.build_mipmaps(0, self._grid_level)
+        self._grid.filter = (ctx.NEAREST, ctx.NEAREST)
         self._grid_fbo = ctx.framebuffer(color_attachments=[self._grid])
+        self._grid_mean = GridMean(ctx, GRID)
 
     def _program(self, name: str, **defines) -> FullscreenPass:
         key = (name, tuple(sorted(defines.items())))
@@ -365,13 +369,13 @@ class NightVision:
 
     def measure_sp_ratio(self, hdr_texture) -> float:
         """The frame's S/P ratio: log-average scotopic over log-average photopic luminance on
-        the 256 x 128 grid of ``post/night_log_luminance.glsl`` (mipmapped on the GPU, the
-        1 x 1 level read back): as :func:`skydome.reference.night_vision.frame_sp_ratio`."""
+        the 256 x 128 grid of ``post/night_log_luminance.glsl`` (averaged on the GPU by
+        GridMean, one texel read back): as :func:`skydome.reference.night_vision.frame_sp_ratio`."""
         self._grid_fbo.viewport = (0, 0, *GRID)
         weights = tuple(float(x) for x in SRGB_LUMINANCE)
         self._measure.draw(self._grid_fbo, LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA))
-        self._grid.build_mipmaps(0, self._grid_level)
-        top = np.frombuffer(self._grid.read(level=self._grid_level), dtype=np.float32)
+        self._grid_mean.average(self._grid)
+        top = self._grid_mean.read()
         log_p, log_s, weight = (float(v) for v in top[:3])
         if not weight > 0.0:
             return 1.0
@@ -419,7 +423,7 @@ class NightVision:
                 f"adaptation must be a luminance in cd/m^2 or a GpuExposure, got "
                 f"{type(adaptation).__name__}"
             )
-        if lp >= PHOTOPIC_ANY_SP_CD_M2:  # m = 1 whatever the S/P ratio: not measured
+        if leaves_frame(lp):  # m = 1 whatever the S/P ratio: not measured
             sp, (m, lmes) = None, (1.0, lp)
         else:
             sp = self.measure_sp_ratio(hdr_texture)
@@ -535,6 +539,7 @@ class NightVision:
         for prog in self._programs.values():
             prog.release()
         self._programs.clear()
+        self._grid_mean.release()
         self._grid_fbo.release()
         self._grid.release()
         self._measure.release()

@@ -125,17 +125,22 @@ def refract_altitudes_tabulated(
     alt0, alt_step, ratio0, ratio_step = saemundsson_table(float(scale))
     lowest = math.radians(SAEMUNDSSON[3])
     per_rad = (SAEMUNDSSON_TABLE_SIZE - 1) / (0.5 * math.pi - lowest)
-    x = (airless_alt_rad - lowest) * per_rad
+    x = airless_alt_rad - lowest
+    x *= per_rad
     np.clip(x, 0.0, SAEMUNDSSON_TABLE_SIZE - 1.0, out=x)
     i = x.astype(np.intp)
     f = x - i
-    alt = alt0[i] + f * alt_step[i]
-    ratio = ratio0[i] + f * ratio_step[i]
+    alt = alt_step[i]
+    alt *= f
+    alt += alt0[i]
+    ratio = ratio_step[i]
+    ratio *= f
+    ratio += ratio0[i]
     below = airless_alt_rad < lowest  # the law refracts nothing there
-    if below.any():
-        alt[below], ratio[below] = airless_alt_rad[below], 1.0
+    alt = np.where(below, airless_alt_rad, alt)
+    ratio[below] = 1.0
     out = enu * ratio[:, None]
-    out[:, 2] = np.sin(alt)
+    np.sin(alt, out=out[:, 2])
     return out, alt
 
 

@@ -53,7 +53,7 @@ from skydome.display.exposure import (
 from skydome.display.glare import DEFAULT_GLARE, GpuGlare, check_glare, eye_magnification
 from skydome.display.gpu_exposure import GpuExposure
 from skydome.display.gpu_tonemap import GpuToneMapper, gpu_tonemap, upload_frame
-from skydome.display.night_vision import NightVision
+from skydome.display.night_vision import NightVision, leaves_frame
 from skydome.display.overlays import Overlays, parse_overlays
 from skydome.errors import ParameterError
 from skydome.gpu import FullscreenPass, shared_context
@@ -556,35 +556,69 @@ class FrameGraph:
         if isinstance(source, np.ndarray):
             source = owned = upload_frame(self.ctx, source)
         try:
-            texture = self._glared(source, camera, size, glare)
-            if eye:
-                texture = self._eye(
-                    texture, state, camera, size, measured=measured, adaptation=adaptation,
-                    colour_only=not self.night_vision,
-                )  # fmt: skip
-                if auto_key is not None:
-                    nv = self._night_vision if self.night_vision else self._eye_colour
-                    scale = auto_key / nv.last_state["lmes"]
+            texture, halo = self._glare_and_eye(
+                source, state, camera, size, glare, eye=eye, measured=measured,
+                adaptation=adaptation,
+            )  # fmt: skip
+            if eye and auto_key is not None:
+                nv = self._night_vision if self.night_vision else self._eye_colour
+                scale = auto_key / nv.last_state["lmes"]
             draw = None if overlays is None else (lambda fbo, s: overlays.draw(fbo, camera, s))
-            return gpu_tonemap(texture, tonemap, scale, ctx=self.ctx, overlay=draw), scale
+            return gpu_tonemap(
+                texture, tonemap, scale, ctx=self.ctx, overlay=draw, glare_halo=halo
+            ), scale
         finally:
             if owned is not None:
                 owned.release()
 
+    def _glare_and_eye(
+        self, texture, state, camera, size, glare: str, *, eye: bool, measured: bool,
+        adaptation: float | None,
+    ):  # fmt: skip
+        """(the texture the tone map reads, the glare it adds as it reads it: a GlareHalo
+        or None). When nothing after the glare reads the glared frame (no eye pass, or one
+        that leaves the frame as it is at a photopic ``adaptation``:
+        ``display.night_vision.leaves_frame``), the tone map adds the halo itself, one
+        pass over the frame less; else the glared frame is made and goes through the eye's
+        pass (``_eye``)."""
+        if eye and not (adaptation is not None and leaves_frame(adaptation)):
+            shown = self._glared(texture, camera, size, glare)
+            shown = self._eye(
+                shown, state, camera, size, measured=measured, adaptation=adaptation,
+                colour_only=not self.night_vision,
+            )  # fmt: skip
+            return shown, None
+        halo = self._glare_halo(texture, camera, size, glare)
+        if eye:  # the pass's state for this adaptation (the exposure's key); no pass runs
+            texture = self._eye(
+                texture, state, camera, size, measured=measured, adaptation=adaptation,
+                colour_only=not self.night_vision,
+            )  # fmt: skip
+        return texture, halo
+
     def _glared(self, texture, camera, size, glare: str):
-        """``texture`` with the halo of ``glare`` (display.glare), or as it is when off or
-        for a cube map's strip or a direction map (their neighbouring pixels need not be
-        neighbours in the sky)."""
+        """``texture`` with the halo of ``glare`` added (post/glare_composite.glsl), or as
+        it is without one (see ``_glare_halo``)."""
+        halo = self._glare_halo(texture, camera, size, glare)
+        if halo is None:
+            return texture
+        with self._section("glare"):
+            return self._glare.composite(texture, size, halo)
+
+    def _glare_halo(self, texture, camera, size, glare: str):
+        """The halo of ``glare`` (display.glare) over ``texture``, not yet added; None when
+        off or for a cube map's strip or a direction map (their neighbouring pixels need
+        not be neighbours in the sky)."""
         if glare == "off" or not isinstance(
             camera, (PerspectiveCamera, FisheyeCamera, EquirectCamera)
         ):
-            return texture
+            return None
         if self._glare is None:
             self._glare = GpuGlare(self.ctx)
         # the eye's halo in the angles it sees: a narrow field's magnified sky (display.glare)
         magnification = eye_magnification(_field_deg(camera)) if glare == "eye" else 1.0
         with self._section("glare"):
-            return self._glare.apply(
+            return self._glare.halo(
                 texture, size, pixel_angle_rad=camera.pixel_angle(*size) * magnification,
                 glare=glare,
             )  # fmt: skip
@@ -680,23 +714,22 @@ class FrameGraph:
             exposure = key / adapted
             measure = weighting in ("average", "eye")  # the pass holds this frame's average
         with self._section("display"):
-            shown = self._glared(texture, camera, (w, h), glare)
-            if eye:
-                shown = self._eye(
-                    shown, state, camera, (w, h), measured=measure or exposure == "auto",
-                    adaptation=adapted, colour_only=not self.night_vision,
-                )  # fmt: skip
+            shown, halo = self._glare_and_eye(
+                texture, state, camera, (w, h), glare, eye=eye,
+                measured=measure or exposure == "auto", adaptation=adapted,
+            )  # fmt: skip
             if exposure == "auto":
                 key = 2.0**compensation_ev * DEFAULT_KEY
                 self._post.draw(
-                    shown, framebuffer, (w, h), tonemap, key, auto_exposure=self.exposure_pass()
-                )
+                    shown, framebuffer, (w, h), tonemap, key,
+                    auto_exposure=self.exposure_pass(), glare_halo=halo,
+                )  # fmt: skip
             else:
                 scale = float(exposure) * 2.0**compensation_ev
                 if adapted is not None and metering == "eye":
                     nv = self._night_vision if self.night_vision else self._eye_colour
                     scale = 2.0**compensation_ev * eye_key(adapted) / nv.last_state["lmes"]
-                self._post.draw(shown, framebuffer, (w, h), tonemap, scale)
+                self._post.draw(shown, framebuffer, (w, h), tonemap, scale, glare_halo=halo)
             overlays = self._overlay_pass(state)
             if overlays is not None:
                 overlays.draw(framebuffer, camera, (w, h))

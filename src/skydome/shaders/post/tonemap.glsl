@@ -31,10 +31,17 @@ uniform float u_hvs_a;              // hvs: a, b of seed 003 eq. 7
 uniform float u_hvs_b;
 uniform float u_hvs_x_scale;        // hvs: I_max / white (exposed luminance -> x)
 uniform float u_filmic_pre_scale;   // filmic: input scale before the fit
+#ifdef GLARE_HALO
+// The glare's halo, added here instead of by post/glare_composite.glsl's pass over the whole
+// frame (skydome.display.glare.GlareHalo): the frame's core share plus the enlarged halo.
+#include "post/glare_upsample.glsl"
+uniform sampler2D u_glare_halo;     // RGBA32F, half the frame's size (LINEAR, clamped)
+uniform float u_glare_core;
+#endif
 #ifdef AUTO_EXPOSURE
 // Automatic exposure on the GPU (skydome.display.gpu_exposure): u_exposure is then
 // key * 2^compensation, divided here by the frame's log-average luminance, read from the
-// 1 x 1 level of the mipmapped log-luminance grid (sum of w ln(delta + L), sum of w).
+// mean of the log-luminance grid (GridMean: one texel, level 0) (sum of w ln(delta + L), sum of w).
 uniform sampler2D u_log_luminance;
 uniform float u_log_luminance_level;
 uniform float u_delta;
@@ -111,6 +118,10 @@ void main() {
     ivec2 size = textureSize(u_hdr, 0);
     ivec2 src = min(ivec2(gl_FragCoord.xy * vec2(size) / u_viewport), size - 1);
     vec3 hdr = texelFetch(u_hdr, src, 0).rgb;
+#ifdef GLARE_HALO
+    // The glare's last step here, as post/glare_composite.glsl writes it at texel src.
+    hdr = u_glare_core * hdr + glare_enlarge(u_glare_halo, vec2(src) + 0.5).rgb;
+#endif
     vec3 v = srgb_encode(tonemap_display_linear(hdr * exposure_scale()));
 #if TONEMAP_QUANTIZE
     // round(255 v), stored as (k + 0.25) / 255: both round-to-nearest and truncating
