@@ -13,8 +13,9 @@ import math
 import numpy as np
 import pytest
 
+from skydome.display.glare import GpuGlare
 from skydome.display.gpu_exposure import GpuExposure
-from skydome.display.gpu_tonemap import upload_frame
+from skydome.display.gpu_tonemap import gpu_tonemap, upload_frame
 from skydome.display.night_vision import (
     BLUE_GREY,
     NOISE_CAP,
@@ -538,3 +539,49 @@ def test_blur_plan():
     # The smallest level keeps 2 px on its smaller side: a blur as wide as the frame stops
     # at 1/64 of 128 px (2 px).
     assert blur_plan(1e4, (W, H))[0] == 6
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("adaptation", [0.05, 1e-4])  # mesopic (m ~ 0.4) and scotopic (m = 0)
+def test_the_tone_map_applies_the_eyes_colours_as_their_pass_does(ctx, adaptation):
+    """The eye metering's colours (no blur, no noise) are a blend the tone map applies as it
+    reads the frame and its glare (NightVision.colours, MESOPIC_BLEND), measured on the
+    frame with its halo: the image is the one of the glared frame through the eye's pass
+    and the tone map, code for code, and the pass's state the same."""
+    rng = np.random.default_rng(5)
+    frame = random_frame(rng, adaptation * 2.0).astype(np.float32)
+    frame[40:44, 100:104, :3] *= 1e4  # a bright spot, for a halo
+    size = (W, H)
+    pixel = math.radians(0.1)
+    tex = upload_frame(ctx, frame)
+    glare = GpuGlare(ctx)
+    passes = [NightVision(ctx, noise=False, acuity=False) for _ in range(2)]
+    scale = 0.18 / adaptation
+    try:
+        halo = glare.halo(tex, size, pixel_angle_rad=pixel, glare="eye")
+        assert halo is not None
+        seen = passes[0].apply(
+            glare.composite(tex, size, halo), size, pixel_angle_rad=pixel, adaptation=adaptation
+        )
+        want = gpu_tonemap(seen, "filmic", scale, ctx=ctx)
+        blend = passes[1].colours(tex, size, adaptation=adaptation, glare_halo=halo)
+        assert blend is not None and 0.0 <= blend.u_wp < 1.0
+        got = gpu_tonemap(tex, "filmic", scale, ctx=ctx, glare_halo=halo, mesopic=blend)
+        # at a photopic adaptation the frame is left as it is: nothing to apply
+        assert passes[1].colours(tex, size, adaptation=PHOTOPIC_ANY_SP_CD_M2) is None
+        state = passes[1].colours(tex, size, adaptation=adaptation, glare_halo=halo)
+    finally:
+        for p in passes:
+            p.release()
+        glare.release()
+        tex.release()
+    np.testing.assert_array_equal(got, want)
+    for key in ("m", "lmes", "sp"):
+        assert passes[1].last_state[key] == passes[0].last_state[key]
+    assert state == blend
+    full = NightVision(ctx)  # with noise and acuity: its blur and noise need its pass
+    try:
+        with pytest.raises(ParameterError, match="colours"):
+            full.colours(tex, size, adaptation=adaptation)
+    finally:
+        full.release()

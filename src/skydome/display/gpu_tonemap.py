@@ -14,6 +14,7 @@ import numpy as np
 
 from skydome.display.glare import GlareHalo
 from skydome.display.gpu_exposure import AutoExposureInputs
+from skydome.display.night_vision import MesopicBlend
 from skydome.display.tonemap import (
     FILMIC_DESATURATION_STOPS,
     FILMIC_INPUT_CAP,
@@ -95,11 +96,15 @@ class GpuToneMapper:
         self._targets: dict[tuple[int, int], tuple] = {}
 
     def program(
-        self, name: str, auto_exposure: bool = False, glare_halo: bool = False
+        self,
+        name: str,
+        auto_exposure: bool = False,
+        glare_halo: bool = False,
+        mesopic: bool = False,
     ) -> FullscreenPass:
-        """The compiled pass of operator ``name`` (with AUTO_EXPOSURE, GLARE_HALO when
-        asked)."""
-        key = (get_operator(name).gl_id, bool(auto_exposure), bool(glare_halo))
+        """The compiled pass of operator ``name`` (with AUTO_EXPOSURE, GLARE_HALO,
+        MESOPIC_BLEND when asked)."""
+        key = (get_operator(name).gl_id, bool(auto_exposure), bool(glare_halo), bool(mesopic))
         if key not in self._passes:
             defines = {**self._defines, "TONEMAP_OPERATOR": key[0]}
             inputs = [ToneMapInputs]
@@ -109,6 +114,9 @@ class GpuToneMapper:
             if key[2]:
                 defines["GLARE_HALO"] = 1
                 inputs.append(GlareHalo)
+            if key[3]:
+                defines["MESOPIC_BLEND"] = 1
+                inputs.append(MesopicBlend)
             self._passes[key] = FullscreenPass(
                 self.ctx, "post/tonemap.glsl", defines, inputs=tuple(inputs)
             )
@@ -140,6 +148,7 @@ class GpuToneMapper:
         *,
         auto_exposure=None,
         glare_halo: GlareHalo | None = None,
+        mesopic: MesopicBlend | None = None,
         **params: float,
     ) -> None:
         """Tone-map ``texture`` (RGBA32F, GL row order) into ``fbo`` over ``viewport`` =
@@ -149,16 +158,22 @@ class GpuToneMapper:
         measured ``texture``), ``exposure_scale`` is the key times 2^compensation and the
         shader divides it by the measured log-average luminance: no read-back. With
         ``glare_halo`` (:meth:`skydome.display.glare.GpuGlare.halo` of ``texture``) the
-        glare is added as the frame is read: the image of the glared frame, one pass less.
+        glare is added as the frame is read: the image of the glared frame, one pass less;
+        with ``mesopic`` (:meth:`skydome.display.night_vision.NightVision.colours`), the
+        eye's colours after it.
         """
         w, h = viewport
         fbo.viewport = (0, 0, w, h)
         inputs = [self.inputs(texture, (w, h), name, exposure_scale, **params)]
-        fpass = self.program(name, auto_exposure is not None, glare_halo is not None)
+        fpass = self.program(
+            name, auto_exposure is not None, glare_halo is not None, mesopic is not None
+        )
         if auto_exposure is not None:
             inputs.append(auto_exposure.inputs())
         if glare_halo is not None:
             inputs.append(glare_halo)
+        if mesopic is not None:
+            inputs.append(mesopic)
         fpass.draw(fbo, *inputs)
 
     def _target(self, width: int, height: int):
@@ -175,10 +190,11 @@ class GpuToneMapper:
         *,
         overlay=None,
         glare_halo: GlareHalo | None = None,
+        mesopic: MesopicBlend | None = None,
         **params: float,
     ) -> np.ndarray:
         """Tone-map ``source`` and read it back as uint8 (H, W, 3), row 0 at the top
-        (``glare_halo``: as in :meth:`draw`, for a texture ``source``).
+        (``glare_halo``, ``mesopic``: as in :meth:`draw`, for a texture ``source``).
 
         ``source`` is a NumPy frame (H, W, 4) in cd/m^2 (row 0 at the top; uploaded with
         :func:`upload_frame`; a ``Frame`` object's ``.data`` too) or a moderngl RGBA float
@@ -213,7 +229,10 @@ class GpuToneMapper:
         try:
             w, h = texture.size
             _, fbo = self._target(w, h)
-            self.draw(texture, fbo, (w, h), name, exposure_scale, glare_halo=glare_halo, **params)
+            self.draw(
+                texture, fbo, (w, h), name, exposure_scale,
+                glare_halo=glare_halo, mesopic=mesopic, **params,
+            )  # fmt: skip
             if overlay is not None:
                 overlay(fbo, (w, h))
             return read_rgb8(fbo, w, h)
@@ -243,18 +262,26 @@ def gpu_tonemap(
     ctx=None,
     overlay=None,
     glare_halo: GlareHalo | None = None,
+    mesopic: MesopicBlend | None = None,
     **params: float,
 ) -> np.ndarray:
     """GPU twin of :func:`skydome.display.tonemap.tonemap`: uint8 (H, W, 3), row 0 at the top.
 
     ``source`` is a NumPy frame or an RGBA32F texture (GL row order); ``overlay(fbo, size)``
-    draws over the image before the read-back; ``glare_halo`` adds a texture's glare
-    (:meth:`GpuToneMapper.draw`). The mapper for each context is created once and reused.
+    draws over the image before the read-back; ``glare_halo`` adds a texture's glare and
+    ``mesopic`` applies the eye's colours (:meth:`GpuToneMapper.draw`). The mapper for each
+    context is created once and reused.
     """
     ctx = ctx or shared_context()
     mapper = _mappers.get(id(ctx))
     if mapper is None or mapper.ctx is not ctx:
         mapper = _mappers[id(ctx)] = GpuToneMapper(ctx)
     return mapper.render(
-        source, name, exposure_scale, overlay=overlay, glare_halo=glare_halo, **params
+        source,
+        name,
+        exposure_scale,
+        overlay=overlay,
+        glare_halo=glare_halo,
+        mesopic=mesopic,
+        **params,
     )

@@ -43,6 +43,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from skydome.display.exposure import DEFAULT_DELTA
+from skydome.display.glare import GlareHalo
 from skydome.display.gpu_exposure import GridMean, LogLuminanceInputs
 from skydome.errors import ParameterError, check_range
 from skydome.gpu import FullscreenPass
@@ -310,6 +311,17 @@ class NightVisionInputs(ShaderInputs):
     u_uv_scale: tuple[float, float] | None = None
 
 
+@dataclass(frozen=True)
+class MesopicBlend(ShaderInputs):
+    """The eye's colours as a pass that reads the frame applies them
+    (``post/tonemap.glsl`` with MESOPIC_BLEND): ``u_wp`` RGB + (1 - ``u_wp``) scotopic
+    ``u_blue_grey``, what ``post/night_vision.glsl`` writes without blur and noise
+    (:meth:`NightVision.colours`)."""
+
+    u_wp: float
+    u_blue_grey: tuple[float, float, float]
+
+
 class NightVision:
     """The night-vision display pass for one context (GPU; GLSL under ``shaders/post/``).
 
@@ -354,6 +366,10 @@ class NightVision:
             ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h},
             inputs=(LogLuminanceInputs,),
         )  # fmt: skip
+        self._measure_glared = FullscreenPass(
+            ctx, "post/night_log_luminance.glsl", {"GRID_W": w, "GRID_H": h, "GLARE_HALO": 1},
+            inputs=(LogLuminanceInputs, GlareHalo),
+        )  # fmt: skip
         self._grid = ctx.texture(GRID, 4, dtype="f4")
         self._grid.filter = (ctx.NEAREST, ctx.NEAREST)
         self._grid_fbo = ctx.framebuffer(color_attachments=[self._grid])
@@ -367,13 +383,18 @@ class NightVision:
             )
         return self._programs[key]
 
-    def measure_sp_ratio(self, hdr_texture) -> float:
+    def measure_sp_ratio(self, hdr_texture, glare_halo: GlareHalo | None = None) -> float:
         """The frame's S/P ratio: log-average scotopic over log-average photopic luminance on
         the 256 x 128 grid of ``post/night_log_luminance.glsl`` (averaged on the GPU by
-        GridMean, one texel read back): as :func:`skydome.reference.night_vision.frame_sp_ratio`."""
+        GridMean, one texel read back): as :func:`skydome.reference.night_vision.frame_sp_ratio`.
+        With ``glare_halo``, of the frame with that glare added."""
         self._grid_fbo.viewport = (0, 0, *GRID)
         weights = tuple(float(x) for x in SRGB_LUMINANCE)
-        self._measure.draw(self._grid_fbo, LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA))
+        inputs = LogLuminanceInputs(hdr_texture, weights, DEFAULT_DELTA)
+        if glare_halo is None:
+            self._measure.draw(self._grid_fbo, inputs)
+        else:
+            self._measure_glared.draw(self._grid_fbo, inputs, glare_halo)
         self._grid_mean.average(self._grid)
         top = self._grid_mean.read()
         log_p, log_s, weight = (float(v) for v in top[:3])
@@ -382,6 +403,39 @@ class NightVision:
         lp = max(math.exp(log_p / weight) - DEFAULT_DELTA, DEFAULT_DELTA)
         ls = max(math.exp(log_s / weight) - DEFAULT_DELTA, DEFAULT_DELTA)
         return ls / lp
+
+    def colours(
+        self,
+        hdr_texture,
+        size: tuple[int, int],
+        *,
+        adaptation: float,
+        glare_halo: GlareHalo | None = None,
+    ) -> MesopicBlend | None:
+        """The eye's colours of ``hdr_texture`` (with ``glare_halo`` added) at a photopic
+        ``adaptation`` (cd/m^2) for the tone map to apply as it reads the frame
+        (MESOPIC_BLEND), or None at m = 1: what :meth:`apply` draws, without its pass over
+        the frame. For a pass without noise and blur (``NightVision(noise=False,
+        acuity=False)``, the eye metering's); :attr:`last_state` as :meth:`apply` sets it."""
+        if self.noise or self.acuity:
+            raise ParameterError("colours() is the eye's colours alone: no noise, no acuity")
+        w, h = (int(v) for v in size)
+        if tuple(hdr_texture.size) != (w, h):
+            raise ParameterError(f"size = {size!r} does not match the texture's {hdr_texture.size}")
+        lp = check_range("adaptation", adaptation, 1e-12, 1e12, "cd/m^2")
+        if leaves_frame(lp):
+            sp, (m, lmes) = None, (1.0, lp)
+        else:
+            sp = self.measure_sp_ratio(hdr_texture, glare_halo)
+            m, lmes = mesopic_coefficient(lp, lp * sp)
+        self.last_state = {
+            "lp": lp, "sp": sp, "ls": None if sp is None else lp * sp, "m": m, "lmes": lmes,
+            "sigma_px": 0.0, "level": 0, "level_sigma_px": 0.0,
+        }  # fmt: skip
+        if m >= 1.0:
+            return None
+        # m <= 0 (post/night_vision.glsl's NV_SCOTOPIC_ONLY): w_p = 0 gives L_s C_b exactly
+        return MesopicBlend(photopic_share(m), tuple(float(c) for c in BLUE_GREY))
 
     def apply(
         self,
@@ -543,3 +597,4 @@ class NightVision:
         self._grid_fbo.release()
         self._grid.release()
         self._measure.release()
+        self._measure_glared.release()

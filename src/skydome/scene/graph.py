@@ -556,7 +556,7 @@ class FrameGraph:
         if isinstance(source, np.ndarray):
             source = owned = upload_frame(self.ctx, source)
         try:
-            texture, halo = self._glare_and_eye(
+            texture, halo, mesopic = self._glare_and_eye(
                 source, state, camera, size, glare, eye=eye, measured=measured,
                 adaptation=adaptation,
             )  # fmt: skip
@@ -565,8 +565,9 @@ class FrameGraph:
                 scale = auto_key / nv.last_state["lmes"]
             draw = None if overlays is None else (lambda fbo, s: overlays.draw(fbo, camera, s))
             return gpu_tonemap(
-                texture, tonemap, scale, ctx=self.ctx, overlay=draw, glare_halo=halo
-            ), scale
+                texture, tonemap, scale, ctx=self.ctx, overlay=draw, glare_halo=halo,
+                mesopic=mesopic,
+            ), scale  # fmt: skip
         finally:
             if owned is not None:
                 owned.release()
@@ -576,25 +577,34 @@ class FrameGraph:
         adaptation: float | None,
     ):  # fmt: skip
         """(the texture the tone map reads, the glare it adds as it reads it: a GlareHalo
-        or None). When nothing after the glare reads the glared frame (no eye pass, or one
-        that leaves the frame as it is at a photopic ``adaptation``:
-        ``display.night_vision.leaves_frame``), the tone map adds the halo itself, one
-        pass over the frame less; else the glared frame is made and goes through the eye's
-        pass (``_eye``)."""
-        if eye and not (adaptation is not None and leaves_frame(adaptation)):
+        or None, the eye's colours it applies after: a MesopicBlend or None). The eye's
+        colours alone (metering ``eye`` without night vision) at a known ``adaptation``
+        are a blend the tone map applies, measured on the frame with its halo: no pass over
+        the frame but the tone map's. Else, when nothing after the glare reads the glared
+        frame (no eye pass, or one that leaves the frame as it is at a photopic
+        ``adaptation``: ``display.night_vision.leaves_frame``), the tone map adds the halo;
+        else the glared frame is made and goes through the eye's pass (``_eye``)."""
+        known = adaptation is not None
+        if eye and known and not self.night_vision:
+            halo = self._glare_halo(texture, camera, size, glare)
+            mesopic = self._eye_pass(colour_only=True).colours(
+                texture, size, adaptation=adaptation, glare_halo=halo
+            )
+            return texture, halo, mesopic
+        if eye and not (known and leaves_frame(adaptation)):
             shown = self._glared(texture, camera, size, glare)
             shown = self._eye(
                 shown, state, camera, size, measured=measured, adaptation=adaptation,
                 colour_only=not self.night_vision,
             )  # fmt: skip
-            return shown, None
+            return shown, None, None
         halo = self._glare_halo(texture, camera, size, glare)
         if eye:  # the pass's state for this adaptation (the exposure's key); no pass runs
             texture = self._eye(
                 texture, state, camera, size, measured=measured, adaptation=adaptation,
                 colour_only=not self.night_vision,
             )  # fmt: skip
-        return texture, halo
+        return texture, halo, None
 
     def _glared(self, texture, camera, size, glare: str):
         """``texture`` with the halo of ``glare`` added (post/glare_composite.glsl), or as
@@ -714,7 +724,7 @@ class FrameGraph:
             exposure = key / adapted
             measure = weighting in ("average", "eye")  # the pass holds this frame's average
         with self._section("display"):
-            shown, halo = self._glare_and_eye(
+            shown, halo, mesopic = self._glare_and_eye(
                 texture, state, camera, (w, h), glare, eye=eye,
                 measured=measure or exposure == "auto", adaptation=adapted,
             )  # fmt: skip
@@ -722,14 +732,17 @@ class FrameGraph:
                 key = 2.0**compensation_ev * DEFAULT_KEY
                 self._post.draw(
                     shown, framebuffer, (w, h), tonemap, key,
-                    auto_exposure=self.exposure_pass(), glare_halo=halo,
+                    auto_exposure=self.exposure_pass(), glare_halo=halo, mesopic=mesopic,
                 )  # fmt: skip
             else:
                 scale = float(exposure) * 2.0**compensation_ev
                 if adapted is not None and metering == "eye":
                     nv = self._night_vision if self.night_vision else self._eye_colour
                     scale = 2.0**compensation_ev * eye_key(adapted) / nv.last_state["lmes"]
-                self._post.draw(shown, framebuffer, (w, h), tonemap, scale, glare_halo=halo)
+                self._post.draw(
+                    shown, framebuffer, (w, h), tonemap, scale, glare_halo=halo,
+                    mesopic=mesopic,
+                )  # fmt: skip
             overlays = self._overlay_pass(state)
             if overlays is not None:
                 overlays.draw(framebuffer, camera, (w, h))
@@ -759,6 +772,16 @@ class FrameGraph:
                 self._overlays = None
             self.overlays = names
 
+    def _eye_pass(self, colour_only: bool) -> NightVision:
+        """The eye's pass: its colours alone (the eye metering's) or night vision."""
+        if colour_only:
+            if self._eye_colour is None:
+                self._eye_colour = NightVision(self.ctx, noise=False, acuity=False)
+            return self._eye_colour
+        if self._night_vision is None:
+            self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
+        return self._night_vision
+
     def _eye(
         self, texture, state, camera: Camera, size: tuple[int, int], *, measured: bool = False,
         adaptation: float | None = None, colour_only: bool = False,
@@ -767,14 +790,7 @@ class FrameGraph:
         alone, no blur or noise: the eye metering's). The adaptation is ``adaptation``
         (cd/m^2) or the frame's own log-average luminance, measured on the GPU (already,
         when ``measured``: the exposure pass holds this texture's average)."""
-        if colour_only:
-            if self._eye_colour is None:
-                self._eye_colour = NightVision(self.ctx, noise=False, acuity=False)
-            nv = self._eye_colour
-        else:
-            if self._night_vision is None:
-                self._night_vision = NightVision(self.ctx, seed=self.night_vision_seed)
-            nv = self._night_vision
+        nv = self._eye_pass(colour_only)
         meter = self.exposure_pass()
         if adaptation is not None:
             meter = adaptation

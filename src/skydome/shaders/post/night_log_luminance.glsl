@@ -7,6 +7,11 @@
 uniform sampler2D u_hdr;            // RGBA32F frame, GL rows: R, G, B (cd/m^2), A scotopic
 uniform vec3 u_luminance_weights;   // SRGB_LUMINANCE
 uniform float u_delta;              // cd/m^2, guards ln(0)
+#ifdef GLARE_HALO
+#include "post/glare_upsample.glsl"
+uniform sampler2D u_glare_halo;     // RGBA32F, half the frame's size (LINEAR, clamped)
+uniform float u_glare_core;
+#endif
 out vec4 frag;
 
 void main() {
@@ -14,6 +19,11 @@ void main() {
     vec2 grid = vec2(float(GRID_W), float(GRID_H));
     ivec2 src = min(ivec2(gl_FragCoord.xy * vec2(size) / grid), size - 1);
     vec4 c = texelFetch(u_hdr, src, 0);
+#ifdef GLARE_HALO
+    // the frame with its glare, as post/glare_composite.glsl writes it (the tone map adds
+    // it then: skydome.display.glare.GlareHalo)
+    c = u_glare_core * c + glare_enlarge(u_glare_halo, vec2(src) + 0.5);
+#endif
     float lp = dot(c.rgb, u_luminance_weights);
     float ls = c.a;
     frag = (lp > 0.0 || ls > 0.0)

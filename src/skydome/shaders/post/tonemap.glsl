@@ -31,6 +31,12 @@ uniform float u_hvs_a;              // hvs: a, b of seed 003 eq. 7
 uniform float u_hvs_b;
 uniform float u_hvs_x_scale;        // hvs: I_max / white (exposed luminance -> x)
 uniform float u_filmic_pre_scale;   // filmic: input scale before the fit
+#ifdef MESOPIC_BLEND
+// The eye's colours (skydome.display.night_vision.MesopicBlend), applied here instead of by
+// post/night_vision.glsl's pass over the frame: w_p RGB + (1 - w_p) L_s C_b.
+uniform float u_wp;                 // photopic share w_p
+uniform vec3 u_blue_grey;           // C_b, linear sRGB with luminance 1
+#endif
 #ifdef GLARE_HALO
 // The glare's halo, added here instead of by post/glare_composite.glsl's pass over the whole
 // frame (skydome.display.glare.GlareHalo): the frame's core share plus the enlarged halo.
@@ -117,10 +123,16 @@ void main() {
     // Nearest source texel; exact (no filtering) when target and source have the same size.
     ivec2 size = textureSize(u_hdr, 0);
     ivec2 src = min(ivec2(gl_FragCoord.xy * vec2(size) / u_viewport), size - 1);
-    vec3 hdr = texelFetch(u_hdr, src, 0).rgb;
+    vec4 texel = texelFetch(u_hdr, src, 0);
 #ifdef GLARE_HALO
     // The glare's last step here, as post/glare_composite.glsl writes it at texel src.
-    hdr = u_glare_core * hdr + glare_enlarge(u_glare_halo, vec2(src) + 0.5).rgb;
+    texel = u_glare_core * texel + glare_enlarge(u_glare_halo, vec2(src) + 0.5);
+#endif
+#ifdef MESOPIC_BLEND
+    // The eye's colours here, as post/night_vision.glsl writes them (no blur, no noise).
+    vec3 hdr = u_wp * texel.rgb + (1.0 - u_wp) * texel.a * u_blue_grey;
+#else
+    vec3 hdr = texel.rgb;
 #endif
     vec3 v = srgb_encode(tonemap_display_linear(hdr * exposure_scale()));
 #if TONEMAP_QUANTIZE
