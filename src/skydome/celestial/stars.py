@@ -8,7 +8,7 @@ and precession, 50"/yr); every update rotates them to East-North-Up with the loc
 sidereal time (one 3x3 matrix), adds the diurnal aberration (<= 0.32") and refracts them
 with the scene's weather (``refraction_saemundsson``, the observer's pressure and
 temperature, as ``Observer.sky`` does for the Sun and the Moon; tabulated once per weather,
-within 0.01" of the law: ``refract_altitudes_tabulated``). Stars more than 1 deg below
+within 0.01" of the law: ``refraction_tabulated``). Stars more than 1 deg below
 the camera's horizon (the dip at its altitude) are dropped: the atmosphere's ground hides
 them anyway.
 
@@ -44,8 +44,8 @@ from skydome.physics.constants import J2000_JD
 from skydome.physics.refraction import (
     SAEMUNDSSON,
     horizon_dip_sin,
-    refract_altitudes_tabulated,
     refraction_scale,
+    refraction_tabulated,
 )
 from skydome.spectra import SRGB_LUMINANCE, conversion_matrix
 from skydome.spectra.blackbody import planck_relative
@@ -122,8 +122,10 @@ class StarsLayer(Layer):
         self._scint = Scintillation(len(self._index), self.seed) if self.twinkle else None
         self._places_jd: float | None = None
         self._places: np.ndarray | None = None  # (N, 3) apparent, true equator of date
+        self._columns: tuple | None = None  # (the places, their (3, N) columns)
         self._points: PointSources | None = None
         self._colours: tuple | None = None  # (basis, (N, 4))
+        self._lit: tuple | None = None  # (the colours, colours x lux)
         self._drawn: tuple | None = None  # (key, directions, channels)
         self._serial = 0
         self._state_key = None
@@ -145,30 +147,41 @@ class StarsLayer(Layer):
         if self._places_jd is None or abs(jd_tt - self._places_jd) > APPARENT_PLACE_REFRESH_DAYS:
             self._places = catalogue.apparent_unit_vectors(jd_tt, self._index)
             self._places_jd = jd_tt
+        if self._columns is None or self._columns[0] is not self._places:
+            # the places as three contiguous columns: every step below works on 1-D arrays
+            # (an (N, 3) product goes to multithreaded BLAS, whose idle threads spin on the
+            # cores a CPU rasterizer draws with; row gathers of (N, 3) cost more than 1-D)
+            self._columns = (self._places, np.ascontiguousarray(self._places.T))
+        px, py, pz = self._columns[1]
         lat = math.radians(float(obs.latitude))
         lon = math.radians(float(obs.longitude))
         lst = float(gast(float(t.jd_ut1), jd_tt)) + lon
-        # einsum, not matmul: a product this size goes to multithreaded BLAS, whose idle
-        # threads spin on the cores that a CPU rasterizer draws with.
-        enu = np.einsum("ij,kj->ik", self._places, frames.equatorial_to_enu_matrix(lst, lat))
+        m = frames.equatorial_to_enu_matrix(lst, lat)
+        x, y, z = (px * m[k, 0] + py * m[k, 1] + pz * m[k, 2] for k in range(3))
         # Diurnal aberration: the observer moves east at omega x (distance from the axis).
         # frames.aberrate's first-order formula u' = normalize(u + b - u (u.b)), written out
         # for b = (beta, 0, 0) (a third of the general form's cost for 37,622 stars): its
         # length is sqrt(1 + beta^2 (1 - u_x^2)) for a unit u.
         speed = frames.diurnal_speed_au_per_day(lat, float(obs.elevation_m))
         beta = speed / frames.C_AU_PER_DAY
-        east = enu[:, 0].copy()
-        enu *= ((1.0 - beta * east) / np.sqrt(1.0 + beta * beta * (1.0 - east * east)))[:, None]
-        enu[:, 0] += beta / np.sqrt(1.0 + beta * beta * (1.0 - east * east))
+        inv_length = 1.0 / np.sqrt(1.0 + beta * beta * (1.0 - x * x))
+        shrink = (1.0 - beta * x) * inv_length
+        x = x * shrink + beta * inv_length
+        y *= shrink
+        z *= shrink
         # Refraction raises each star towards the zenith along its vertical; Saemundsson's
         # law refracts nothing below its lowest altitude, so only the stars above it (about
         # half of them) go through it: the others keep their airless directions.
-        # (by the law tabulated for the weather: within 0.01" of it, a fifth of its cost;
-        # rows taken by index: a boolean mask of an (N, 3) array costs twice as much)
-        seen = np.flatnonzero(enu[:, 2] > _REFRACTED_ABOVE_Z)
-        alt = np.arcsin(np.clip(enu[:, 2], -1.0, 1.0))
+        # (by the law tabulated for the weather: within 0.01" of it, a fifth of its cost)
+        alt = np.arcsin(np.clip(z, -1.0, 1.0))
+        seen = np.flatnonzero(z > _REFRACTED_ABOVE_Z)
         scale = refraction_scale(state.pressure_hPa, state.temperature_C)
-        enu[seen], alt[seen] = refract_altitudes_tabulated(enu[seen], alt[seen], scale)
+        alt_seen, ratio = refraction_tabulated(alt[seen], scale)
+        alt[seen] = alt_seen
+        x[seen] *= ratio
+        y[seen] *= ratio
+        z[seen] = np.sin(alt_seen)
+        enu = np.stack([x, y, z], axis=1)
         return enu, alt
 
     def fresh(self) -> StarsLayer:
@@ -176,6 +189,7 @@ class StarsLayer(Layer):
         hold for APPARENT_PLACE_REFRESH_DAYS, whichever sky asks: ``Sky.at``) and colours."""
         layer = super().fresh()
         layer._places_jd, layer._places = self._places_jd, self._places
+        layer._columns = self._columns
         layer._colours = self._colours
         return layer
 
@@ -223,6 +237,14 @@ class StarsLayer(Layer):
             self._colours = (basis, black_body_colours(basis, self.teff_k))
         return self._colours[1]
 
+    def lit_colours(self, basis: SpectralBasis) -> np.ndarray:
+        """(N, 4) channels of the layer's stars in ``basis`` at their own illuminance (lux),
+        without twinkling: :meth:`colours` times ``lux`` (cached)."""
+        colours = self.colours(basis)
+        if self._lit is None or self._lit[0] is not colours:
+            self._lit = (colours, colours * self.lux[:, None])
+        return self._lit[1]
+
     def draw(self, frame: DrawContext) -> None:
         if self.directions is None:
             return
@@ -231,10 +253,11 @@ class StarsLayer(Layer):
         key = (self._serial, id(frame.basis), lowest)
         if self._drawn is None or self._drawn[0] != key:
             keep = np.flatnonzero(self.altitude_rad > lowest)
-            lux = self.lux[keep]
             if self._twinkle_at is not None:
-                lux = lux * self.twinkle_factors(keep)
-            channels = self.colours(frame.basis)[keep] * lux[:, None]
+                lux = self.lux[keep] * self.twinkle_factors(keep)
+                channels = self.colours(frame.basis)[keep] * lux[:, None]
+            else:
+                channels = self.lit_colours(frame.basis)[keep]
             self._drawn = (key, self.directions[keep], channels)
         _, directions, channels = self._drawn
         self._n_drawn = len(directions)

@@ -122,6 +122,19 @@ def refract_altitudes_tabulated(
     :func:`saemundsson_table` (the weather's factor ``scale``, :func:`refraction_scale`):
     (apparent unit vectors, apparent altitudes rad). Less than half the law's cost for a
     catalogue of stars."""
+    alt, ratio = refraction_tabulated(airless_alt_rad, scale)
+    out = enu * ratio[:, None]
+    out[:, 2] = np.sin(alt)
+    return out, alt
+
+
+def refraction_tabulated(
+    airless_alt_rad: np.ndarray, scale: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The apparent altitudes (rad) of airless altitudes ``airless_alt_rad`` (N,) by
+    Saemundsson's law tabulated for the weather's factor ``scale``, and the factor
+    cos(apparent) / cos(airless) that scales a unit vector's horizontal components
+    (:func:`refract_altitudes_tabulated`; the vertical one is sin(apparent))."""
     alt0, alt_step, ratio0, ratio_step = saemundsson_table(float(scale))
     lowest = math.radians(SAEMUNDSSON[3])
     per_rad = (SAEMUNDSSON_TABLE_SIZE - 1) / (0.5 * math.pi - lowest)
@@ -139,9 +152,7 @@ def refract_altitudes_tabulated(
     below = airless_alt_rad < lowest  # the law refracts nothing there
     alt = np.where(below, airless_alt_rad, alt)
     ratio[below] = 1.0
-    out = enu * ratio[:, None]
-    np.sin(alt, out=out[:, 2])
-    return out, alt
+    return alt, ratio
 
 
 def airless_offset(z, scale: float = 1.0) -> np.ndarray:
