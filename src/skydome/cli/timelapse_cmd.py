@@ -184,9 +184,12 @@ def register(app: typer.Typer) -> None:
             [] if to_mp4 else check_frame_folder(target, replace=replace, replace_hint="--replace")
         )
 
+        from skydome.cli.blas_threads import single_blas_thread
         from skydome.display.adaptation import EyeAdaptation
         from skydome.scene import state_series
         from skydome.sky import Sky, aim_camera
+
+        single_blas_thread()  # its spinning threads would take cores from the rasterizer
 
         console = Console(soft_wrap=True)
         with precompute_progress(console) as report:

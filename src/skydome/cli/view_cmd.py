@@ -130,6 +130,7 @@ def register(app: typer.Typer) -> None:
         except ImportError as exc:
             raise ParameterError(f"skydome view needs {exc.name}: {INSTALL_HINT}") from None
 
+        from skydome.cli.blas_threads import single_blas_thread
         from skydome.gpu import gl_info
         from skydome.sky import Sky
         from skydome.viewer.app import ViewerWindow
@@ -138,6 +139,8 @@ def register(app: typer.Typer) -> None:
 
         console = Console(soft_wrap=True)
         with ViewerWindow(width, height, vsync=vsync, panel=panel) as window:
+            if gl_info(window.ctx).software:
+                single_blas_thread()  # its spinning threads would take the rasterizer's cores
             if description.clouds is not None and gl_info(window.ctx).software:
                 # on a CPU rasterizer the interactive march (an eighth of the resolution,
                 # accumulated over frames); a GPU marches the still frames' quality
