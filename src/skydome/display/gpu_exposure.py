@@ -46,7 +46,8 @@ class LogLuminanceInputs(ShaderInputs):
 @dataclass(frozen=True)
 class AutoExposureInputs(ShaderInputs):
     """What ``post/tonemap.glsl`` compiled with AUTO_EXPOSURE reads: the measured
-    log-luminance texture, its 1 x 1 level, the logarithm's offset (cd/m^2)."""
+    log-luminance grid's mean (GridMean's 1 x 1 texture), its level (0), the logarithm's
+    offset (cd/m^2)."""
 
     u_log_luminance: object
     u_log_luminance_level: float
@@ -128,7 +129,7 @@ class GpuExposure:
         return self._passes[metering_id]
 
     def measure(self, hdr_texture, metering: str = "average") -> None:
-        """Average the log luminance of ``hdr_texture`` (RGBA32F) into the 1 x 1 level, with
+        """Average the log luminance of ``hdr_texture`` (RGBA32F) into one texel, with
         the weights of ``metering`` (``skydome.display.exposure.METERINGS``)."""
         self.fbo.viewport = (0, 0, *GRID)
         weights = tuple(float(x) for x in SRGB_LUMINANCE)
