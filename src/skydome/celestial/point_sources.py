@@ -357,7 +357,8 @@ class PointSources:
         # rest of the work is done for the sources near the tile only.
         bound = math.ceil(PSF_EXTENT_SIGMA * (sigma if seeing_sigma_rad == 0.0 else MAX_SIGMA_PX))
         ahead = self._in_view(camera, d, w, h, bound)
-        idx, x, y, faces, seen = self._positions(camera, d[ahead], w, h)
+        # (rows gathered by np.take: 4-8x a fancy index of an (N, 3) array)
+        idx, x, y, faces, seen = self._positions(camera, np.take(d, ahead, axis=0), w, h)
         idx = ahead[idx]
         if isinstance(camera, EquirectCamera):
             # The seam: a quad that may cross x = 0 or x = w gets a copy one frame width
@@ -377,7 +378,7 @@ class PointSources:
             near &= seen
         near = np.flatnonzero(near)
         idx, x, y, faces, cx, cy = (a[near] for a in (idx, x, y, faces, cx, cy))
-        du = d[idx]
+        du = np.take(d, idx, axis=0)
         sig = self._sigmas(camera, du, faces, x, y, w, h, sigma, seeing_sigma_rad)
         hx, hy = np.ceil(PSF_EXTENT_SIGMA * sig[:, 0]), np.ceil(PSF_EXTENT_SIGMA * sig[:, 1])
         # The quad, in tile pixels: whole pixels from the source's pixel +- half.
@@ -403,16 +404,16 @@ class PointSources:
         # The source's position from the quad's corner (small numbers: float32 keeps them to
         # 1e-6 px, and a seam copy gets the very same weights as the source).
         data[:, 4], data[:, 5] = x[keep] - x0 - data[:, 0], y[keep] - y0 - data[:, 1]
-        data[:, 6:8] = 1.0 / sig[keep]
+        data[:, 6:8] = 1.0 / np.take(sig, keep, axis=0)
         data[:, 8] = faces[keep]
-        data[:, 9:13] = c[idx[keep]]
+        data[:, 9:13] = np.take(c, idx[keep], axis=0)
         table = (hx <= (TABLE_SIZE - 1) // 2) & (hy <= (TABLE_SIZE - 1) // 2)
         # Quads that may touch an occluder: within its radius plus the quad's half diagonal.
         near = np.zeros(keep.size, bool)
         if len(disks):
             reach = (float(max(hx.max(), hy.max())) + 1.0) * math.sqrt(2.0)
             reach *= _max_rad_per_px(camera, w, h)
-            dk = du[keep]
+            dk = np.take(du, keep, axis=0)
             for u, cos_r in zip(disks[:, :3], disks[:, 3], strict=True):
                 r = math.acos(min(max(float(cos_r), -1.0), 1.0))
                 near |= dk @ u > math.cos(min(r + reach, math.pi))

@@ -255,10 +255,11 @@ class StarsLayer(Layer):
             keep = np.flatnonzero(self.altitude_rad > lowest)
             if self._twinkle_at is not None:
                 lux = self.lux[keep] * self.twinkle_factors(keep)
-                channels = self.colours(frame.basis)[keep] * lux[:, None]
+                channels = np.take(self.colours(frame.basis), keep, axis=0) * lux[:, None]
             else:
-                channels = self.lit_colours(frame.basis)[keep]
-            self._drawn = (key, self.directions[keep], channels)
+                channels = np.take(self.lit_colours(frame.basis), keep, axis=0)
+            # (rows gathered by np.take: 4-8x a fancy index of an (N, 3) array)
+            self._drawn = (key, np.take(self.directions, keep, axis=0), channels)
         _, directions, channels = self._drawn
         self._n_drawn = len(directions)
         if self._points is None:
