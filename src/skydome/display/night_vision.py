@@ -404,6 +404,28 @@ class NightVision:
         ls = max(math.exp(log_s / weight) - DEFAULT_DELTA, DEFAULT_DELTA)
         return ls / lp
 
+    def _mesopic(self, hdr_texture, lp: float, glare_halo: GlareHalo | None = None):
+        """(S/P ratio or None, m, L_mes) at the photopic adaptation ``lp`` (cd/m^2): the S/P
+        ratio measured on the frame (with ``glare_halo`` added) only where m can be < 1."""
+        if leaves_frame(lp):  # m = 1 whatever the S/P ratio: not measured
+            return None, 1.0, lp
+        sp = self.measure_sp_ratio(hdr_texture, glare_halo)
+        m, lmes = mesopic_coefficient(lp, lp * sp)
+        return sp, m, lmes
+
+    def _record(self, lp, sp, m, lmes, sigma, level, level_sigma) -> None:
+        """:attr:`last_state` of a pass (or of :meth:`colours`)."""
+        self.last_state = {
+            "lp": lp,
+            "sp": sp,
+            "ls": None if sp is None else lp * sp,
+            "m": m,
+            "lmes": lmes,
+            "sigma_px": sigma,
+            "level": level,
+            "level_sigma_px": level_sigma,
+        }
+
     def colours(
         self,
         hdr_texture,
@@ -423,15 +445,8 @@ class NightVision:
         if tuple(hdr_texture.size) != (w, h):
             raise ParameterError(f"size = {size!r} does not match the texture's {hdr_texture.size}")
         lp = check_range("adaptation", adaptation, 1e-12, 1e12, "cd/m^2")
-        if leaves_frame(lp):
-            sp, (m, lmes) = None, (1.0, lp)
-        else:
-            sp = self.measure_sp_ratio(hdr_texture, glare_halo)
-            m, lmes = mesopic_coefficient(lp, lp * sp)
-        self.last_state = {
-            "lp": lp, "sp": sp, "ls": None if sp is None else lp * sp, "m": m, "lmes": lmes,
-            "sigma_px": 0.0, "level": 0, "level_sigma_px": 0.0,
-        }  # fmt: skip
+        sp, m, lmes = self._mesopic(hdr_texture, lp, glare_halo)
+        self._record(lp, sp, m, lmes, 0.0, 0, 0.0)
         if m >= 1.0:
             return None
         # m <= 0 (post/night_vision.glsl's NV_SCOTOPIC_ONLY): w_p = 0 gives L_s C_b exactly
@@ -477,23 +492,10 @@ class NightVision:
                 f"adaptation must be a luminance in cd/m^2 or a GpuExposure, got "
                 f"{type(adaptation).__name__}"
             )
-        if leaves_frame(lp):  # m = 1 whatever the S/P ratio: not measured
-            sp, (m, lmes) = None, (1.0, lp)
-        else:
-            sp = self.measure_sp_ratio(hdr_texture)
-            m, lmes = mesopic_coefficient(lp, lp * sp)
+        sp, m, lmes = self._mesopic(hdr_texture, lp)
         sigma = blur_sigma_px(lp, px) if self.acuity and m < 1.0 else 0.0
         level, s = blur_plan(sigma, (w, h))
-        self.last_state = {
-            "lp": lp,
-            "sp": sp,
-            "ls": None if sp is None else lp * sp,
-            "m": m,
-            "lmes": lmes,
-            "sigma_px": sigma,
-            "level": level,
-            "level_sigma_px": s,
-        }
+        self._record(lp, sp, m, lmes, sigma, level, s)
         if m >= 1.0:
             return hdr_texture
 

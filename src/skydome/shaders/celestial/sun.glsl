@@ -29,13 +29,20 @@ float baumbach_corona(float rho) {
     return 1e-6 * (0.0532 * pow(rho, -2.5) + 1.425 * pow(rho, -7.0) + 2.565 * pow(rho, -17.0));
 }
 
-// I(mu)/I(1) of the 4 wavelengths of group g at mu, the cosine of the heliocentric angle
-// (Horner's scheme).
+// sum_k A_k m_k of the 4 wavelengths of group g: the limb law's polynomial over the moments
+// m = (lo, hi) = (mu^0, mu^1, mu^2; mu^3, mu^4, mu^5) of one point, or their sums over a
+// pixel's points (the law is linear in them).
+vec4 limb_polynomial(int g, vec3 lo, vec3 hi) {
+    int k = 6 * g;
+    return u_limb[k] * lo.x + u_limb[k + 1] * lo.y + u_limb[k + 2] * lo.z
+         + u_limb[k + 3] * hi.x + u_limb[k + 4] * hi.y + u_limb[k + 5] * hi.z;
+}
+
+// I(mu)/I(1) of the 4 wavelengths of group g at mu, the cosine of the heliocentric angle.
 // twin: skydome.celestial.limb_darkening.limb_darkening(mu, wavelength_nm) mu=0..1 g=0..1 CAMERA_MODEL=0 NUM_GROUPS=2
 vec4 limb_darkening(int g, float mu) {
-    int k = 6 * g;
-    return u_limb[k] + mu * (u_limb[k + 1] + mu * (u_limb[k + 2] + mu * (u_limb[k + 3]
-         + mu * (u_limb[k + 4] + mu * u_limb[k + 5]))));
+    vec3 lo = vec3(1.0, mu, mu * mu);
+    return limb_polynomial(g, lo, mu * mu * mu * lo);
 }
 
 // What the point xy of the frame sees, summed over a pixel's points: the disk's powers of mu
@@ -55,9 +62,9 @@ void sun_sample(vec2 xy, inout vec3 lo, inout vec3 hi, inout float corona) {
     // Heliocentric angle: sin(psi) = sin(theta) / sin(alpha) (exact for a sphere).
     float rho = sin_offset(true_dir, u_sun_direction_true) / u_sin_angular_radius;
     float mu = sqrt(max(1.0 - rho * rho, 0.0));
-    float mu3 = mu * mu * mu;
-    lo += vec3(1.0, mu, mu * mu);
-    hi += mu3 * vec3(1.0, mu, mu * mu);
+    vec3 powers = vec3(1.0, mu, mu * mu);
+    lo += powers;
+    hi += mu * mu * mu * powers;
 }
 
 void main() {
@@ -67,9 +74,8 @@ void main() {
     for (int i = 0; i < n * n; ++i) sun_sample(disk_sample_xy(gl_FragCoord.xy, i, n), lo, hi, corona);
     vec4 radiance = vec4(0.0);
     for (int g = 0; g < NUM_GROUPS; ++g) {
-        int k = 6 * g;  // sum over the points of I(mu)/I(1) (limb_darkening's polynomial)
-        vec4 limb = u_limb[k] * lo.x + u_limb[k + 1] * lo.y + u_limb[k + 2] * lo.z
-                  + u_limb[k + 3] * hi.x + u_limb[k + 4] * hi.y + u_limb[k + 5] * hi.z;
+        // the sum over the points of I(mu)/I(1), limb_darkening's polynomial
+        vec4 limb = limb_polynomial(g, lo, hi);
         radiance += u_spectral_to_rgbs[g] * (limb * u_limb_norm[g] + vec4(corona * u_corona_scale));
     }
     frag = radiance * (u_sun_scale / float(n * n));
