@@ -92,7 +92,7 @@ class GpuToneMapper:
         self._defines = defines
         # One program per (operator, auto exposure), compiled on first use: the operator is
         # a compile-time constant (a CPU rasterizer would run every operator's branch).
-        self._passes: dict[tuple[int, bool], FullscreenPass] = {}
+        self._passes: dict[tuple[int, bool, bool, bool], FullscreenPass] = {}
         self._targets: dict[tuple[int, int], tuple] = {}
 
     def program(

@@ -561,7 +561,7 @@ class FrameGraph:
                 adaptation=adaptation,
             )  # fmt: skip
             if eye and auto_key is not None:
-                nv = self._night_vision if self.night_vision else self._eye_colour
+                nv = self._eye_pass(colour_only=not self.night_vision)
                 scale = auto_key / nv.last_state["lmes"]
             draw = None if overlays is None else (lambda fbo, s: overlays.draw(fbo, camera, s))
             return gpu_tonemap(
@@ -591,20 +591,17 @@ class FrameGraph:
                 texture, size, adaptation=adaptation, glare_halo=halo
             )
             return texture, halo, mesopic
+        halo = None
         if eye and not (known and leaves_frame(adaptation)):
             shown = self._glared(texture, camera, size, glare)
+        else:  # the eye's pass, if any, runs no pass: it sets its state (the exposure's key)
+            shown, halo = texture, self._glare_halo(texture, camera, size, glare)
+        if eye:
             shown = self._eye(
                 shown, state, camera, size, measured=measured, adaptation=adaptation,
                 colour_only=not self.night_vision,
             )  # fmt: skip
-            return shown, None, None
-        halo = self._glare_halo(texture, camera, size, glare)
-        if eye:  # the pass's state for this adaptation (the exposure's key); no pass runs
-            texture = self._eye(
-                texture, state, camera, size, measured=measured, adaptation=adaptation,
-                colour_only=not self.night_vision,
-            )  # fmt: skip
-        return texture, halo, None
+        return shown, halo, None
 
     def _glared(self, texture, camera, size, glare: str):
         """``texture`` with the halo of ``glare`` added (post/glare_composite.glsl), or as
@@ -737,7 +734,7 @@ class FrameGraph:
             else:
                 scale = float(exposure) * 2.0**compensation_ev
                 if adapted is not None and metering == "eye":
-                    nv = self._night_vision if self.night_vision else self._eye_colour
+                    nv = self._eye_pass(colour_only=not self.night_vision)
                     scale = 2.0**compensation_ev * eye_key(adapted) / nv.last_state["lmes"]
                 self._post.draw(
                     shown, framebuffer, (w, h), tonemap, scale, glare_halo=halo,

@@ -1,6 +1,6 @@
 // Exposure pass, step 1: the log luminance of an HDR frame on a fixed power-of-two grid of
-// samples (u_grid texels spread evenly over the frame), for GridMean (post/grid_mean.glsl) to average:
-// (w ln(delta + L), w) where L > 0, (0, 0) where the frame holds no light (outside a
+// samples (u_grid texels spread evenly over the frame), for GridMean (post/grid_mean.glsl)
+// to average: (w ln(delta + L), w) where L > 0, (0, 0) where the frame holds no light (outside a
 // fisheye's circle, empty space), as skydome.display.exposure.log_average_luminance ignores
 // those pixels. The mean of the two channels' ratio is Reinhard et al. 2002's eq. 1.
 // The weight w is the metering's (skydome.display.exposure.metering_weights, its twin):

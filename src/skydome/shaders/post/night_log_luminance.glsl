@@ -1,16 +1,14 @@
 // Night vision, step 0: the scene's photopic and scotopic log luminances on a fixed
-// power-of-two grid of samples (the grid and the sampling of post/log_luminance.glsl), for a
-// two-pass mean to average (skydome.display.gpu_exposure.GridMean): (ln(delta + L_p), ln(delta + L_s), 1) where the pixel holds light,
-// (0, 0, 0) where it holds none. The mean's ratio g/b - r/b is the log of the
+// power-of-two grid of samples (the grid and the sampling of post/log_luminance.glsl), for
+// skydome.display.gpu_exposure.GridMean to average: (ln(delta + L_p), ln(delta + L_s), 1)
+// where the pixel holds light, (0, 0, 0) where it holds none. The mean's ratio g/b - r/b is the log of the
 // adaptation field's S/P ratio (geometric mean over the frame), which CIE 191:2010's MES2
 // needs besides the photopic adaptation luminance. Twin: skydome/reference/night_vision.py.
 uniform sampler2D u_hdr;            // RGBA32F frame, GL rows: R, G, B (cd/m^2), A scotopic
 uniform vec3 u_luminance_weights;   // SRGB_LUMINANCE
 uniform float u_delta;              // cd/m^2, guards ln(0)
 #ifdef GLARE_HALO
-#include "post/glare_upsample.glsl"
-uniform sampler2D u_glare_halo;     // RGBA32F, half the frame's size (LINEAR, clamped)
-uniform float u_glare_core;
+#include "post/glare_halo.glsl"
 #endif
 out vec4 frag;
 
@@ -22,7 +20,7 @@ void main() {
 #ifdef GLARE_HALO
     // the frame with its glare, as post/glare_composite.glsl writes it (the tone map adds
     // it then: skydome.display.glare.GlareHalo)
-    c = u_glare_core * c + glare_enlarge(u_glare_halo, vec2(src) + 0.5);
+    c = add_glare_halo(c, src);
 #endif
     float lp = dot(c.rgb, u_luminance_weights);
     float ls = c.a;

@@ -19,8 +19,7 @@
 #endif
 
 uniform sampler2D u_src;            // RGBA32F, GL rows
-uniform vec3 u_blue_grey;           // C_b, linear sRGB with luminance 1
-uniform float u_wp;                 // photopic share w_p
+#include "post/mesopic_blend.glsl"
 #if NV_VRADIUS > 0
 uniform float u_weights[NV_VRADIUS + 1];
 #endif
@@ -59,7 +58,7 @@ void main() {
 #if NV_SCOTOPIC_ONLY
     vec3 rgb = c.a * u_blue_grey;
 #else
-    vec3 rgb = u_wp * c.rgb + (1.0 - u_wp) * c.a * u_blue_grey;
+    vec3 rgb = mesopic_blend(c);
 #endif
 #if NV_NOISE
     rgb *= 1.0 + night_noise(p, c.a);

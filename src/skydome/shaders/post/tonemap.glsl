@@ -33,16 +33,13 @@ uniform float u_hvs_x_scale;        // hvs: I_max / white (exposed luminance -> 
 uniform float u_filmic_pre_scale;   // filmic: input scale before the fit
 #ifdef MESOPIC_BLEND
 // The eye's colours (skydome.display.night_vision.MesopicBlend), applied here instead of by
-// post/night_vision.glsl's pass over the frame: w_p RGB + (1 - w_p) L_s C_b.
-uniform float u_wp;                 // photopic share w_p
-uniform vec3 u_blue_grey;           // C_b, linear sRGB with luminance 1
+// post/night_vision.glsl's pass over the frame.
+#include "post/mesopic_blend.glsl"
 #endif
 #ifdef GLARE_HALO
 // The glare's halo, added here instead of by post/glare_composite.glsl's pass over the whole
-// frame (skydome.display.glare.GlareHalo): the frame's core share plus the enlarged halo.
-#include "post/glare_upsample.glsl"
-uniform sampler2D u_glare_halo;     // RGBA32F, half the frame's size (LINEAR, clamped)
-uniform float u_glare_core;
+// frame (skydome.display.glare.GlareHalo).
+#include "post/glare_halo.glsl"
 #endif
 #ifdef AUTO_EXPOSURE
 // Automatic exposure on the GPU (skydome.display.gpu_exposure): u_exposure is then
@@ -126,11 +123,11 @@ void main() {
     vec4 texel = texelFetch(u_hdr, src, 0);
 #ifdef GLARE_HALO
     // The glare's last step here, as post/glare_composite.glsl writes it at texel src.
-    texel = u_glare_core * texel + glare_enlarge(u_glare_halo, vec2(src) + 0.5);
+    texel = add_glare_halo(texel, src);
 #endif
 #ifdef MESOPIC_BLEND
     // The eye's colours here, as post/night_vision.glsl writes them (no blur, no noise).
-    vec3 hdr = u_wp * texel.rgb + (1.0 - u_wp) * texel.a * u_blue_grey;
+    vec3 hdr = mesopic_blend(texel);
 #else
     vec3 hdr = texel.rgb;
 #endif
