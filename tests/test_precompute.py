@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skydome.atmosphere import Spectrum, preset
+from skydome.atmosphere import DensityProfile, Spectrum, preset
 from skydome.atmosphere import precompute as precompute_module
 from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, gauss_legendre, precompute
@@ -346,6 +346,50 @@ def test_several_views_per_fragment_give_the_same_tables(ctx, monkeypatch, atmos
     for name, want in plain.items():
         assert np.array_equal(fast[name], want), name
     assert np.ptp(plain["multiple_scattering"].astype(np.float64)) > 0
+
+
+@pytest.mark.gl
+def test_leaving_out_negligible_mie_keeps_the_tables(ctx, monkeypatch):
+    # The density pass leaves J's Mie sum out of the layers above the aerosols (NO_MIE, with
+    # the Rayleigh sum from the field's moments). SMALL's 8 layers of J lie at 0, 2, 8, 18,
+    # 33, 51, 73 and 100 km: the top four are left out. Against every layer with its Mie sum
+    # (MIE_NEGLIGIBLE = 0), the tables may move by float32 rounding only: ln J is stored in
+    # float32 (2e-6 of J's value per step at ln J ~ -20) and goes through three orders.
+    config = PrecomputeConfig(orders=4, **SMALL)
+    params = preset("earth")
+    runs = precompute_module.mie_runs(params, config.multiple_wavelengths, config.ms_size[0])
+    assert runs == [(0, 4, False), (4, 4, True)]
+    fast = precompute(ctx, params, config).to_arrays()
+    monkeypatch.setattr(precompute_module, "MIE_NEGLIGIBLE", 0.0)
+    assert precompute_module.mie_runs(params, config.multiple_wavelengths, 8) == [(0, 8, False)]
+    every = precompute(ctx, params, config).to_arrays()
+    for name in ("transmittance", "scattering", "single_mie"):
+        assert np.array_equal(fast[name], every[name]), name
+    got, want = fast["multiple_scattering"], every["multiple_scattering"]  # ln of the values
+    assert np.abs(got.astype(np.float64) - want).max() < 2e-5
+    irr, irr_want = fast["irradiance_spectral"], every["irradiance_spectral"]
+    assert np.abs(irr - irr_want).max() <= 2e-5 * np.abs(irr_want).max()
+
+
+def test_mie_is_kept_wherever_aerosols_are():
+    # J's Mie sum is left out by layer, where the aerosols are negligible, not above an
+    # altitude: a haze that ends at 13 km and a volcanic veil at 21-30 km (zero between and
+    # above) keep it in the layers of each and leave it out of those between and above. The
+    # layers of 32 lie at (k / 31)^2 x 100 km: k = 11 at 12.7 km (in the haze's fade to its
+    # end), 12-13 at 15.1 and 17.7 km (clear), 14-17 at 20.5-30.2 km (the veil and its
+    # edges), 18 at 33.9 km (clear).
+    params = preset("earth")
+    alt_km = [0, 2, 4, 8, 12, 13, 19, 21, 30, 32, 100]
+    values = [1, math.exp(-2 / 1.2), math.exp(-4 / 1.2), math.exp(-8 / 1.2), 4.5e-5, 0, 0,
+              1e-3, 1e-3, 0, 0]  # fmt: skip
+    veiled = params.with_(mie_density=DensityProfile.tabulated(np.array(alt_km) * 1e3, values))
+    wl = PrecomputeConfig().multiple_wavelengths
+    assert precompute_module.mie_runs(veiled, wl, 32) == [
+        (0, 12, False), (12, 2, True), (14, 4, False), (18, 14, True),
+    ]  # fmt: skip
+    # the default Earth's 1.2 km haze falls below 1e-10 of the air's scattering from 30.2 km
+    # (k = 17) up
+    assert precompute_module.mie_runs(params, wl, 32) == [(0, 17, False), (17, 15, True)]
 
 
 def test_views_per_fragment_fit_the_draw_buffers():

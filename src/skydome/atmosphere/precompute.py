@@ -61,6 +61,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from skydome.atmosphere.columns import densities
 from skydome.atmosphere.inputs import (
     AirGeometry,
     AirSpectra,
@@ -725,11 +726,17 @@ class _Precomputation:
     def _density(self) -> np.ndarray:
         """ln J_n from the field of order n-1, as (groups * r, mu, nu * mu_s, 4) float32."""
         nv = self.nu_per
-        defines = {**self.ms_defines, "NU_PER_FRAGMENT": nv}
-        prog = _program(self.ctx, "atmosphere/precompute_density.glsl", defines, layered=True)
         w, h, d = self.j_shape
         self.j_fbo.viewport = (0, 0, w // nv, h)
-        prog.draw(self.j_fbo, replace(self.ms_inputs, u_field=self.field), layers=(0, d))
+        inputs = replace(self.ms_inputs, u_field=self.field)
+        # the layers above the aerosols without J's Mie sum (NO_MIE), each run in one draw
+        runs = mie_runs(self.params, self.ms_wl, self.cfg.ms_size[0])
+        for first, count, negligible in runs:
+            defines = {**self.ms_defines, "NU_PER_FRAGMENT": nv}
+            if negligible:
+                defines["NO_MIE"] = 1
+            prog = _program(self.ctx, "atmosphere/precompute_density.glsl", defines, layered=True)
+            prog.draw(self.j_fbo, inputs, layers=(first, count))
         reads = [_read_array(a) for a in self.j_arrays]  # draw buffer g * nv + t
         mu_s = self.cfg.ms_size[2]
         groups = [
@@ -874,6 +881,35 @@ class _Precomputation:
             )
 
         return log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))
+
+
+#: J's Mie sum is left out of a layer of its grid where the aerosols scatter less than this
+#: fraction of what the air scatters, at every wavelength (precompute_density.glsl's NO_MIE):
+#: their share of J is the ratio times the Mie-weighted mean of the radiance over the
+#: Rayleigh-weighted one (at most ~1e2, a lobe on the brightest part of the sky), so it stays
+#: below float32's resolution of J (6e-8).
+MIE_NEGLIGIBLE = 1e-10
+
+
+def mie_runs(
+    params: AtmosphereParams, wavelengths_nm, n_layers: int
+) -> list[tuple[int, int, bool]]:
+    """The layers of J's grid (``n_layers`` radii, spaced as ``scattering_texel_params``
+    spaces them) as runs ``(first, count, negligible)``: whether the aerosols' scattering is
+    below MIE_NEGLIGIBLE of the air's in each layer of the run at every wavelength."""
+    rb, rt = params.bottom_radius_m, params.top_radius_m
+    rho = math.sqrt(rt * rt - rb * rb) * np.arange(n_layers) / max(n_layers - 1, 1)
+    rho_r, rho_m, _ = densities(params, np.sqrt(rho * rho + rb * rb) - rb).T
+    c = params.coefficients(wavelengths_nm)
+    mie = rho_m * float(np.max(c["mie_scattering"]))
+    negligible = mie <= MIE_NEGLIGIBLE * rho_r * float(np.min(c["rayleigh_scattering"]))
+    runs: list[tuple[int, int, bool]] = []
+    for k, flag in enumerate(negligible.tolist()):
+        if runs and runs[-1][2] == flag:
+            runs[-1] = (runs[-1][0], runs[-1][1] + 1, flag)
+        else:
+            runs.append((k, 1, flag))
+    return runs
 
 
 def views_per_fragment(n_nu: int, groups: int) -> int:

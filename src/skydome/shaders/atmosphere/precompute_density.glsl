@@ -11,6 +11,10 @@
 // directions are ~20 deg apart, and a lobe a few degrees wide (Martian dust's diffraction peak,
 // g ~ 0.97) made the weighted mean jump from one direction to the next as v moved (bands in
 // the orders >= 2); self-normalized, the broadening keeps the energy.
+// With NO_MIE (the layers above the aerosols, where their scattering is negligible beside the
+// air's: precompute.py draws those layers apart) J is the Rayleigh sum alone, and that from
+// the field's moments: sum (1 + (v.w)^2) L dw = S + v^T M v with S = sum L dw and
+// M = sum w w^T L dw, 7 sums per direction for all the views instead of a phase per view.
 // Stored as a logarithm (atmosphere/precomputed_params.glsl).
 #include "atmosphere/precompute_common.glsl"
 
@@ -45,6 +49,43 @@ void main() {
         v[t] = view_in_frame(mu, mu_s, nu);
     }
 
+#ifdef NO_MIE
+    // the field's moments per group: S, then M's xx, yy, zz, xy, xz, yz
+    vec4 moment[NUM_GROUPS * 7];
+    for (int k = 0; k < NUM_GROUPS * 7; ++k) moment[k] = vec4(0.0);
+    for (int a = 0; a < N_MU; ++a) {
+        vec2 m = mu_node(a, r);
+        float sin_a = safe_sqrt(1.0 - m.x * m.x);
+        for (int j = 0; j < N_PHI; ++j) {
+            vec3 w = vec3(sin_a * u_phi_cs[j], m.x);
+            int x = a * N_PHI + j;
+            for (int k = 0; k < NUM_GROUPS; ++k) {
+                vec4 Lw = texelFetch(u_field, ivec2(k * N_DIR + x, row), 0);
+                int o = 7 * k;
+                moment[o] += Lw;
+                moment[o + 1] += (w.x * w.x) * Lw;
+                moment[o + 2] += (w.y * w.y) * Lw;
+                moment[o + 3] += (w.z * w.z) * Lw;
+                moment[o + 4] += (w.x * w.y) * Lw;
+                moment[o + 5] += (w.x * w.z) * Lw;
+                moment[o + 6] += (w.y * w.z) * Lw;
+            }
+        }
+    }
+    vec3 d = densities(r - u_bottom_radius);
+    for (int k = 0; k < NUM_GROUPS; ++k) {
+        int o = 7 * k;
+        for (int t = 0; t < NV; ++t) {
+            vec3 u = v[t];
+            vec4 sum_r = moment[o] + (u.x * u.x) * moment[o + 1] + (u.y * u.y) * moment[o + 2]
+                       + (u.z * u.z) * moment[o + 3]
+                       + 2.0 * ((u.x * u.y) * moment[o + 4] + (u.x * u.z) * moment[o + 5]
+                                + (u.y * u.z) * moment[o + 6]);
+            out_density[k * NV + t] =
+                to_log(u_rayleigh_scattering[k] * (d.x * 3.0 / (16.0 * PI)) * sum_r);
+        }
+    }
+#else
 #ifndef MIE_LOBES
     float g = u_mie_g;
     float gg = 1.0 + g * g;
@@ -103,4 +144,5 @@ void main() {
 #endif
         }
     }
+#endif
 }
