@@ -623,12 +623,18 @@ class _Precomputation:
                     log_j = st.run("density", 0.4, self._density)
                     orders = n
                     j_n = np.exp(log_j.astype(np.float64))
-                    ratio = None if j_total is None else order_ratio(j_n, j_prev, self.ms_groups)
-                    j_prev = j_n
                     j_total = j_n if j_total is None else j_total + j_n
-                    added = float(j_n.sum()) / max(float(j_total.sum()), 1e-300)
-                    if n == cfg.orders or (cfg.tolerance > 0 and added < cfg.tolerance):
+                    if n == cfg.orders:
                         break
+                    # the series' sums and ratios with a tolerance only (each reads J's grid)
+                    ratio = None
+                    if cfg.tolerance > 0:
+                        added = float(j_n.sum()) / max(float(j_total.sum()), 1e-300)
+                        if added < cfg.tolerance:
+                            break
+                        if j_prev is not None:
+                            ratio = order_ratio(j_n, j_prev, self.ms_groups)
+                        j_prev = j_n
                     settling = cfg.tolerance > 0 and n >= FIRST_SETTLED_ORDER
                     if settling and geometric(ratio, ratio_before):
                         # the orders fall geometrically: the rest of the series, added at
