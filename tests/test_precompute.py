@@ -392,6 +392,43 @@ def test_mie_is_kept_wherever_aerosols_are():
     assert precompute_module.mie_runs(params, wl, 32) == [(0, 17, False), (17, 15, True)]
 
 
+@pytest.mark.gl
+@pytest.mark.parametrize(
+    "atmosphere, changes",
+    [
+        ("earth", dict(wavelengths="fast")),
+        ("mars", dict(directions=(6, 4, 7))),  # a spectral phase function; an odd n_phi
+    ],
+)
+def test_the_field_mirrored_about_the_suns_plane_is_the_field(
+    ctx, monkeypatch, atmosphere, changes
+):
+    # The field pass draws the azimuths on one side of the Sun's vertical plane and mirrors
+    # them (drawn_azimuths, mirror_azimuths): the air is spherically symmetric, so a direction
+    # and its mirror image have the same radiance, and drawn they come out bit-identical (the
+    # same nu, the same rays); every table must be the same as with all azimuths drawn.
+    config = PrecomputeConfig(orders=3, **{**SMALL, **changes})
+    params = preset(atmosphere)
+    half = precompute(ctx, params, config).to_arrays()
+    monkeypatch.setattr(precompute_module, "drawn_azimuths", lambda n_phi: n_phi)
+    every = precompute(ctx, params, config).to_arrays()
+    for name, want in every.items():
+        assert np.array_equal(half[name], want), name
+
+
+def test_mirror_azimuths_layout():
+    # azimuth n_phi - 1 - j is azimuth j's mirror image, per group and cosine; an odd n_phi's
+    # middle azimuth (pi) is its own
+    for n_phi, want in ((4, [0, 1, 1, 0]), (5, [0, 1, 2, 1, 0]), (1, [0])):
+        drawn = precompute_module.drawn_azimuths(n_phi)
+        half = np.arange(3 * drawn, dtype=float).reshape(1, 3 * drawn, 1).repeat(4, axis=2)
+        full = precompute_module.mirror_azimuths(half, n_phi)
+        assert full.shape == (1, 3 * n_phi, 4)
+        blocks = full[0, :, 0].reshape(3, n_phi)
+        for b in range(3):
+            assert blocks[b].tolist() == [b * drawn + k for k in want]
+
+
 def test_views_per_fragment_fit_the_draw_buffers():
     # one draw buffer per (group, nu), at most 8 (OpenGL 3.3's guaranteed minimum)
     views = precompute_module.views_per_fragment

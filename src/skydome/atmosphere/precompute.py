@@ -692,7 +692,6 @@ class _Precomputation:
         self.field = self._keep(
             _nearest(ctx.texture((self.n_dir * gm, mu_s * r), 4, dtype="f4"), ctx)
         )
-        self.field_fbo = self._keep(ctx.framebuffer(color_attachments=[self.field]))
         self.ground = self._keep(linear_clamped(ctx.texture((mu_s, gm), 4, dtype="f4"), ctx))
         self.ground_fbo = self._keep(ctx.framebuffer(color_attachments=[self.ground]))
         # J is drawn nu_per views per fragment, one draw buffer per (group, view)
@@ -704,24 +703,30 @@ class _Precomputation:
         self.j_fbo = self._keep(ctx.framebuffer(color_attachments=self.j_arrays))
 
     def _field(self, order: int, log_j: np.ndarray | None = None) -> None:
-        """The radiance field of ``order`` (from ln J of that order)."""
+        """The radiance field of ``order`` (from ln J of that order): the azimuths of one side
+        of the Sun's vertical plane drawn, the others their mirror images."""
+        n_phi = self.cfg.directions[2]
+        drawn = drawn_azimuths(n_phi)
         # orders >= 2: nv azimuths per fragment (one draw buffer each, reordered on read-back)
-        nv = 1 if order == 1 else views_per_fragment(self.cfg.directions[2], 1)
-        defines = {**self.ms_defines, "FIELD_SINGLE": int(order == 1), "NU_PER_FRAGMENT": nv}
+        nv = 1 if order == 1 else views_per_fragment(drawn, 1)
+        defines = {
+            **self.ms_defines,
+            "FIELD_SINGLE": int(order == 1),
+            "NU_PER_FRAGMENT": nv,
+            "PHI_DRAWN": drawn,
+        }
         prog = _program(self.ctx, "atmosphere/precompute_field.glsl", defines)
         if log_j is not None:
             self.j3d.write(np.ascontiguousarray(log_j, dtype="f4").tobytes())
         inputs = replace(self.ms_inputs, u_density=self.j3d, u_ground_irradiance=self.ground)
-        if nv == 1:
-            self.field_fbo.viewport = (0, 0, *self.field.size)
-            prog.draw(self.field_fbo, inputs)
-            return
         w, h = self.field.size
+        w = w // n_phi * drawn
         parts = [self._keep(self.ctx.texture((w // nv, h), 4, dtype="f4")) for _ in range(nv)]
         fbo = self._keep(self.ctx.framebuffer(color_attachments=parts))
         fbo.viewport = (0, 0, w // nv, h)
         prog.draw(fbo, inputs)
-        field = interleave_views([_read_2d(t)[None] for t in parts], 1)
+        field = interleave_views([_read_2d(t)[None] for t in parts], 1)[0]
+        field = mirror_azimuths(field, n_phi)
         self.field.write(np.ascontiguousarray(field).tobytes())
 
     def _ground_irradiance(self) -> None:
@@ -916,6 +921,22 @@ def mie_runs(
         else:
             runs.append((k, 1, flag))
     return runs
+
+
+def drawn_azimuths(n_phi: int) -> int:
+    """How many of the field's ``n_phi`` azimuths are drawn: those up to the Sun's
+    antisolar half-plane, (j + 1/2) 2 pi / n_phi <= pi; the rest mirror them."""
+    return (n_phi + 1) // 2
+
+
+def mirror_azimuths(half: np.ndarray, n_phi: int) -> np.ndarray:
+    """The field (rows, groups * cosines * n_phi, 4) from its drawn azimuths (rows, groups *
+    cosines * drawn, 4): azimuth n_phi - 1 - j is the mirror image of azimuth j."""
+    rows, width, c = half.shape
+    drawn = drawn_azimuths(n_phi)
+    blocks = half.reshape(rows, width // drawn, drawn, c)
+    mirrored = blocks[:, :, n_phi - drawn - 1 :: -1] if n_phi > drawn else blocks[:, :, :0]
+    return np.concatenate([blocks, mirrored], axis=2).reshape(rows, -1, c)
 
 
 def views_per_fragment(n_nu: int, groups: int) -> int:

@@ -14,11 +14,20 @@
 // radiance of a point does not depend on the view direction, so it is computed once per
 // (r, mu_s, direction) instead of once per texel of the 4D table and direction.
 // Orders >= 2 (FIELD_SINGLE 0) with NU_PER_FRAGMENT > 1: a fragment computes that many azimuths
-// j = block * NU_PER_FRAGMENT + t of one cosine a, output t each (texel x = group * N_DIR /
-// NU_PER_FRAGMENT + a * N_PHI / NU_PER_FRAGMENT + block; precompute.py reorders): they share
+// j = block * NU_PER_FRAGMENT + t of one cosine a, output t each (texel x = group * N_MU *
+// PHI_DRAWN / NU_PER_FRAGMENT + a * PHI_DRAWN / NU_PER_FRAGMENT + block; precompute.py
+// reorders): they share
 // the ray's nodes, columns and transmittances (which depend on the cosine only).
+// Only the azimuths j < PHI_DRAWN are drawn (texel x = group * N_MU * PHI_DRAWN +
+// a * PHI_DRAWN + j): the field is mirror-symmetric about the Sun's vertical plane (the air is
+// spherically symmetric, and the azimuths (j + 1/2) 2 pi / N_PHI pair up as j, N_PHI - 1 - j,
+// whose rays have the same nu), and precompute.py fills in the others (they came out
+// bit-identical when drawn).
 #ifndef NU_PER_FRAGMENT
 #define NU_PER_FRAGMENT 1
+#endif
+#ifndef PHI_DRAWN
+#define PHI_DRAWN N_PHI
 #endif
 #include "atmosphere/precompute_ray.glsl"
 
@@ -31,10 +40,10 @@ out vec4 frag;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    int g = p.x / N_DIR;
-    int i = p.x - g * N_DIR;
-    int a = i / N_PHI;
-    int j = i - a * N_PHI;
+    int g = p.x / (N_MU * PHI_DRAWN);
+    int i = p.x - g * (N_MU * PHI_DRAWN);
+    int a = i / PHI_DRAWN;
+    int j = i - a * PHI_DRAWN;
     int n_mu_s = int(u_density_size.y);
     int k = p.y / n_mu_s;
     int jm = p.y - k * n_mu_s;
@@ -86,8 +95,8 @@ layout(location = 0) out vec4 frags[NV];
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    const int per_group = N_DIR / NV;
-    const int blocks = N_PHI / NV;
+    const int per_group = N_MU * PHI_DRAWN / NV;
+    const int blocks = PHI_DRAWN / NV;
     int g = p.x / per_group;
     int i = p.x - g * per_group;
     int a = i / blocks;
