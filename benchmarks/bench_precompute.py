@@ -109,19 +109,22 @@ def accuracy(ctx, params, base: PrecomputeConfig) -> None:
         print(f"{name:<32} {dt:5.1f} s  " + "  ".join(cells))
 
 
-def monte_carlo(ctx, params, base: PrecomputeConfig) -> None:
+def monte_carlo(ctx, base: PrecomputeConfig) -> None:
     """The default tables (10 orders, spectral at 440/550/680 nm) against the Monte Carlo
-    reference of tests/data (reference/ms.py), if present."""
+    reference of tests/data (reference/ms.py), if present, for the atmosphere it was traced
+    in (its ``preset``)."""
     path = Path(__file__).resolve().parents[1] / "tests" / "data" / "ms_reference_earth.npz"
     if not path.exists():
         print(f"\n(no {path.name}: Monte Carlo comparison skipped)")
         return
     data = dict(np.load(path))
+    params = preset(str(data["preset"]))
     wl = tuple(float(w) for w in data["wavelengths_nm"]) + (700.0,)
     pa = precompute(ctx, params, replace(base, wavelengths=wl, output="spectral", orders=10))
     dirs = data["view_dirs"]
     print(
-        f"\nvs Monte Carlo ({path.name}), relative RMS over sky directions (%) at {wl[:3]} nm,"
+        f"\nvs Monte Carlo ({path.name}, {data['preset']}), relative RMS over sky directions (%)"
+        f" at {wl[:3]} nm,"
         " and the reference's own standard error"
     )
     for ia, alt in enumerate(data["camera_altitude_m"]):
@@ -161,7 +164,7 @@ def main() -> None:
     )
     time_config(ctx, params, config, args.runs)
     if args.accuracy:
-        monte_carlo(ctx, params, config)
+        monte_carlo(ctx, config)
         accuracy(ctx, params, config)
 
 

@@ -49,6 +49,12 @@ implementation reorganizes it (measured in ``benchmarks/bench_precompute.py``):
    the orders >= 2 marches a ray's nodes, columns and transmittances once for them (they do not
    depend on nu), and so does the field of orders >= 2 for 8 azimuths of one cosine. Each pass
    2-3x faster; the tables are bit-identical to one nu per fragment.
+8. Symmetry: the field is mirror-symmetric about the Sun's vertical plane (the air is
+   spherically symmetric), so the field pass draws the azimuths on one side of it and the
+   others are their mirror images (``mirror_azimuths``; bit-identical to drawing them), and
+   the density pass fetches each value once for a direction and its mirror image.
+9. Above the aerosols (``mie_runs``: where they scatter below ``MIE_NEGLIGIBLE`` of the air)
+   J's layers are drawn without the Mie sum, the Rayleigh sum taken from the field's moments.
 """
 
 from __future__ import annotations

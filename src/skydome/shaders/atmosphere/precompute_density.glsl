@@ -11,6 +11,10 @@
 // directions are ~20 deg apart, and a lobe a few degrees wide (Martian dust's diffraction peak,
 // g ~ 0.97) made the weighted mean jump from one direction to the next as v moved (bands in
 // the orders >= 2); self-normalized, the broadening keeps the energy.
+// The field is mirror-symmetric about the Sun's vertical plane (precompute_field.glsl: azimuth
+// N_PHI - 1 - j is azimuth j's mirror image, w' = (w.x, -w.y, w.z)): each of its values is
+// fetched once for both directions (PHI_PAIRS pairs; an odd N_PHI's middle azimuth, pi, is its
+// own mirror image and counted once).
 // With NO_MIE (the layers above the aerosols, where their scattering is negligible beside the
 // air's: precompute.py draws those layers apart) J is the Rayleigh sum alone, and that from
 // the field's moments: sum (1 + (v.w)^2) L dw = S + v^T M v with S = sum L dw and
@@ -32,6 +36,16 @@ flat in int v_layer;
 #endif
 #define NV NU_PER_FRAGMENT
 layout(location = 0) out vec4 out_density[NUM_GROUPS * NV];
+#define PHI_PAIRS ((N_PHI + 1) / 2)
+
+// 1 where azimuth j has a mirror image of its own, 0 for an odd N_PHI's middle one.
+float mirrored(int j) {
+#if (N_PHI & 1) == 1
+    return 2 * j + 1 == N_PHI ? 0.0 : 1.0;
+#else
+    return 1.0;
+#endif
+}
 
 void main() {
     ivec2 texel = ivec2(gl_FragCoord.xy);
@@ -56,19 +70,21 @@ void main() {
     for (int a = 0; a < N_MU; ++a) {
         vec2 m = mu_node(a, r);
         float sin_a = safe_sqrt(1.0 - m.x * m.x);
-        for (int j = 0; j < N_PHI; ++j) {
+        for (int j = 0; j < PHI_PAIRS; ++j) {
             vec3 w = vec3(sin_a * u_phi_cs[j], m.x);
             int x = a * N_PHI + j;
+            // w and its mirror image: the terms odd in w.y cancel, the others double
+            float even = 1.0 + mirrored(j), odd = 1.0 - mirrored(j);
             for (int k = 0; k < NUM_GROUPS; ++k) {
                 vec4 Lw = texelFetch(u_field, ivec2(k * N_DIR + x, row), 0);
                 int o = 7 * k;
-                moment[o] += Lw;
-                moment[o + 1] += (w.x * w.x) * Lw;
-                moment[o + 2] += (w.y * w.y) * Lw;
-                moment[o + 3] += (w.z * w.z) * Lw;
-                moment[o + 4] += (w.x * w.y) * Lw;
-                moment[o + 5] += (w.x * w.z) * Lw;
-                moment[o + 6] += (w.y * w.z) * Lw;
+                moment[o] += even * Lw;
+                moment[o + 1] += (even * w.x * w.x) * Lw;
+                moment[o + 2] += (even * w.y * w.y) * Lw;
+                moment[o + 3] += (even * w.z * w.z) * Lw;
+                moment[o + 4] += (odd * w.x * w.y) * Lw;
+                moment[o + 5] += (even * w.x * w.z) * Lw;
+                moment[o + 6] += (odd * w.y * w.z) * Lw;
             }
         }
     }
@@ -105,26 +121,31 @@ void main() {
         vec2 m = mu_node(a, r);
         float sin_a = safe_sqrt(1.0 - m.x * m.x);
         float w_a = m.y * (2.0 * PI / float(N_PHI));
-        for (int j = 0; j < N_PHI; ++j) {
+        for (int j = 0; j < PHI_PAIRS; ++j) {
             vec3 w = vec3(sin_a * u_phi_cs[j], m.x);
             int x = a * N_PHI + j;
+            float twin = mirrored(j);
             vec4 Lw[NUM_GROUPS];
             for (int k = 0; k < NUM_GROUPS; ++k)
                 Lw[k] = texelFetch(u_field, ivec2(k * N_DIR + x, row), 0);
             for (int t = 0; t < NV; ++t) {
+                // the cosines with w and with its mirror image (w.y negated)
                 float c = dot(v[t], w);
-                float pr = 1.0 + c * c;
+                float c2 = c - 2.0 * v[t].y * w.y;
+                float pr = 1.0 + c * c + twin * (1.0 + c2 * c2);
 #ifndef MIE_LOBES
                 // Cornette-Shanks without its constant factor (it cancels in the normalization).
                 float ix = inversesqrt(max(gg - 2.0 * g * c, 1e-8));
-                float pm = pr * ix * ix * ix;
+                float ix2 = inversesqrt(max(gg - 2.0 * g * c2, 1e-8));
+                float pm = (1.0 + c * c) * ix * ix * ix + twin * (1.0 + c2 * c2) * ix2 * ix2 * ix2;
                 norm_m[t] += pm * w_a;
 #endif
                 for (int k = 0; k < NUM_GROUPS; ++k) {
                     int o = k * NV + t;
                     sum_r[o] += pr * Lw[k];
 #ifdef MIE_LOBES
-                    vec4 pm = mie_phase_group_broadened(c, k, MS_MIE_LOBE_G_MAX);
+                    vec4 pm = mie_phase_group_broadened(c, k, MS_MIE_LOBE_G_MAX)
+                            + twin * mie_phase_group_broadened(c2, k, MS_MIE_LOBE_G_MAX);
                     norm_m[o] += pm * w_a;
 #endif
                     sum_m[o] += pm * Lw[k];
