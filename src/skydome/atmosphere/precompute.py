@@ -527,6 +527,8 @@ class PrecomputedAtmosphere:
 
 
 _GL_DTYPE = {"f2": "f2", "f4": "f4", "u2": "nu2"}
+#: Values a slice of the tables' encoding converts at once (2 MB of float64).
+ENCODE_SLICE = 1 << 18
 _NP_DTYPE = {"f2": "f2", "f4": "f4", "u2": "u2"}
 
 
@@ -536,8 +538,15 @@ def encode_log_table(log_values: np.ndarray, dtype: str) -> tuple[np.ndarray, tu
         return np.ascontiguousarray(log_values, dtype="f4"), (0.0, 1.0)
     hi = float(log_values.max())
     lo = hi - LOG16_SPAN
-    q = np.rint((log_values.astype(np.float64) - lo) * (65535.0 / LOG16_SPAN))
-    return np.clip(q, 0, 65535).astype(np.uint16), (lo, LOG16_SPAN)
+    out = np.empty(log_values.shape, np.uint16)
+    flat, stored = log_values.reshape(-1), out.reshape(-1)
+    # in slices: a fresh float64 copy of a whole table (32 MB) costs more in page faults than
+    # its arithmetic
+    for start in range(0, flat.size, ENCODE_SLICE):
+        part = slice(start, start + ENCODE_SLICE)
+        q = np.rint((flat[part].astype(np.float64) - lo) * (65535.0 / LOG16_SPAN))
+        stored[part] = np.clip(q, 0, 65535)
+    return out, (lo, LOG16_SPAN)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -844,13 +853,15 @@ class _Precomputation:
         data = [_read_array(a) for a in arrays]
         peak = max(float(np.abs(x).max()) for x in data)
         scale = F16_TABLE_MAX / peak if peak > 0 else 1.0
-        out = [
-            linear_clamped(
-                ctx.texture3d((w, h, d), 4, (x * scale).astype(np.float16).tobytes(), dtype="f2"),
-                ctx,
-            )
-            for x in data
-        ]
+        out = []
+        for x in data:
+            half = np.empty(x.shape, np.float16)
+            flat, stored = x.reshape(-1), half.reshape(-1)
+            for start in range(0, flat.size, ENCODE_SLICE):  # in slices (encode_log_table)
+                part = slice(start, start + ENCODE_SLICE)
+                stored[part] = flat[part] * np.float32(scale)
+            tex = ctx.texture3d((w, h, d), 4, half, dtype="f2")
+            out.append(linear_clamped(tex, ctx))
         return out[0], out[1], scale
 
     def _irradiance(self, has_ms: bool):
