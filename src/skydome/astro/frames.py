@@ -58,6 +58,8 @@ __all__ = [
     "true_obliquity",
     "nutation_angles",
     "nutation_matrix",
+    "ecliptic_to_true_matrix_from_angles",
+    "nutation_matrix_from_angles",
     "precession_matrix",
     "precession_nutation_matrix",
     "equation_of_equinoxes",
@@ -262,27 +264,29 @@ def true_obliquity(jd_tt) -> np.ndarray:
     return mean_obliquity(jd_tt) + nutation_angles(jd_tt)[1]
 
 
-def _ecliptic_to_true_matrix_from(eps_a, dpsi, deps) -> np.ndarray:
-    """Mean ecliptic of date -> true equator of date: N R1(-eps_A), which is
-    R1(-(eps_A + deps)) R3(-dpsi) (N's last factor R1(eps_A) cancels)."""
+def ecliptic_to_true_matrix_from_angles(eps_a, dpsi, deps) -> np.ndarray:
+    """Mean ecliptic of date -> true equator of date from the mean obliquity ``eps_a`` and
+    the nutation angles ``dpsi``, ``deps`` (rad; for a caller that has them already):
+    N R1(-eps_A), which is R1(-(eps_A + deps)) R3(-dpsi) (N's last factor R1(eps_A) cancels)."""
     return rot_x(-(eps_a + deps)) @ rot_z(-dpsi)
 
 
-def _nutation_matrix_from(eps_a, dpsi, deps) -> np.ndarray:
-    """N = R1(-(eps_A + deps)) R3(-dpsi) R1(eps_A) (Explanatory Supplement eq. 3.222-3)."""
-    return _ecliptic_to_true_matrix_from(eps_a, dpsi, deps) @ rot_x(eps_a)
+def nutation_matrix_from_angles(eps_a, dpsi, deps) -> np.ndarray:
+    """The nutation matrix from the mean obliquity and the nutation angles (rad):
+    N = R1(-(eps_A + deps)) R3(-dpsi) R1(eps_A) (Explanatory Supplement eq. 3.222-3)."""
+    return ecliptic_to_true_matrix_from_angles(eps_a, dpsi, deps) @ rot_x(eps_a)
 
 
 def ecliptic_to_true_equator_matrix(jd_tt) -> np.ndarray:
     """Matrix (..., 3, 3) taking mean-ecliptic-of-date vectors to the true equator of date."""
     dpsi, deps = nutation_angles(jd_tt)
-    return _ecliptic_to_true_matrix_from(mean_obliquity(jd_tt), dpsi, deps)
+    return ecliptic_to_true_matrix_from_angles(mean_obliquity(jd_tt), dpsi, deps)
 
 
 def nutation_matrix(jd_tt) -> np.ndarray:
     """Matrix (..., 3, 3) taking mean-of-date equatorial vectors to true-of-date."""
     dpsi, deps = nutation_angles(jd_tt)
-    return _nutation_matrix_from(mean_obliquity(jd_tt), dpsi, deps)
+    return nutation_matrix_from_angles(mean_obliquity(jd_tt), dpsi, deps)
 
 
 def precession_nutation_matrix(jd_tt) -> np.ndarray:

@@ -179,7 +179,7 @@ class Observer:
         h = np.broadcast_to(np.asarray(self.elevation_m, float), shape).ravel()
         eps_a = frames.mean_obliquity(jd)
         dpsi, deps = frames.nutation_angles(jd)
-        ecl_to_true = frames._ecliptic_to_true_matrix_from(eps_a, dpsi, deps)
+        ecl_to_true = frames.ecliptic_to_true_matrix_from_angles(eps_a, dpsi, deps)
         om = frames._fundamental_args(julian_centuries(jd))[4]
         eqeq = dpsi * np.cos(eps_a) + (0.00264 * np.sin(om) + 0.000063 * np.sin(2 * om)) * ARCSEC
         gast = gmst(t.jd_ut1.ravel(), jd) + eqeq

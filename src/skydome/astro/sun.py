@@ -137,7 +137,7 @@ def sun_apparent_geocentric(jd_tt: Any) -> dict[str, np.ndarray]:
     r = np.linalg.norm(g, axis=-1)
     v = np.einsum("...ij,...j->...i", to_mean_equator, v_ecl)
     u = frames.aberrate(g / r[..., None], v)
-    u = np.einsum("...ij,...j->...i", frames._nutation_matrix_from(eps_a, dpsi, deps), u)
+    u = np.einsum("...ij,...j->...i", frames.nutation_matrix_from_angles(eps_a, dpsi, deps), u)
     ra, dec, _ = frames.cartesian_to_spherical(u)
     lon, lat = frames.equatorial_to_ecliptic(ra, dec, eps_a + deps)
     return {
