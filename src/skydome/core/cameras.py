@@ -218,9 +218,11 @@ class PerspectiveCamera(Camera):
         )
 
     def project(self, directions, width: int, height: int):
-        d = _unit(directions)
+        return self._project_local(_unit(directions) @ self.basis(), width, height)
+
+    def _project_local(self, local: np.ndarray, width: int, height: int):
+        """project() of directions already in the camera's frame (right, up, forward)."""
         w, h = float(width), float(height)
-        local = d @ self.basis()  # (right, up, forward)
         t = math.tan(math.radians(self.fov_deg) / 2.0)
         f = local[..., 2]
         ok = f > 1e-9
@@ -245,7 +247,7 @@ class PerspectiveCamera(Camera):
         return _unit(local @ self.basis().T), np.ones(np.broadcast(x, y).shape, bool)
 
     def _disk_rects(self, d, w, h):
-        local = d @ self.basis()  # (right, up, forward)
+        local = _unit(d) @ self.basis()  # (right, up, forward)
         forward = local[:, 2]
         if np.all(forward <= 0.0):
             return []  # wholly behind the camera
@@ -264,7 +266,7 @@ class PerspectiveCamera(Camera):
             return []
         if np.any(forward <= 1e-6):
             return None
-        x, y, _ = self.project(d, w, h)
+        x, y, _ = self._project_local(local, w, h)
         return [(x.min(), y.min(), x.max(), y.max())]
 
 
