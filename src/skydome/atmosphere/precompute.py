@@ -67,7 +67,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from skydome.atmosphere.columns import densities
 from skydome.atmosphere.inputs import (
     AirGeometry,
     AirSpectra,
@@ -937,7 +936,9 @@ def mie_runs(
     below MIE_NEGLIGIBLE of the air's in each layer of the run at every wavelength."""
     rb, rt = params.bottom_radius_m, params.top_radius_m
     rho = math.sqrt(rt * rt - rb * rb) * np.arange(n_layers) / max(n_layers - 1, 1)
-    rho_r, rho_m, _ = densities(params, np.sqrt(rho * rho + rb * rb) - rb).T
+    altitude_m = np.sqrt(rho * rho + rb * rb) - rb
+    rho_r = params.rayleigh_density.density(altitude_m)
+    rho_m = params.mie_density.density(altitude_m)
     c = params.coefficients(wavelengths_nm)
     mie = rho_m * float(np.max(c["mie_scattering"]))
     negligible = mie <= MIE_NEGLIGIBLE * rho_r * float(np.min(c["rayleigh_scattering"]))
