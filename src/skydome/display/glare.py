@@ -194,8 +194,8 @@ def glare_fit_error(pixel_angle_rad: float, size: tuple[int, int], glare: str) -
 
 @dataclass(frozen=True)
 class GlareInputs(ShaderInputs):
-    """``post/glare_up.glsl`` and ``post/glare_composite.glsl`` (and the halving,
-    ``post/glare_down.glsl``): the source level, the coarser sum, this level's weight,
+    """``post/glare_up.glsl`` (and the halving, ``post/glare_down.glsl``, and the frame of
+    ``post/glare_composite.glsl``): the source level, the coarser sum, this level's weight,
     whether there is a coarser level (1) or not (0)."""
 
     u_src: object
@@ -224,7 +224,9 @@ class GpuGlare:
         self.ctx = ctx
         self._down = FullscreenPass(ctx, "post/glare_down.glsl", inputs=(GlareInputs,))
         self._up = FullscreenPass(ctx, "post/glare_up.glsl", inputs=(GlareInputs,))
-        self._composite = FullscreenPass(ctx, "post/glare_composite.glsl", inputs=(GlareInputs,))
+        self._composite = FullscreenPass(
+            ctx, "post/glare_composite.glsl", inputs=(GlareInputs, GlareHalo)
+        )
         self._targets = FloatTargets(ctx)
 
     def apply(self, hdr_texture, size: tuple[int, int], *, pixel_angle_rad: float, glare: str):
@@ -240,7 +242,7 @@ class GpuGlare:
         w, h = (int(v) for v in size)
         out, fbo = self._targets.get("out", (w, h))
         fbo.viewport = (0, 0, w, h)
-        self._composite.draw(fbo, GlareInputs(hdr_texture, halo.u_glare_halo, halo.u_glare_core))
+        self._composite.draw(fbo, GlareInputs(u_src=hdr_texture), halo)
         return out
 
     def halo(
