@@ -367,7 +367,7 @@ class MoonLayer(Layer):
         if rects == [] or not self._scaled(frame.altitude_m):
             return  # out of the frame (then its integrals wait for a frame that shows it)
         samples = disk_samples(
-            frame.camera, *frame.frame_size, self._moon.direction, self._moon.angular_radius_rad
+            frame.camera, *frame.frame_size, self._moon.angular_radius_rad, rects
         )
         moon = replace(self._inputs, u_disk_samples=float(samples))
         if self._eclipse is None:

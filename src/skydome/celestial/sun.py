@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from skydome.celestial.limb_darkening import disk_normalisation, limb_coefficients
-from skydome.core.cameras import CameraInputs, disk_samples
+from skydome.core.cameras import CameraInputs, disk_samples, disk_scissor
 from skydome.core.layer import DrawContext, Layer
 from skydome.core.lights import SkyState
 from skydome.gpu.inputs import ShaderInputs
@@ -113,16 +113,12 @@ class SunLayer(Layer):
         )  # fmt: skip
         # The apparent disk lies within its true radius of the apparent centre (refraction
         # only flattens it); 10 % spare.
-        samples = disk_samples(
-            frame.camera, *frame.frame_size, self._sun.direction, self._sun.angular_radius_rad
-        )
-        self.draw_small(
-            frame,
-            fpass,
-            (frame.view, replace(self._inputs, u_disk_samples=float(samples))),
-            self._sun.direction,
-            self._reach * self._sun.angular_radius_rad,
-        )
+        radius = self._sun.angular_radius_rad
+        size = frame.frame_size
+        rects = disk_scissor(frame.camera, *size, self._sun.direction, self._reach * radius)
+        samples = disk_samples(frame.camera, *size, radius, rects)
+        inputs = (frame.view, replace(self._inputs, u_disk_samples=float(samples)))
+        self.draw_in_rects(frame, fpass, inputs, rects)
 
     def info(self) -> dict:
         if self._inputs is None:

@@ -501,13 +501,15 @@ DISK_SAMPLES_PER_RADIUS = 12.0
 DISK_SAMPLES_MAX = 32
 
 
-def disk_samples(camera: Camera, width: int, height: int, direction, radius_rad: float) -> int:
+def disk_samples(
+    camera: Camera, width: int, height: int, radius_rad: float, rects: list | None
+) -> int:
     """Points per pixel side (n: n x n a pixel) over which ``celestial/disk_pixel.glsl``'s
-    disks of angular radius ``radius_rad`` towards ``direction`` (unit ENU) average in a
-    frame of ``width`` x ``height`` of ``camera`` (see DISK_SAMPLES_PER_RADIUS). 1 where
-    :func:`disk_scissor` finds no rectangle to confine the disk's pass to (a cube map, a
-    disk beside a perspective camera): that pass covers the whole frame."""
-    if disk_scissor(camera, width, height, direction, radius_rad) is None:
+    disks of angular radius ``radius_rad`` average in a frame of ``width`` x ``height`` of
+    ``camera`` (see DISK_SAMPLES_PER_RADIUS), drawn over ``rects`` (:func:`disk_scissor`'s
+    rectangles for the disk's pass). 1 where it found none to confine the pass to (None: a
+    cube map, a disk beside a perspective camera): that pass covers the whole frame."""
+    if rects is None:
         return 1
     pixel = camera.pixel_angle(width, height)
     if pixel <= 0.0 or radius_rad <= 0.0:
