@@ -18,7 +18,8 @@
 // With NO_MIE (the layers above the aerosols, where their scattering is negligible beside the
 // air's: precompute.py draws those layers apart) J is the Rayleigh sum alone, and that from
 // the field's moments: sum (1 + (v.w)^2) L dw = S + v^T M v with S = sum L dw and
-// M = sum w w^T L dw, 7 sums per direction for all the views instead of a phase per view.
+// M = sum w w^T L dw: 7 sums per fetched value (those odd in w.y cancel over a mirrored pair)
+// for all the views of the fragment, instead of a phase function per view.
 // Stored as a logarithm (atmosphere/precomputed_params.glsl).
 #include "atmosphere/precompute_common.glsl"
 
