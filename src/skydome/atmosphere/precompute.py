@@ -44,11 +44,12 @@ implementation reorganizes it (measured in ``benchmarks/bench_precompute.py``):
 5. 4 wavelengths per RGBA pass and all wavelength groups of a pass in one fragment (draw
    buffers), so the geometry and the transmittance lookups are shared by all wavelengths.
 7. Several nu per fragment (one draw buffer each, ``views_per_fragment``; reordered on the
-   read-back, ``interleave_views``): the density pass fetches each direction of the field once
-   for the 8 nu of a (r, mu, mu_s) (the fetches were 3/4 of that pass on llvmpipe); the pass of
-   the orders >= 2 marches a ray's nodes, columns and transmittances once for them (they do not
-   depend on nu), and so does the field of orders >= 2 for 8 azimuths of one cosine. Each pass
-   2-3x faster; the tables are bit-identical to one nu per fragment.
+   read-back, ``interleave_views``; up to MAX_VIEWS = 4): the density pass fetches each
+   direction of the field once for 4 nu of a (r, mu, mu_s) (the fetches were 3/4 of that pass
+   on llvmpipe); the pass of the orders >= 2 marches a ray's nodes, columns and transmittances
+   once for them (they do not depend on nu), and so does the field of orders >= 2 for 4
+   azimuths of one cosine. Each pass 2-3x faster; the tables are bit-identical to one nu per
+   fragment.
 8. Symmetry: the field is mirror-symmetric about the Sun's vertical plane (the air is
    spherically symmetric), so the field pass draws the azimuths on one side of it and the
    others are their mirror images (``mirror_azimuths``; bit-identical to drawing them), and
@@ -967,12 +968,20 @@ def mirror_azimuths(half: np.ndarray, n_phi: int) -> np.ndarray:
     return np.concatenate([blocks, mirrored], axis=2).reshape(rows, -1, c)
 
 
+#: The most views one fragment computes. 8 (the draw buffers' limit) made the density pass and
+#: the table of orders >= 2 slower than 4 on llvmpipe (0.64 / 0.52 s against 0.44 / 0.28 s,
+#: 16 wavelengths, 4 orders; 2 views: 0.75 / 0.38 s): each view keeps its sums in registers,
+#: and 8 views' spill, while 4 still share most of the work.
+MAX_VIEWS = 4
+
+
 def views_per_fragment(n_nu: int, groups: int) -> int:
     """How many of ``n_nu`` views (nu, or the field's azimuths) one fragment computes: the
-    largest divisor of ``n_nu`` with one draw buffer per (group, view) within MAX_GROUPS (8, the
-    draw buffers OpenGL 3.3 guarantees). The views share the fragment's fetches of the field
-    (density pass) or its ray's nodes and transmittances (the passes of the orders >= 2)."""
-    most = max(MAX_GROUPS // max(groups, 1), 1)
+    largest divisor of ``n_nu`` up to MAX_VIEWS with one draw buffer per (group, view) within
+    MAX_GROUPS (8, the draw buffers OpenGL 3.3 guarantees). The views share the fragment's
+    fetches of the field (density pass) or its ray's nodes and transmittances (the passes of
+    the orders >= 2)."""
+    most = max(min(MAX_VIEWS, MAX_GROUPS // max(groups, 1)), 1)
     return max(k for k in range(1, min(most, n_nu) + 1) if n_nu % k == 0)
 
 
