@@ -418,7 +418,8 @@ def test_the_field_mirrored_about_the_suns_plane_is_the_field(
 
 
 @pytest.mark.gl
-def test_density_of_an_isotropic_field_is_the_scattering_coefficient(ctx):
+@pytest.mark.parametrize("directions", [(12, 6, 16), (6, 4, 7)])  # odd: a self-mirrored azimuth
+def test_density_of_an_isotropic_field_is_the_scattering_coefficient(ctx, directions):
     # J = integral beta P L dw of a radiance L the same from every direction is beta L: both
     # phase functions integrate to one (the Rayleigh sum's 1 + (v.w)^2 is a polynomial the
     # sphere's product rule integrates exactly; the Mie sum is self-normalized). So a field of
@@ -427,7 +428,7 @@ def test_density_of_an_isotropic_field_is_the_scattering_coefficient(ctx):
     # this checks the density pass's sums over the mirrored azimuth pairs and its moments,
     # independently of the field pass.
     params = preset("earth")
-    cfg = PrecomputeConfig(**{**SMALL, "ms_size": (8, 16, 8, 8)})
+    cfg = PrecomputeConfig(**{**SMALL, "ms_size": (8, 16, 8, 8), "directions": directions})
     pc = precompute_module._Precomputation(ctx, params, cfg, None)
     pc.transmittance = precompute_module.TransmittanceTable(
         ctx, params, cfg.transmittance_size, cfg.transmittance_steps
