@@ -60,6 +60,7 @@ implementation reorganizes it (measured in ``benchmarks/bench_precompute.py``):
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 import weakref
@@ -538,15 +539,23 @@ def encode_log_table(log_values: np.ndarray, dtype: str) -> tuple[np.ndarray, tu
         return np.ascontiguousarray(log_values, dtype="f4"), (0.0, 1.0)
     hi = float(log_values.max())
     lo = hi - LOG16_SPAN
-    out = np.empty(log_values.shape, np.uint16)
-    flat, stored = log_values.reshape(-1), out.reshape(-1)
-    # in slices: a fresh float64 copy of a whole table (32 MB) costs more in page faults than
-    # its arithmetic
+
+    def encode(part: np.ndarray) -> np.ndarray:
+        return np.clip(np.rint((part.astype(np.float64) - lo) * (65535.0 / LOG16_SPAN)), 0, 65535)
+
+    return convert_in_slices(log_values, np.uint16, encode), (lo, LOG16_SPAN)
+
+
+def convert_in_slices(values: np.ndarray, dtype, convert: Callable) -> np.ndarray:
+    """``convert(values)`` stored as ``dtype``, computed ENCODE_SLICE values at a time: a
+    fresh float64 copy of a whole table (32 MB) costs more in page faults than its
+    arithmetic."""
+    out = np.empty(values.shape, dtype)
+    flat, stored = values.reshape(-1), out.reshape(-1)
     for start in range(0, flat.size, ENCODE_SLICE):
         part = slice(start, start + ENCODE_SLICE)
-        q = np.rint((flat[part].astype(np.float64) - lo) * (65535.0 / LOG16_SPAN))
-        stored[part] = np.clip(q, 0, 65535)
-    return out, (lo, LOG16_SPAN)
+        stored[part] = convert(flat[part])
+    return out
 
 
 # ----------------------------------------------------------------------------------------------
@@ -584,6 +593,7 @@ class _Precomputation:
         # Rough relative costs of the stages at default settings, for the progress fraction.
         self.stages = _Stages(ctx, progress, 1.0 + 0.3 + 0.5 * n_ms + 0.5 + 3.0 + 0.5)
         self._released: list = []
+        self._field_targets: dict[int, tuple] = {}  # views per fragment -> (parts, fbo)
 
     # ------------------------------------------------------------------ small helpers
     def _keep(self, obj):
@@ -745,8 +755,10 @@ class _Precomputation:
         inputs = replace(self.ms_inputs, u_density=self.j3d, u_ground_irradiance=self.ground)
         w, h = self.field.size
         w = w // n_phi * drawn
-        parts = [self._keep(self.ctx.texture((w // nv, h), 4, dtype="f4")) for _ in range(nv)]
-        fbo = self._keep(self.ctx.framebuffer(color_attachments=parts))
+        if nv not in self._field_targets:  # the orders >= 2 share theirs
+            parts = [self._keep(self.ctx.texture((w // nv, h), 4, dtype="f4")) for _ in range(nv)]
+            self._field_targets[nv] = (parts, self._keep(self.ctx.framebuffer(parts)))
+        parts, fbo = self._field_targets[nv]
         fbo.viewport = (0, 0, w // nv, h)
         prog.draw(fbo, inputs)
         field = interleave_views([_read_2d(t)[None] for t in parts], 1)[0]
@@ -855,13 +867,8 @@ class _Precomputation:
         scale = F16_TABLE_MAX / peak if peak > 0 else 1.0
         out = []
         for x in data:
-            half = np.empty(x.shape, np.float16)
-            flat, stored = x.reshape(-1), half.reshape(-1)
-            for start in range(0, flat.size, ENCODE_SLICE):  # in slices (encode_log_table)
-                part = slice(start, start + ENCODE_SLICE)
-                stored[part] = flat[part] * np.float32(scale)
-            tex = ctx.texture3d((w, h, d), 4, half, dtype="f2")
-            out.append(linear_clamped(tex, ctx))
+            half = convert_in_slices(x, np.float16, lambda part: part * np.float32(scale))
+            out.append(linear_clamped(ctx.texture3d((w, h, d), 4, half, dtype="f2"), ctx))
         return out[0], out[1], scale
 
     def _irradiance(self, has_ms: bool):
@@ -943,12 +950,11 @@ def mie_runs(
     c = params.coefficients(wavelengths_nm)
     mie = rho_m * float(np.max(c["mie_scattering"]))
     negligible = mie <= MIE_NEGLIGIBLE * rho_r * float(np.min(c["rayleigh_scattering"]))
-    runs: list[tuple[int, int, bool]] = []
-    for k, flag in enumerate(negligible.tolist()):
-        if runs and runs[-1][2] == flag:
-            runs[-1] = (runs[-1][0], runs[-1][1] + 1, flag)
-        else:
-            runs.append((k, 1, flag))
+    runs, first = [], 0
+    for flag, layers in itertools.groupby(negligible.tolist()):
+        count = len(list(layers))
+        runs.append((first, count, flag))
+        first += count
     return runs
 
 

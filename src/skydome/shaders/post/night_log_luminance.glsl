@@ -1,8 +1,8 @@
 // Night vision, step 0: the scene's photopic and scotopic log luminances on a fixed
 // power-of-two grid of samples (the grid and the sampling of post/log_luminance.glsl), for
 // skydome.display.gpu_exposure.GridMean to average: (ln(delta + L_p), ln(delta + L_s), 1)
-// where the pixel holds light, (0, 0, 0) where it holds none. The mean's ratio g/b - r/b is the log of the
-// adaptation field's S/P ratio (geometric mean over the frame), which CIE 191:2010's MES2
+// where the pixel holds light, (0, 0, 0) where it holds none. The mean's ratio g/b - r/b is
+// the log of the adaptation field's S/P ratio (geometric mean over the frame), which CIE 191:2010's MES2
 // needs besides the photopic adaptation luminance. Twin: skydome/reference/night_vision.py.
 uniform sampler2D u_hdr;            // RGBA32F frame, GL rows: R, G, B (cd/m^2), A scotopic
 uniform vec3 u_luminance_weights;   // SRGB_LUMINANCE
