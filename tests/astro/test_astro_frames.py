@@ -231,3 +231,19 @@ def test_tabulated_refraction_is_the_law_to_a_hundredth_of_an_arcsecond():
         assert apart.max() < 0.01, (pressure_hPa, apart.max())
         assert np.abs(table_alt - law_alt).max() * ARCSEC < 0.01
         assert np.allclose(np.linalg.norm(table, axis=1), 1.0, atol=1e-12)
+
+
+def test_written_out_vector_products_and_rotation():
+    """dot3 / norm3 (sums written out) against NumPy's reductions, broadcasting a stack of
+    vectors against a stack of stacks; the ecliptic-to-true matrix written out against the
+    product of its two rotations (equal to rounding)."""
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=(50, 3)), rng.normal(size=(50, 7, 3))
+    np.testing.assert_allclose(F.dot3(a[:, None, :], b), np.sum(a[:, None, :] * b, -1), 1e-14)
+    np.testing.assert_allclose(F.norm3(b), np.linalg.norm(b, axis=-1), rtol=1e-15)
+    eps, dpsi, deps = 0.4 + rng.random(20) * 0.01, rng.normal(size=20) * 1e-4, rng.random(20) * 1e-4
+    ref = F.rot_x(-(eps + deps)) @ F.rot_z(-dpsi)
+    np.testing.assert_allclose(
+        F.ecliptic_to_true_matrix_from_angles(eps, dpsi, deps), ref, atol=1e-15
+    )
+    assert F.ecliptic_to_true_matrix_from_angles(0.4, 1e-5, 2e-5).shape == (3, 3)

@@ -408,40 +408,138 @@ def cheb_matrix(n: int) -> tuple[np.ndarray, np.ndarray]:
     return nodes, mat
 
 
+# The memory one function's segments may hold (SegmentMemo): a span of 150 years of the
+# Moon's 8-day segments is 3 MB, of the nutation's 16-day ones 1 MB.
+MEMO_MAX_BYTES = 32 << 20
+
+
+class SegmentMemo:
+    """The Chebyshev coefficients of one function's segments of time, kept once computed.
+
+    A segment ``i`` of a grid of ``step_days`` is ``[J2000 + i step, J2000 + (i + 1) step)``;
+    its coefficients depend on nothing else, so a later call on any times in it (not only
+    the same times) reuses them, as a precomputed ephemeris would. The memo is a contiguous
+    span of segments from ``first`` (coefficients ``coef`` (n, C, S), ``held`` (S,) marks
+    those computed), so that a time's segment is found by a subtraction. A span that would
+    pass ``max_bytes`` starts again from the call's segments; one call's span beyond it is
+    not kept. The three are replaced together (one attribute), so that a call in another
+    thread reads either the old span or the new one.
+    """
+
+    def __init__(self, max_bytes: int = MEMO_MAX_BYTES) -> None:
+        self.max_bytes = max_bytes
+        self._span: tuple[float, np.ndarray, np.ndarray] | None = None  # first, coef, held
+
+    @property
+    def first(self) -> float:
+        return 0.0 if self._span is None else self._span[0]
+
+    @property
+    def coef(self) -> np.ndarray | None:
+        return None if self._span is None else self._span[1]
+
+    @property
+    def held(self) -> np.ndarray:
+        return np.zeros(0, dtype=bool) if self._span is None else self._span[2]
+
+    @staticmethod
+    def _positions(span, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each segment's position in ``span`` (clipped into it) and whether it is held."""
+        if span is None:
+            return np.zeros(seg.size, dtype=np.intp), np.zeros(seg.size, dtype=bool)
+        first, _, held = span
+        offset = seg - first
+        pos = np.clip(offset, 0, held.size - 1).astype(np.intp)
+        return pos, held[pos] & (pos == offset)  # the clipped ones are outside the span
+
+    def missing(self, seg: np.ndarray) -> np.ndarray:
+        """The distinct segments of ``seg`` (N,) not held, sorted."""
+        _, held = self._positions(self._span, seg)
+        return np.empty(0) if held.all() else np.unique(seg[~held])
+
+    def coefficients(
+        self, seg: np.ndarray, compute: Callable[[np.ndarray], np.ndarray]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Coefficients (n, C, M) and each time's position in them for the segments ``seg``
+        (N,); ``compute(segments)`` gives those (n, C, m) of the distinct segments (m,)
+        not held yet."""
+        span = self._span
+        pos, held = self._positions(span, seg)
+        if span is not None and held.all():
+            return span[1], pos
+        new = np.unique(seg[~held])
+        new_coef = compute(new)
+        per_segment = new_coef.nbytes // new.size
+        lo, hi = new[0], new[-1]
+        if span is not None:
+            first, coef_old, held_old = span
+            lo, hi = min(lo, first), max(hi, first + held_old.size - 1)
+            if (hi - lo + 1) * per_segment > self.max_bytes:  # start again
+                span, lo, hi = None, new[0], new[-1]
+        size = int(hi - lo) + 1
+        if size * per_segment > self.max_bytes:  # this call's span alone: not kept
+            return new_coef, np.searchsorted(new, seg)
+        coef = np.zeros(new_coef.shape[:2] + (size,))
+        held_span = np.zeros(size, dtype=bool)
+        if span is not None:
+            start = int(first - lo)
+            coef[:, :, start : start + held_old.size] = coef_old
+            held_span[start : start + held_old.size] = held_old
+        at = (new - lo).astype(np.intp)
+        coef[:, :, at] = new_coef
+        held_span[at] = True
+        span = (lo, coef, held_span)
+        self._span = span
+        return coef, self._positions(span, seg)[0]
+
+
+@functools.cache
+def segment_memo(name: str) -> SegmentMemo:
+    """The process's memo of the segments of the function called ``name``."""
+    return SegmentMemo()
+
+
 def smooth(
     func: Callable[[np.ndarray], np.ndarray],
     jd: np.ndarray,
     step_days: float,
     degree: int,
     step_cost: float = 0.02,
+    memo: SegmentMemo | None = None,
 ) -> np.ndarray:
     """Evaluate ``func(jd) -> (C, N)`` directly or by piecewise Chebyshev interpolation.
 
     The time axis is cut into segments ``[J2000 + i*step, J2000 + (i+1)*step)``; ``func``
     is evaluated at ``degree + 1`` Chebyshev nodes of every segment that holds a requested
-    time, and the interpolant is evaluated at the times. Whichever is cheaper is done:
-    M segments cost M (degree + 1) evaluations of ``func`` plus N (degree + 1) Clenshaw
-    steps, against N direct evaluations; ``step_cost`` is one Clenshaw step at one time
-    (all components) as a fraction of one direct evaluation (measured 0.005 for the
-    Earth's 191 terms and 0.007 for the nutation's 63; 0.02 leaves a margin for the
-    interpolation's fixed costs). Arrays shorter than 12 (degree + 1) are always direct.
+    time and is not in ``memo`` yet (a :class:`SegmentMemo` of this function and grid), and
+    the interpolant is evaluated at the times. Whichever is cheaper is done: M new segments
+    cost M (degree + 1) evaluations of ``func`` plus N (degree + 1) Clenshaw steps, against
+    N direct evaluations; ``step_cost`` is one Clenshaw step at one time (all components)
+    as a fraction of one direct evaluation (measured 0.005 for the Earth's 191 terms and
+    0.007 for the nutation's 63; 0.02 leaves a margin for the interpolation's fixed costs).
+    Arrays shorter than 12 (degree + 1) are always direct. Both ways agree to far below
+    the models' errors (1e-4", tested), so which one a call takes, which can depend on the
+    segments an earlier call left in ``memo``, does not matter.
     """
     jd = np.asarray(jd, dtype=float).ravel()
     n = degree + 1
     if jd.size < 12 * n:
         return func(jd)
+    memo = SegmentMemo() if memo is None else memo
     seg = np.floor((jd - J2000) / step_days)
-    useg, inverse = np.unique(seg, return_inverse=True)
-    if useg.size * n + jd.size * n * step_cost >= jd.size:
+    if memo.missing(seg).size * n + jd.size * n * step_cost >= jd.size:
         return func(jd)
-    nodes, mat = cheb_matrix(n)
-    t_nodes = J2000 + (useg[:, None] + 0.5 * (nodes[None, :] + 1.0)) * step_days
-    vals = func(t_nodes.ravel())  # (C, M*n)
-    ncomp = vals.shape[0]
-    coef = vals.reshape(ncomp, useg.size, n) @ mat.T  # (C, M, n)
-    coef_j = np.ascontiguousarray(np.moveaxis(coef, 2, 0))  # (n, C, M)
+
+    def compute(new: np.ndarray) -> np.ndarray:
+        nodes, mat = cheb_matrix(n)
+        t_nodes = J2000 + (new[:, None] + 0.5 * (nodes[None, :] + 1.0)) * step_days
+        vals = func(t_nodes.ravel())  # (C, M*n)
+        coef = vals.reshape(vals.shape[0], new.size, n) @ mat.T  # (C, M, n)
+        return np.moveaxis(coef, 2, 0)  # (n, C, M)
+
+    coef, pos = memo.coefficients(seg, compute)
     x = 2.0 * ((jd - J2000) / step_days - seg) - 1.0
-    return clenshaw(coef_j, inverse.ravel(), x)
+    return clenshaw(coef, pos, x)
 
 
 def clenshaw(coef_j: np.ndarray, segment: np.ndarray, x: np.ndarray) -> np.ndarray:

@@ -43,6 +43,7 @@ from skydome.astro._series import (
     J2000,
     PhasorPlan,
     PhasorSums,
+    SegmentMemo,
     cheb_matrix,
     clenshaw,
     integer_combination_plan,
@@ -124,6 +125,7 @@ class _LunarSeries:
             12,
         )
         self.tables = {d: self._segment_tables(d) for d in SEGMENT_DAYS}
+        self.memos = {d: SegmentMemo() for d in SEGMENT_DAYS}
 
     def _segment_tables(self, days: float) -> dict:
         """What the segments of ``days`` need: the plan returning the groups' phasors in the
@@ -178,15 +180,18 @@ class _LunarSeries:
         return rows
 
     def __call__(self, jd_tt: np.ndarray) -> np.ndarray:
-        """(lambda, beta, r) by the cheapest of the direct sums and the segments; (3, N)."""
+        """(lambda, beta, r) by the cheapest of the direct sums and the segments; (3, N).
+
+        The segments already computed in this process (``self.memos``) cost only their
+        Chebyshev sums; which way a call goes does not matter (they agree within 1e-5")."""
         jd = np.asarray(jd_tt, dtype=float).ravel()
         best, days = COST_DIRECT * jd.size, None
         if jd.size > 16:
-            seg = np.unique(np.floor((jd - J2000) / min(SEGMENT_DAYS)))
-            for d in SEGMENT_DAYS:  # multiples of the shortest
-                n_seg = np.unique(seg // round(d / min(SEGMENT_DAYS))).size
+            for d in SEGMENT_DAYS:
+                new = self.memos[d].missing(np.floor((jd - J2000) / d))
                 p = self.tables[d]["n_cheb"]
-                cost = COST_FIXED + COST_SEGMENT * n_seg + COST_COEFFICIENT * jd.size * p
+                cost = COST_SEGMENT * new.size + COST_COEFFICIENT * jd.size * p
+                cost += COST_FIXED if new.size else 0.0
                 best, days = (cost, d) if cost < best else (best, days)
         return self.direct(jd) if days is None else self.segments(jd, days)
 
@@ -201,7 +206,19 @@ class _LunarSeries:
         return self.finish(out, t)
 
     def segments(self, jd_tt: np.ndarray, days: float) -> np.ndarray:
-        """(lambda, beta, r) from Chebyshev series on segments of ``days``; (3, N).
+        """(lambda, beta, r) from Chebyshev series on segments of ``days``; (3, N). The
+        segments' coefficients are kept in ``self.memos[days]`` for later calls."""
+        jd = np.asarray(jd_tt, dtype=float).ravel()
+        seg = np.floor((jd - J2000) / days)
+        coef, pos = self.memos[days].coefficients(
+            seg, lambda new: self._segment_coefficients(new, days)
+        )
+        x = (jd - J2000) / (0.5 * days) - (2.0 * seg + 1.0)
+        return self.finish(clenshaw(coef, pos, x), julian_centuries(jd))
+
+    def _segment_coefficients(self, segments: np.ndarray, days: float) -> np.ndarray:
+        """Chebyshev coefficients (P + 1, 3, M) of V, U, r on the ``segments`` (M,) of
+        ``days``, segment i being [J2000 + i days, J2000 + (i + 1) days).
 
         In a segment of centre t_c and half-length h, a group's phasor is
         exp(i theta(t_c)) exp(i w h x) with x = (t - t_c) / h (the arguments' curvature
@@ -211,16 +228,13 @@ class _LunarSeries:
         of T: T^n = T_c^n + n T_c^(n-1) dT (the next term < 1e-9").
         """
         tab = self.tables[days]
-        jd = np.asarray(jd_tt, dtype=float).ravel()
         h = 0.5 * days
-        seg = np.floor((jd - J2000) / days)
-        useg, inverse = np.unique(seg, return_inverse=True)
-        t_c = julian_centuries(J2000 + (useg + 0.5) * days)
+        t_c = julian_centuries(J2000 + (segments + 0.5) * days)
         p = tab["n_cheb"]
-        coef = np.zeros((p + 1, 3, useg.size))  # (P + 1, C, M): one more for x * series
+        coef = np.zeros((p + 1, 3, segments.size))  # (P + 1, C, M): one more for x * series
         k = np.arange(2, self.poly.shape[1])
-        for start in range(0, useg.size, SEGMENT_BLOCK):
-            blk = slice(start, min(start + SEGMENT_BLOCK, useg.size))
+        for start in range(0, segments.size, SEGMENT_BLOCK):
+            blk = slice(start, min(start + SEGMENT_BLOCK, segments.size))
             tb = t_c[blk]
             z = tab["plan"].run(self.base_angles(tb))  # (G, m)
             # first-order rate correction: i (w(t_c) - w0) h x exp(i w0 h x)
@@ -244,8 +258,7 @@ class _LunarSeries:
                 coef[1, :, blk] += dt[0]
                 coef[2:, :, blk] += 0.5 * dt[1:]
                 coef[: p - 1, :, blk] += 0.5 * dt[1:]
-        x = (jd - J2000) / h - (2.0 * seg + 1.0)
-        return self.finish(clenshaw(coef, inverse.ravel(), x), julian_centuries(jd))
+        return coef
 
 
 def _horner(poly: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -338,8 +351,8 @@ def phase_angle(moon_vec, sun_vec) -> np.ndarray:
     s = np.asarray(sun_vec, dtype=float)
     to_sun = s - m
     to_obs = -m
-    c = np.sum(to_sun * to_obs, axis=-1)
-    x = np.linalg.norm(np.cross(to_sun, to_obs), axis=-1)
+    c = frames.dot3(to_sun, to_obs)
+    x = frames.norm3(np.cross(to_sun, to_obs))
     return np.arctan2(x, c)
 
 

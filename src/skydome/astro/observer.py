@@ -215,9 +215,9 @@ class Observer:
         """
         geo_true = np.einsum("nij,nj->ni", geo["ecl_to_true"], geo_ecl)
         topo = geo_true - geo["r_obs"]
-        dist = np.linalg.norm(topo, axis=-1)
+        dist = frames.norm3(topo)
         seen = frames.deflect_by_sun(topo, geo["sun_to_obs"]) if deflect else topo
-        u = seen / np.linalg.norm(seen, axis=-1, keepdims=True)
+        u = seen / frames.norm3(seen)[:, None]
         u = frames.aberrate(u, geo["v_total"])
         return self._horizontal(geo, u, dist, topo)
 
@@ -339,17 +339,17 @@ class Observer:
         tau0 = 384400.0 / frames.C_KM_PER_S / 86400.0  # mean light time, days
         lam, beta, dist_km = moon.moon_ecliptic_of_date(jd - tau0)
         m_ecl = frames.spherical_to_cartesian(lam, beta, dist_km / AU_KM)
-        tau = np.linalg.norm(m_ecl, axis=-1) / C_AU_PER_DAY
+        tau = frames.norm3(m_ecl) / C_AU_PER_DAY
         # astrometric = Moon(t - tau) + E(t - tau) - E(t) ~ Moon(t - tau) - v_E tau
         geo_ecl = m_ecl - geo["v_earth_ecl"] * tau[:, None]
         place = self._place(geo, "moon", geo_ecl)
         d_au = place["distance_au"]
         i = moon.phase_angle(place["topo"], sun_place["topo"])
-        sun_moon_au = np.linalg.norm(sun_place["topo"] - place["topo"], axis=-1)
+        sun_moon_au = frames.norm3(sun_place["topo"] - place["topo"])
         earth_phase = np.arccos(
             np.clip(
-                np.sum(m_ecl * -geo["earth"], axis=-1)
-                / (np.linalg.norm(m_ecl, axis=-1) * np.linalg.norm(geo["earth"], axis=-1)),
+                -frames.dot3(m_ecl, geo["earth"])
+                / (frames.norm3(m_ecl) * frames.norm3(geo["earth"])),
                 -1.0,
                 1.0,
             )
@@ -377,10 +377,10 @@ class Observer:
         g_ecl, helio, _ = planets.planet_geocentric_ecliptic(name, geo["jd"], earth=geo["earth"])
         place = self._place(geo, name, g_ecl, deflect=True)
         delta = place["distance_au"]
-        r = np.linalg.norm(helio, axis=-1)
+        r = frames.norm3(helio)
         # phase angle at the planet between the Sun (-helio) and the observer (-topo)
         obs_ecl = np.einsum("nji,nj->ni", geo["ecl_to_true"], place["topo"])
-        c = np.sum(helio * obs_ecl, axis=-1) / (r * delta)
+        c = frames.dot3(helio, obs_ecl) / (r * delta)
         phase = np.arccos(np.clip(c, -1.0, 1.0))
         tilt = planets.saturn_ring_tilt(g_ecl, geo["jd"]) if name == "saturn" else 0.0
         mag = planets.planet_magnitude(name, r, delta, phase, tilt)

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from skydome.astro import frames
-from skydome.astro._series import smooth, vsop
+from skydome.astro._series import segment_memo, smooth, vsop
 from skydome.astro.frames import C_AU_PER_DAY
 from skydome.astro.sun import earth_heliocentric_ecliptic
 from skydome.astro.time import julian_centuries
@@ -52,7 +52,7 @@ def planet_heliocentric_ecliptic(planet: str, jd_tt: Any) -> np.ndarray:
     jd = np.asarray(jd_tt, dtype=float)
     # 8-day segments of degree 12: the fastest planet (Mercury, 88 d) interpolates to
     # < 1e-4" (tested).
-    lon, lat, r = smooth(vsop(p).lbr, jd, step_days=8.0, degree=12)
+    lon, lat, r = smooth(vsop(p).lbr, jd, 8.0, 12, memo=segment_memo(f"{p} lbr"))
     return frames.spherical_to_cartesian(lon, lat, r).reshape(jd.shape + (3,))
 
 

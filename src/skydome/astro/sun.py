@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from skydome.astro import frames
-from skydome.astro._series import smooth, vsop
+from skydome.astro._series import segment_memo, smooth, vsop
 from skydome.astro.frames import ARCSEC, AU_KM
 from skydome.astro.time import julian_centuries
 
@@ -74,7 +74,7 @@ def earth_heliocentric_lbr(jd_tt: Any, fk5: bool | None = None) -> np.ndarray:
     ``fk5``: apply Meeus eq. 32.3 (default: ``APPLY_FK5_CORRECTION``).
     """
     jd = _jd(jd_tt)
-    lbr = smooth(vsop("earth").lbr, jd, *_EARTH_SEGMENTS)
+    lbr = smooth(vsop("earth").lbr, jd, *_EARTH_SEGMENTS, memo=segment_memo("earth lbr"))
     if APPLY_FK5_CORRECTION if fk5 is None else fk5:
         lbr = _fk5(lbr, jd.ravel())
     return lbr.reshape((3,) + jd.shape)
@@ -98,7 +98,12 @@ def earth_heliocentric_state(jd_tt: Any, fk5: bool | None = None) -> tuple[np.nd
     jd = _jd(jd_tt)
     series, keep = vsop("earth"), frames._earth_rate_terms()
     every = np.ones_like(keep)
-    lbr6 = smooth(lambda x: series.lbr_rates(x, keep, every), jd, *_EARTH_SEGMENTS)
+    lbr6 = smooth(
+        lambda x: series.lbr_rates(x, keep, every),
+        jd,
+        *_EARTH_SEGMENTS,
+        memo=segment_memo("earth state"),
+    )
     velocity = frames.velocity_from_lbr_rates(lbr6)
     lbr = lbr6[:3]
     if APPLY_FK5_CORRECTION if fk5 is None else fk5:
