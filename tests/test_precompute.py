@@ -621,3 +621,20 @@ def test_config_validation_and_key():
     assert mu < math.sin(math.radians(-18.0))
     assert PrecomputeConfig().memory_bytes()["scattering"] > 0
     assert sum(PrecomputeConfig().memory_bytes().values()) <= 32 * 2**20
+
+
+def test_float16_conversion_has_numpys_bits():
+    """precompute.to_float16 (the single-scattering tables' float16 encoding, with the values
+    below float16's normal range rounded by integer arithmetic) gives the bits of NumPy's
+    IEEE conversion: every 37th float32 below 2^-14 (0.9e9 / 37 values, ties to even among
+    them), both signs, zero, the normal boundary and a random spread over 20 decades."""
+    tiny = np.arange(0, np.float32(2.0**-14).view(np.uint32) + 1, 37, dtype=np.uint32)
+    tiny = tiny.view(np.float32)
+    ties = (np.arange(0, 2048, dtype=np.float32) + np.float32(0.5)) * np.float32(2.0**-24)
+    rng = np.random.default_rng(9)
+    spread = (rng.random(200_000) * 10.0 ** rng.uniform(-16, 4, 200_000)).astype(np.float32)
+    values = np.concatenate([tiny, -tiny[::5], ties, spread, -spread[::3], [0.0, -0.0]])
+    values = values.astype(np.float32)
+    with np.errstate(under="ignore"):
+        expected = values.astype(np.float16).view(np.uint16)
+    assert np.array_equal(precompute_module.to_float16(values).view(np.uint16), expected)

@@ -558,6 +558,28 @@ def convert_in_slices(values: np.ndarray, dtype, convert: Callable) -> np.ndarra
     return out
 
 
+#: The least normal float16 (2^-14); below it float16 holds multiples of 2^-24.
+_F16_MIN_NORMAL = np.float32(2.0**-14)
+
+
+def to_float16(values: np.ndarray) -> np.ndarray:
+    """``values`` (float32) as float16, the same bits as ``values.astype(np.float16)``.
+
+    NumPy converts values below float16's normal range (|x| < 2^-14) on a slow path (240 ms
+    for 4M values of a single-scattering table against 10 ms for normal ones): here those
+    are rounded as multiples of 2^-24 by ``np.rint`` (half to even, as the IEEE conversion;
+    x 2^24 is exact in float32) and their bits put in place of the fast path's zeros.
+    """
+    magnitude = np.abs(values)
+    small = magnitude < _F16_MIN_NORMAL
+    normal = np.where(small, np.float32(0.0), values).astype(np.float16).view(np.uint16)
+    np.minimum(magnitude, _F16_MIN_NORMAL, out=magnitude)
+    magnitude *= np.float32(2.0**24)
+    subnormal = np.rint(magnitude, out=magnitude).astype(np.uint16)
+    subnormal |= np.signbit(values).astype(np.uint16) << 15
+    return np.where(small, subnormal, normal).view(np.float16)
+
+
 # ----------------------------------------------------------------------------------------------
 # The precomputation
 # ----------------------------------------------------------------------------------------------
@@ -863,11 +885,13 @@ class _Precomputation:
         if cfg.dtype == "f4":
             return self._to_3d(arrays[0]), self._to_3d(arrays[1]), 1.0
         data = [_read_array(a) for a in arrays]
-        peak = max(float(np.abs(x).max()) for x in data)
+        peak = max(max(float(x.max()), -float(x.min())) for x in data)  # no |x| copy
         scale = F16_TABLE_MAX / peak if peak > 0 else 1.0
         out = []
         for x in data:
-            half = convert_in_slices(x, np.float16, lambda part: part * np.float32(scale))
+            half = convert_in_slices(
+                x, np.float16, lambda part: to_float16(part * np.float32(scale))
+            )
             out.append(linear_clamped(ctx.texture3d((w, h, d), 4, half, dtype="f2"), ctx))
         return out[0], out[1], scale
 
