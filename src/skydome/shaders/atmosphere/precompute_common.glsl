@@ -50,21 +50,36 @@ void piece_node(int j, int m, float r, float mu, float a, float b, out float t, 
     dt = 2.0 * l * q.x * q.y;
 }
 
-// Node i of n (RAY_SAMPLES, or half of it for one of two lit intervals) on [a, b], split where
-// the integrand is not smooth: at the perigee t_p = -r mu (when `at_perigee`), where the
-// altitude turns, and, with RAY_KINK_SPLIT, where the ray crosses u_kink_radius, where the
-// aerosol's ln density has a kink (a Gauss-Legendre rule across a kink converges as 1/n^2:
-// 16 nodes left `earth`'s single scattering 1.2-1.6 % low, from the ground, at a 2 km
-// mixing-layer top). One piece gets all n nodes, two get n/2 each, three n/2 (the first),
-// n/4 and n/4, four n/4 each.
-void split_node(int i, int n, float r, float mu, float a, float b, bool at_perigee, out float t,
-                out float dt) {
-    float p1 = b, p2 = b, p3 = b;  // inner breakpoints, sorted; b when unused
-    int k = 1;
+// The pieces of [a, b] over which a ray's rule of n nodes (RAY_SAMPLES, or half of it for one
+// of two lit intervals) is split where the integrand is not smooth: at the perigee t_p = -r mu
+// (when `at_perigee`), where the altitude turns, and, with RAY_KINK_SPLIT, where the ray
+// crosses u_kink_radius, where the aerosol's ln density has a kink (a Gauss-Legendre rule
+// across a kink converges as 1/n^2: 16 nodes left `earth`'s single scattering 1.2-1.6 % low,
+// from the ground, at a 2 km mixing-layer top). One piece gets all n nodes, two get n/2 each
+// (at the kink alone: a quarter below it, 3/4 above, when n is RAY_SAMPLES), three n/2 (the
+// first), n/4 and n/4, four n/4 each. Made once per ray (split_ray), then read per node
+// (split_ray_node): the breakpoints do not depend on the node.
+struct RaySplit {
+    float a, b;        // the interval
+    float p1, p2, p3;  // inner breakpoints, sorted; b when unused
+    int k;             // number of pieces
+    int m1;            // nodes of the first of two pieces
+    int n;             // nodes in all
+};
+
+RaySplit split_ray(int n, float r, float mu, float a, float b, bool at_perigee) {
+    RaySplit s;
+    s.a = a;
+    s.b = b;
+    s.n = n;
+    s.p1 = b;
+    s.p2 = b;
+    s.p3 = b;
+    s.k = 1;
     float t_p = -r * mu;
     if (at_perigee && t_p > a && t_p < b) {
-        p1 = t_p;
-        k = 2;
+        s.p1 = t_p;
+        s.k = 2;
     }
 #ifdef RAY_KINK_SPLIT
     float rk = u_kink_radius;
@@ -74,62 +89,74 @@ void split_node(int i, int n, float r, float mu, float a, float b, bool at_perig
         for (int c = 0; c < 2; ++c) {
             float x = c == 0 ? t_p - h : t_p + h;
             if (x > a && x < b) {  // insert x into (p1, p2, p3)
-                if (x < p1) {
-                    p3 = p2;
-                    p2 = p1;
-                    p1 = x;
-                } else if (x < p2) {
-                    p3 = p2;
-                    p2 = x;
+                if (x < s.p1) {
+                    s.p3 = s.p2;
+                    s.p2 = s.p1;
+                    s.p1 = x;
+                } else if (x < s.p2) {
+                    s.p3 = s.p2;
+                    s.p2 = x;
                 } else {
-                    p3 = x;
+                    s.p3 = x;
                 }
-                k += 1;
+                s.k += 1;
             }
         }
     }
 #endif
-    // the piece of node i: its first node's index, its nodes and its ends, chosen before one
-    // piece_node (llvmpipe runs every branch any pixel of a SIMD group takes, and a call in
-    // each branch, seven inlined rules, cost the passes that march rays a fifth)
+    // at the perigee: half each; at the kink alone, a quarter below it, 3/4 above
+    s.m1 = n / 2;
+    if (s.k == 2 && n == RAY_SAMPLES && s.p1 != t_p)
+        s.m1 = altitude_at(r, mu, a) < altitude_at(r, mu, b) ? n / 4 : 3 * n / 4;
+    return s;
+}
+
+// Node i of the split rule `s` (t, dt, km). The piece of node i (its first node's index, its
+// nodes and its ends) is chosen before one piece_node (llvmpipe runs every branch any pixel
+// of a SIMD group takes, and a call in each branch, seven inlined rules, cost the passes that
+// march rays a fifth).
+void split_ray_node(RaySplit s, int i, float r, float mu, out float t, out float dt) {
+    int n = s.n;
     int first = 0, m = n;
-    float lo = a, hi = b;
-    if (k == 2) {
-        // at the perigee: half each; at the kink alone, a quarter below it, 3/4 above
-        int m1 = n / 2;
-        if (n == RAY_SAMPLES && p1 != t_p) m1 = altitude_at(r, mu, a) < altitude_at(r, mu, b) ? n / 4 : 3 * n / 4;
-        bool upper = i >= m1;
-        first = upper ? m1 : 0;
-        m = upper ? n - m1 : m1;
-        lo = upper ? p1 : a;
-        hi = upper ? b : p1;
-    } else if (k == 3) {
+    float lo = s.a, hi = s.b;
+    if (s.k == 2) {
+        bool upper = i >= s.m1;
+        first = upper ? s.m1 : 0;
+        m = upper ? n - s.m1 : s.m1;
+        lo = upper ? s.p1 : s.a;
+        hi = upper ? s.b : s.p1;
+    } else if (s.k == 3) {
         int q = n / 4;
         first = i < 2 * q ? 0 : i < 3 * q ? 2 * q : 3 * q;
         m = i < 2 * q ? 2 * q : q;
-        lo = i < 2 * q ? a : i < 3 * q ? p1 : p2;
-        hi = i < 2 * q ? p1 : i < 3 * q ? p2 : b;
-    } else if (k >= 4) {
+        lo = i < 2 * q ? s.a : i < 3 * q ? s.p1 : s.p2;
+        hi = i < 2 * q ? s.p1 : i < 3 * q ? s.p2 : s.b;
+    } else if (s.k >= 4) {
         int q = n / 4;
         int piece = i / q;
         first = piece * q;
         m = q;
-        lo = piece == 0 ? a : piece == 1 ? p1 : piece == 2 ? p2 : p3;
-        hi = piece == 0 ? p1 : piece == 1 ? p2 : piece == 2 ? p3 : b;
+        lo = piece == 0 ? s.a : piece == 1 ? s.p1 : piece == 2 ? s.p2 : s.p3;
+        hi = piece == 0 ? s.p1 : piece == 1 ? s.p2 : piece == 2 ? s.p3 : s.b;
     }
     piece_node(i - first, m, r, mu, lo, hi, t, dt);
 }
 
+// The rule for the whole ray of length L from radius r with cosine mu (ray_node's nodes).
+RaySplit whole_ray_split(float r, float mu, float L) {
+    return split_ray(RAY_SAMPLES, r, mu, 0.0, L, true);
+}
+
 // Node i (t, dt, km) of the rule for the whole ray of length L from radius r with cosine mu.
 void ray_node(int i, float r, float mu, float L, out float t, out float dt) {
-    split_node(i, RAY_SAMPLES, r, mu, 0.0, L, true, t, dt);
+    split_ray_node(whole_ray_split(r, mu, L), i, r, mu, t, dt);
 }
 
 // The same rule restricted to the sunlit part of the ray (single scattering is zero in the
 // planet's shadow): in twilight the lit part is a short segment high up, far from the ray's
 // dense low end, and a rule over the whole ray puts few nodes there (5% errors at a Sun 12 deg
 // below the horizon). `lit` = (a0, b0, a1, b1), the lit intervals from lit_segments (empty when
-// b <= a). One lit interval gets the full rule (split as split_node says); two get half the
+// b <= a). One lit interval gets the full rule (split as split_ray says); two get half the
 // nodes each (split at the kink, not at the perigee).
 vec4 lit_segments(float r, float mu, float mu_s, float nu, float L) {
     vec2 s = shadow_interval(r, mu, mu_s, nu, L);
@@ -137,21 +164,37 @@ vec4 lit_segments(float r, float mu, float mu_s, float nu, float L) {
     return vec4(0.0, s.x, s.y, L);
 }
 
-void lit_ray_node(int i, float r, float mu, vec4 lit, out float t, out float dt) {
+// The lit rule of a ray: the split of its first (or only) lit interval and of its second.
+struct LitRule {
+    RaySplit first;
+    RaySplit second;
+    bool both;  // two lit intervals, half the nodes each
+    bool none;  // no lit interval
+};
+
+LitRule lit_rule(float r, float mu, vec4 lit) {
+    LitRule q;
     bool first = lit.y > lit.x;
     bool second = lit.w > lit.z;
-    if (!first && !second) {
+    q.both = first && second;
+    q.none = !first && !second;
+    const int half_n = RAY_SAMPLES / 2;
+    vec2 ends = second && !first ? lit.zw : lit.xy;
+    q.first = split_ray(q.both ? half_n : RAY_SAMPLES, r, mu, ends.x, ends.y, !q.both);
+    q.second = split_ray(half_n, r, mu, lit.z, lit.w, false);
+    return q;
+}
+
+void lit_rule_node(LitRule q, int i, float r, float mu, out float t, out float dt) {
+    if (q.none) {
         t = 0.0;
         dt = 0.0;
         return;
     }
-    // the interval of node i and its index there, chosen before one split_node (see there)
+    // the interval of node i and its index there, chosen before one split_ray_node (see there)
     const int half_n = RAY_SAMPLES / 2;
-    bool both = first && second;
-    bool in_second = both ? i >= half_n : second;
-    vec2 ends = in_second ? lit.zw : lit.xy;
-    split_node(both && in_second ? i - half_n : i, both ? half_n : RAY_SAMPLES, r, mu, ends.x, ends.y,
-               !both, t, dt);
+    bool in_second = q.both && i >= half_n;
+    split_ray_node(in_second ? q.second : q.first, in_second ? i - half_n : i, r, mu, t, dt);
 }
 
 // Column densities (km) from the start of a ray to the point at (r_t, mu_t) on it, given c0 =

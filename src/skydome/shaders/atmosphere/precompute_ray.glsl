@@ -12,7 +12,7 @@
 //   S_i(x, v, s) = integral_0^L beta_i rho_i(y) T(x, y) T(y, sun) dt,  i in {R, M},
 // beta_i in km^-1, t in km (seed 004 5.2.2.1, Bruneton 2017 ComputeSingleScattering), with
 // T(y, sun) = 0 in the planet's shadow (a point Sun), over the sunlit part of the ray
-// (lit_ray_node). nu is the same all along the ray, so the radiance (sr^-1) is
+// (lit_rule_node). nu is the same all along the ray, so the radiance (sr^-1) is
 // P_R(nu) S_R + P_M(nu) S_M.
 void single_scattering_integrals(float r, float mu, float mu_s, float nu, bool hits_ground, int g0,
                                  int g1, out vec4 rayleigh[NUM_GROUPS], out vec4 mie[NUM_GROUPS]) {
@@ -22,10 +22,10 @@ void single_scattering_integrals(float r, float mu, float mu_s, float nu, bool h
     }
     float L = ray_length(r, mu, hits_ground);
     vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
-    vec4 lit = lit_segments(r, mu, mu_s, nu, L);
+    LitRule rule = lit_rule(r, mu, lit_segments(r, mu, mu_s, nu, L));
     for (int i = 0; i < RAY_SAMPLES; ++i) {
         float t, dt;
-        lit_ray_node(i, r, mu, lit, t, dt);
+        lit_rule_node(rule, i, r, mu, t, dt);
         float r_t, mu_t, mu_s_t;
         ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
         vec3 c_sun = column_to_sun(r_t, mu_s_t);
@@ -50,9 +50,10 @@ void scattered_radiance(sampler3D density, vec4 density_size, float r, float mu,
     for (int g = 0; g < NUM_GROUPS; ++g) radiance[g] = vec4(0.0);
     float L = ray_length(r, mu, hits_ground);
     vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
+    RaySplit rule = whole_ray_split(r, mu, L);
     for (int i = 0; i < RAY_SAMPLES; ++i) {
         float t, dt;
-        ray_node(i, r, mu, L, t, dt);
+        split_ray_node(rule, i, r, mu, t, dt);
         float r_t, mu_t, mu_s_t;
         ray_point(r, mu, mu_s, nu, t, r_t, mu_t, mu_s_t);
         vec3 c = view_column(c0, r_t, mu_t, hits_ground);
@@ -78,9 +79,10 @@ void scattered_radiance_views(sampler3D density, vec4 density_size, float r, flo
     for (int k = 0; k < NUM_GROUPS * NU_PER_FRAGMENT; ++k) radiance[k] = vec4(0.0);
     float L = ray_length(r, mu, hits_ground);
     vec3 c0 = column_to_top(r, hits_ground ? -mu : mu);
+    RaySplit rule = whole_ray_split(r, mu, L);
     for (int i = 0; i < RAY_SAMPLES; ++i) {
         float t, dt;
-        ray_node(i, r, mu, L, t, dt);
+        split_ray_node(rule, i, r, mu, t, dt);
         float r_t, mu_t, mu_s_t;
         ray_point(r, mu, mu_s, nu[0], t, r_t, mu_t, mu_s_t);
         vec3 c = view_column(c0, r_t, mu_t, hits_ground);
