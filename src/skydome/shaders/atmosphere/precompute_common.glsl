@@ -39,13 +39,12 @@ vec2 ray_rule(int m, int j) {
 }
 
 // Node j of m on the piece [a, b] of a ray over which the altitude is monotonic, mapped with
-// t = low + l u^2 from its low-altitude end (the air is densest there, and the density is a
-// smooth function of u: exp(-c u^2) going up, exp(-c u^4) from a perigee) and integrated with
-// Gauss-Legendre in u: integral f dt = integral f(t(u)) 2 l u du.
-void piece_node(int j, int m, float r, float mu, float a, float b, out float t, out float dt) {
+// t = low + l u^2 from its low-altitude end (`up`: a is the lower end; the air is densest
+// there, and the density is a smooth function of u: exp(-c u^2) going up, exp(-c u^4) from a
+// perigee) and integrated with Gauss-Legendre in u: integral f dt = integral f(t(u)) 2 l u du.
+void piece_node(int j, int m, float a, float b, bool up, out float t, out float dt) {
     vec2 q = ray_rule(m, j);
     float l = b - a;
-    bool up = altitude_at(r, mu, a) <= altitude_at(r, mu, b);  // dense at the lower end
     t = up ? a + l * q.x * q.x : b - l * q.x * q.x;
     dt = 2.0 * l * q.x * q.y;
 }
@@ -65,6 +64,7 @@ struct RaySplit {
     int k;             // number of pieces
     int m1;            // nodes of the first of two pieces
     int n;             // nodes in all
+    bvec4 up;          // per piece: the altitude at its start <= at its end (dense at the start)
 };
 
 RaySplit split_ray(int n, float r, float mu, float a, float b, bool at_perigee) {
@@ -108,6 +108,9 @@ RaySplit split_ray(int n, float r, float mu, float a, float b, bool at_perigee) 
     s.m1 = n / 2;
     if (s.k == 2 && n == RAY_SAMPLES && s.p1 != t_p)
         s.m1 = altitude_at(r, mu, a) < altitude_at(r, mu, b) ? n / 4 : 3 * n / 4;
+    float h_a = altitude_at(r, mu, a), h_1 = altitude_at(r, mu, s.p1);
+    float h_2 = altitude_at(r, mu, s.p2), h_3 = altitude_at(r, mu, s.p3);
+    s.up = lessThanEqual(vec4(h_a, h_1, h_2, h_3), vec4(h_1, h_2, h_3, altitude_at(r, mu, b)));
     return s;
 }
 
@@ -117,7 +120,7 @@ RaySplit split_ray(int n, float r, float mu, float a, float b, bool at_perigee) 
 // march rays a fifth).
 void split_ray_node(RaySplit s, int i, float r, float mu, out float t, out float dt) {
     int n = s.n;
-    int first = 0, m = n;
+    int first = 0, m = n, piece = 0;
     float lo = s.a, hi = s.b;
     if (s.k == 2) {
         bool upper = i >= s.m1;
@@ -125,21 +128,24 @@ void split_ray_node(RaySplit s, int i, float r, float mu, out float t, out float
         m = upper ? n - s.m1 : s.m1;
         lo = upper ? s.p1 : s.a;
         hi = upper ? s.b : s.p1;
+        piece = upper ? 1 : 0;
     } else if (s.k == 3) {
         int q = n / 4;
+        piece = i < 2 * q ? 0 : i < 3 * q ? 1 : 2;
         first = i < 2 * q ? 0 : i < 3 * q ? 2 * q : 3 * q;
         m = i < 2 * q ? 2 * q : q;
         lo = i < 2 * q ? s.a : i < 3 * q ? s.p1 : s.p2;
         hi = i < 2 * q ? s.p1 : i < 3 * q ? s.p2 : s.b;
     } else if (s.k >= 4) {
         int q = n / 4;
-        int piece = i / q;
+        piece = i / q;
         first = piece * q;
         m = q;
         lo = piece == 0 ? s.a : piece == 1 ? s.p1 : piece == 2 ? s.p2 : s.p3;
         hi = piece == 0 ? s.p1 : piece == 1 ? s.p2 : piece == 2 ? s.p3 : s.b;
     }
-    piece_node(i - first, m, r, mu, lo, hi, t, dt);
+    // (the unused breakpoints are b, so the last piece's flag compares with b's altitude)
+    piece_node(i - first, m, lo, hi, s.up[piece], t, dt);
 }
 
 // The rule for the whole ray of length L from radius r with cosine mu (ray_node's nodes).
