@@ -251,6 +251,7 @@ class PrecomputeInputs(ShaderInputs):
     u_scattering_size: tuple[float, float, float, float] | None = None
     u_table_scale: float | None = None
     u_irradiance_size: tuple[float, float] | None = None
+    u_part_stride: int | None = None
     u_ms_log_interp: list[float] | None = None
     u_render_to_table: list[float] | None = None
     u_density: object = None
@@ -901,6 +902,9 @@ class _Precomputation:
         ew, eh = cfg.irradiance_size
         n_mu, n_phi = cfg.irradiance_directions
 
+        # the table drawn in IRRADIANCE_PARTS copies, each in tiles of its own (see the shader)
+        stride = -(-ew // RASTER_TILE) * RASTER_TILE
+
         def run_pass(wl, single: bool) -> np.ndarray:
             groups = len(wl) // 4
             samples = cfg.single_samples if single else cfg.ms_samples
@@ -912,21 +916,25 @@ class _Precomputation:
                 "IRR_N_MU": n_mu,
                 "IRR_N_PHI": n_phi,
                 "IRRADIANCE_SINGLE": int(single),
+                "IRR_PARTS": IRRADIANCE_PARTS,
             }
             prog = _program(ctx, "atmosphere/precompute_irradiance.glsl", defines)
-            texs = [self._keep(ctx.texture((ew, eh), 4, dtype="f4")) for _ in range(groups)]
+            size = (stride * IRRADIANCE_PARTS, eh)
+            texs = [self._keep(ctx.texture(size, 4, dtype="f4")) for _ in range(groups)]
             fbo = self._keep(ctx.framebuffer(color_attachments=texs))
-            fbo.viewport = (0, 0, ew, eh)
+            fbo.viewport = (0, 0, *size)
             inputs = self._inputs(
                 wl,
                 quadrature_rules(samples, irradiance_mu=n_mu),
                 u_irradiance_size=(float(ew), float(eh)),
+                u_part_stride=stride,
                 u_density_size=cfg.glsl_size(cfg.ms_size),
                 u_density=None if single else self.j3d,
             )
             prog.draw(fbo, inputs)
-            # (groups, eh, ew, 4) -> (eh, ew, N) per wavelength
+            # (groups, eh, parts x stride, 4) -> the parts summed -> (eh, ew, N) per wavelength
             e = np.stack([_read_2d(t) for t in texs], axis=0).astype(np.float64)
+            e = e.reshape(groups, eh, IRRADIANCE_PARTS, stride, 4)[:, :, :, :ew].sum(axis=2)
             return np.moveaxis(e, 0, 2).reshape(eh, ew, 4 * groups)
 
         e = run_pass(self.wl, True)
@@ -951,6 +959,14 @@ class _Precomputation:
 
         return log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))
 
+
+#: Copies of the sky irradiance table drawn side by side, each summing a share of the
+#: directions (precompute_irradiance.glsl): the table (64 x 16) is one of a CPU rasterizer's
+#: 64-pixel tiles, which one thread draws (llvmpipe, 2 threads: 123 ms in one copy, 85 ms in
+#: 2, 4 or 8; 8 for machines with more threads).
+IRRADIANCE_PARTS = 8
+#: The tile size of llvmpipe's rasterizer (texels).
+RASTER_TILE = 64
 
 #: J's Mie sum is left out of a layer of its grid where the aerosols scatter less than this
 #: fraction of what the air scatters, at every wavelength (precompute_density.glsl's NO_MIE):
