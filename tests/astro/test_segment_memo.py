@@ -69,6 +69,10 @@ def test_sparse_times_in_two_eras_and_the_memory_bound():
     assert memo.held.size == np.ptp(np.floor((jd_b - J2000) / 16.0)) + 1
     for jd, out in ((jd_a, a), (jd_b, b)):
         assert np.abs(out[:2] - series(jd)[:2]).max() / ARCSEC < 1e-4
+    # a call on both eras: the span starts again from all of its segments, era a's included
+    both = np.concatenate([jd_a[:40_000], jd_b[:40_000]])
+    again = smooth(series, both, 16.0, 12, memo=memo)
+    assert np.abs(again[:2] - series(both)[:2]).max() / ARCSEC < 1e-4
     tiny = SegmentMemo(max_bytes=per_segment)  # one call's span beyond the bound: not kept
     c = smooth(series, jd_a, 16.0, 12, memo=tiny)
     assert tiny.coef is None

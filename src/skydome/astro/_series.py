@@ -467,18 +467,20 @@ class SegmentMemo:
         pos, held = self._positions(span, seg)
         if span is not None and held.all():
             return span[1], pos
-        new = np.unique(seg[~held])
-        new_coef = compute(new)
-        per_segment = new_coef.nbytes // new.size
-        lo, hi = new[0], new[-1]
         if span is not None:
             first, coef_old, held_old = span
+            lo = min(seg.min(), first)
+            hi = max(seg.max(), first + held_old.size - 1)
+            if (hi - lo + 1) * coef_old[:, :, 0].nbytes > self.max_bytes:
+                span, held = None, np.zeros(seg.size, dtype=bool)  # start again: every segment
+        new = np.unique(seg[~held])
+        new_coef = compute(new)
+        lo, hi = new[0], new[-1]
+        if span is not None:
             lo, hi = min(lo, first), max(hi, first + held_old.size - 1)
-            if (hi - lo + 1) * per_segment > self.max_bytes:  # start again
-                span, lo, hi = None, new[0], new[-1]
         size = int(hi - lo) + 1
-        if size * per_segment > self.max_bytes:  # this call's span alone: not kept
-            return new_coef, np.searchsorted(new, seg)
+        if size * (new_coef.nbytes // new.size) > self.max_bytes:  # this call alone: not kept
+            return new_coef, np.searchsorted(new, seg)  # (span is None: new holds every one)
         coef = np.zeros(new_coef.shape[:2] + (size,))
         held_span = np.zeros(size, dtype=bool)
         if span is not None:
