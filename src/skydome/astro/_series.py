@@ -409,8 +409,8 @@ def cheb_matrix(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 # The memory one function's segments may hold (SegmentMemo): a span of 150 years of the
-# Moon's 8-day segments is 3 MB, of the nutation's 16-day ones 1 MB.
-MEMO_MAX_BYTES = 32 << 20
+# Moon's 8-day segments is 3 MB, of the nutation's 16-day ones 1 MB; 13 functions keep memos.
+MEMO_MAX_BYTES = 16 << 20
 
 
 class SegmentMemo:
