@@ -15,10 +15,12 @@ from skydome.atmosphere import DensityProfile, Spectrum, preset
 from skydome.atmosphere import precompute as precompute_module
 from skydome.atmosphere import precompute_probe as probe
 from skydome.atmosphere.columns import densities
+from skydome.atmosphere.inputs import broadened_lobe_uniforms, mie_lobe_uniforms
 from skydome.atmosphere.precompute import PrecomputedAtmosphere, gauss_legendre, precompute
 from skydome.atmosphere.precompute_config import PrecomputeConfig
 from skydome.core.cameras import DirectionsCamera, direction_from_angles
 from skydome.errors import CacheError, ParameterError
+from skydome.physics.phase import henyey_greenstein
 from skydome.reference import ms as mc
 from skydome.spectra import LINEAR_SRGB_TO_XYZ
 
@@ -389,6 +391,29 @@ def test_sky_irradiance_drawn_in_parts_is_the_same_sum(ctx, monkeypatch, parts):
         assert np.array_equal(drawn[name], other[name]), name
     ln_e, ln_e_other = drawn["irradiance_spectral"], other["irradiance_spectral"]
     assert np.abs(ln_e - ln_e_other).max() < 1e-5
+
+
+def test_broadened_lobes_merged_are_the_same_phase_function():
+    # The density pass of the orders >= 2 caps a spectral phase function's lobes at
+    # MS_MIE_LOBE_G_MAX; inputs.broadened_lobe_uniforms merges the lobes that then share a g
+    # (Mars: 10 lobes -> 6). Summed with physics.phase.henyey_greenstein at 2001 cosines and
+    # every multiple-scattering wavelength, the merged lobes give the capped ones' phase
+    # function to float64 rounding.
+    params = preset("mars")
+    wavelengths = PrecomputeConfig().multiple_wavelengths
+    g_max = precompute_module.MS_MIE_LOBE_G_MAX
+    mu = np.linspace(-1.0, 1.0, 2001)
+
+    def phase(uniforms, cap):
+        g = np.minimum(np.asarray(uniforms["u_mie_lobe_g"]), cap)
+        weights = np.asarray(uniforms["u_mie_lobe_weight"]).reshape(-1, g.size, 4)
+        lobes = np.stack([henyey_greenstein(mu, gj) for gj in g])  # (lobes, cosines)
+        return np.einsum("klw,lc->kwc", weights, lobes)
+
+    merged = broadened_lobe_uniforms(params, wavelengths, g_max)
+    assert len(merged["u_mie_lobe_g"]) == 6 and max(merged["u_mie_lobe_g"]) == g_max
+    want = phase(mie_lobe_uniforms(params, wavelengths), g_max)
+    np.testing.assert_allclose(phase(merged, 1.0), want, rtol=1e-12)
 
 
 def test_mie_is_kept_wherever_aerosols_are():

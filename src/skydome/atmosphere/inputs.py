@@ -274,6 +274,28 @@ def mie_phase_defines(params: AtmosphereParams) -> dict[str, object]:
     return {} if params.mie_phase is None else {"MIE_LOBES": len(params.mie_phase.lobe_g)}
 
 
+def broadened_lobe_uniforms(
+    params: AtmosphereParams, wavelengths_nm, g_max: float
+) -> dict[str, object]:
+    """:func:`mie_lobe_uniforms` with every lobe's g capped at ``g_max`` and the lobes that
+    then share a g merged into one (their weights summed): the phase function the density
+    pass of the orders >= 2 uses (precompute_density.glsl), with fewer lobes to evaluate
+    (Mars's dust: the 5 lobes of g 0.83-0.98 become one of g 0.8, 10 lobes 6)."""
+    phase = params.mie_phase
+    if phase is None:
+        return {}
+    capped = np.minimum(np.asarray(phase.lobe_g, dtype=float), g_max)
+    merged_g, lobe_of = np.unique(capped, return_inverse=True)
+    w = phase.weights_at(wavelengths_nm)  # (wavelengths, lobes)
+    merged = np.zeros((w.shape[0], merged_g.size))
+    np.add.at(merged, (slice(None), lobe_of.ravel()), w)
+    groups = merged.reshape(-1, 4, merged_g.size)  # (group, 4, lobe)
+    return {
+        "u_mie_lobe_g": [float(g) for g in merged_g],
+        "u_mie_lobe_weight": [float(v) for v in np.transpose(groups, (0, 2, 1)).ravel()],
+    }
+
+
 def mie_lobe_uniforms(params: AtmosphereParams, wavelengths_nm) -> dict[str, object]:
     """``u_mie_lobe_g`` and ``u_mie_lobe_weight`` (group-major vec4s: for each group of 4
     wavelengths, each lobe's weights at them) of a spectral phase function, else nothing."""

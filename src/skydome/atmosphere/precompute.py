@@ -74,6 +74,7 @@ from skydome.atmosphere.inputs import (
     AirSpectra,
     LookupInputs,
     TransmittanceInputs,
+    broadened_lobe_uniforms,
     geometry_inputs,
     mie_kink_radius_km,
     mie_phase_defines,
@@ -799,10 +800,16 @@ class _Precomputation:
         w, h, d = self.j_shape
         self.j_fbo.viewport = (0, 0, w // nv, h)
         inputs = replace(self.ms_inputs, u_field=self.field)
+        lobe_defines = {}
+        if self.params.mie_phase is not None:  # its lobes broadened, those then alike merged
+            lobes = broadened_lobe_uniforms(self.params, self.ms_wl, MS_MIE_LOBE_G_MAX)
+            inputs = replace(inputs, spectra=replace(inputs.spectra, **lobes))
+            lobe_defines = {"MIE_LOBES": len(lobes["u_mie_lobe_g"])}
         # the layers above the aerosols without J's Mie sum (NO_MIE), each run in one draw
         runs = mie_runs(self.params, self.ms_wl, self.cfg.ms_size[0])
         for first, count, negligible in runs:
-            defines = {**self.ms_defines, "NU_PER_FRAGMENT": nv}
+            defines = {**self.ms_defines, **lobe_defines, "NU_PER_FRAGMENT": nv}
+            defines["MS_MIE_LOBE_G_MAX"] = MS_MIE_LOBE_G_MAX
             if negligible:
                 defines["NO_MIE"] = 1
             prog = _program(self.ctx, "atmosphere/precompute_density.glsl", defines, layered=True)
@@ -959,6 +966,11 @@ class _Precomputation:
 
         return log_tex(spec.reshape(self.groups * eh, ew, 4), (ew, eh * self.groups))
 
+
+#: The largest g of a spectral phase function's lobes in the scattering density of the orders
+#: >= 2 (precompute_density.glsl: its directions are ~20 deg apart, and a narrower lobe made
+#: the weighted mean jump from one direction to the next).
+MS_MIE_LOBE_G_MAX = 0.8
 
 #: Copies of the sky irradiance table drawn side by side, each summing a share of the
 #: directions (precompute_irradiance.glsl): the table (64 x 16) is one of a CPU rasterizer's

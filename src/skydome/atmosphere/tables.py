@@ -21,7 +21,7 @@ from skydome.core.cache import CacheSpec, load_or_build
 #: ``version`` when an edit of one of them changes the tables (tests/test_cache.py checks).
 TABLES_CACHE = CacheSpec(
     name="atmosphere-tables",
-    version=5,
+    version=6,
     shader_folders=("atmosphere", "common"),
     builder_files=(
         "atmosphere/tables.py",

@@ -23,7 +23,8 @@
 // Stored as a logarithm (atmosphere/precomputed_params.glsl).
 #include "atmosphere/precompute_common.glsl"
 
-#define MS_MIE_LOBE_G_MAX 0.8
+// MS_MIE_LOBE_G_MAX (precompute.py) is defined by the caller, which also gives the lobes
+// already capped at it and merged where they then coincide (inputs.broadened_lobe_uniforms).
 uniform vec4 u_density_size;  // the grid of J (NU, MU_S, MU, R)
 uniform sampler2D u_field;  // L dw, x = group * N_DIR + direction, y = r_index * MU_S + mu_s_index
 
