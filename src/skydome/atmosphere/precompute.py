@@ -804,7 +804,8 @@ class _Precomputation:
         if self.params.mie_phase is not None:  # its lobes broadened, those then alike merged
             lobes = broadened_lobe_uniforms(self.params, self.ms_wl, MS_MIE_LOBE_G_MAX)
             inputs = replace(inputs, spectra=replace(inputs.spectra, **lobes))
-            lobe_defines = {"MIE_LOBES": len(lobes["u_mie_lobe_g"])}
+            g_values = ", ".join(f"{g:.9e}" for g in lobes["u_mie_lobe_g"])  # constants: -8 %
+            lobe_defines = {"MIE_LOBES": len(lobes["u_mie_lobe_g"]), "MIE_LOBE_G_VALUES": g_values}
         # the layers above the aerosols without J's Mie sum (NO_MIE), each run in one draw
         runs = mie_runs(self.params, self.ms_wl, self.cfg.ms_size[0])
         for first, count, negligible in runs:
