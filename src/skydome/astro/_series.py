@@ -452,19 +452,28 @@ class SegmentMemo:
         pos = np.clip(offset, 0, held.size - 1).astype(np.intp)
         return pos, held[pos] & (pos == offset)  # the clipped ones are outside the span
 
-    def missing(self, seg: np.ndarray) -> np.ndarray:
-        """The distinct segments of ``seg`` (N,) not held, sorted."""
-        _, held = self._positions(self._span, seg)
+    def locate(self, seg: np.ndarray) -> tuple:
+        """Where the segments ``seg`` (N,) are in the span held now: (the span, each one's
+        position in it, whether it is held), for :meth:`missing` and :meth:`coefficients`."""
+        span = self._span
+        return (span, *self._positions(span, seg))
+
+    def missing(self, seg: np.ndarray, located: tuple | None = None) -> np.ndarray:
+        """The distinct segments of ``seg`` (N,) not held, sorted (``located``: :meth:`locate`'s
+        answer for ``seg``, if the caller has it)."""
+        held = (located or self.locate(seg))[2]
         return np.empty(0) if held.all() else np.unique(seg[~held])
 
     def coefficients(
-        self, seg: np.ndarray, compute: Callable[[np.ndarray], np.ndarray]
+        self,
+        seg: np.ndarray,
+        compute: Callable[[np.ndarray], np.ndarray],
+        located: tuple | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Coefficients (n, C, M) and each time's position in them for the segments ``seg``
         (N,); ``compute(segments)`` gives those (n, C, m) of the distinct segments (m,)
-        not held yet."""
-        span = self._span
-        pos, held = self._positions(span, seg)
+        not held yet; ``located`` as for :meth:`missing`."""
+        span, pos, held = located or self.locate(seg)
         if span is not None and held.all():
             return span[1], pos
         if span is not None:
@@ -529,7 +538,8 @@ def smooth(
         return func(jd)
     memo = SegmentMemo() if memo is None else memo
     seg = np.floor((jd - J2000) / step_days)
-    if memo.missing(seg).size * n + jd.size * n * step_cost >= jd.size:
+    located = memo.locate(seg)
+    if memo.missing(seg, located).size * n + jd.size * n * step_cost >= jd.size:
         return func(jd)
 
     def compute(new: np.ndarray) -> np.ndarray:
@@ -539,7 +549,7 @@ def smooth(
         coef = vals.reshape(vals.shape[0], new.size, n) @ mat.T  # (C, M, n)
         return np.moveaxis(coef, 2, 0)  # (n, C, M)
 
-    coef, pos = memo.coefficients(seg, compute)
+    coef, pos = memo.coefficients(seg, compute, located)
     x = 2.0 * ((jd - J2000) / step_days - seg) - 1.0
     return clenshaw(coef, pos, x)
 

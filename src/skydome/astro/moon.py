@@ -185,15 +185,19 @@ class _LunarSeries:
         The segments already computed in this process (``self.memos``) cost only their
         Chebyshev sums; which way a call goes does not matter (they agree within 1e-5")."""
         jd = np.asarray(jd_tt, dtype=float).ravel()
-        best, days = COST_DIRECT * jd.size, None
+        best, days, located = COST_DIRECT * jd.size, None, {}
         if jd.size > 16:
             for d in SEGMENT_DAYS:
-                new = self.memos[d].missing(np.floor((jd - J2000) / d))
+                seg = np.floor((jd - J2000) / d)
+                located[d] = (seg, self.memos[d].locate(seg))
+                new = self.memos[d].missing(seg, located[d][1])
                 p = self.tables[d]["n_cheb"]
                 cost = COST_SEGMENT * new.size + COST_COEFFICIENT * jd.size * p
                 cost += COST_FIXED if new.size else 0.0
                 best, days = (cost, d) if cost < best else (best, days)
-        return self.direct(jd) if days is None else self.segments(jd, days)
+        if days is None:
+            return self.direct(jd)
+        return self.segments(jd, days, *located[days])
 
     def direct(self, jd_tt: np.ndarray) -> np.ndarray:
         """(lambda, beta, r) term by term at every time; (3, N)."""
@@ -205,13 +209,16 @@ class _LunarSeries:
             out = out * t + rows[:, n]
         return self.finish(out, t)
 
-    def segments(self, jd_tt: np.ndarray, days: float) -> np.ndarray:
+    def segments(
+        self, jd_tt: np.ndarray, days: float, seg: np.ndarray | None = None, located=None
+    ) -> np.ndarray:
         """(lambda, beta, r) from Chebyshev series on segments of ``days``; (3, N). The
-        segments' coefficients are kept in ``self.memos[days]`` for later calls."""
+        segments' coefficients are kept in ``self.memos[days]`` for later calls (``seg``,
+        ``located``: the times' segments and where the memo holds them, if known)."""
         jd = np.asarray(jd_tt, dtype=float).ravel()
-        seg = np.floor((jd - J2000) / days)
+        seg = np.floor((jd - J2000) / days) if seg is None else seg
         coef, pos = self.memos[days].coefficients(
-            seg, lambda new: self._segment_coefficients(new, days)
+            seg, lambda new: self._segment_coefficients(new, days), located
         )
         x = (jd - J2000) / (0.5 * days) - (2.0 * seg + 1.0)
         return self.finish(clenshaw(coef, pos, x), julian_centuries(jd))

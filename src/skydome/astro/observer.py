@@ -339,7 +339,8 @@ class Observer:
         tau0 = 384400.0 / frames.C_KM_PER_S / 86400.0  # mean light time, days
         lam, beta, dist_km = moon.moon_ecliptic_of_date(jd - tau0)
         m_ecl = frames.spherical_to_cartesian(lam, beta, dist_km / AU_KM)
-        tau = frames.norm3(m_ecl) / C_AU_PER_DAY
+        m_dist_au = frames.norm3(m_ecl)
+        tau = m_dist_au / C_AU_PER_DAY
         # astrometric = Moon(t - tau) + E(t - tau) - E(t) ~ Moon(t - tau) - v_E tau
         geo_ecl = m_ecl - geo["v_earth_ecl"] * tau[:, None]
         place = self._place(geo, "moon", geo_ecl)
@@ -348,8 +349,7 @@ class Observer:
         sun_moon_au = frames.norm3(sun_place["topo"] - place["topo"])
         earth_phase = np.arccos(
             np.clip(
-                -frames.dot3(m_ecl, geo["earth"])
-                / (frames.norm3(m_ecl) * frames.norm3(geo["earth"])),
+                -frames.dot3(m_ecl, geo["earth"]) / (m_dist_au * frames.norm3(geo["earth"])),
                 -1.0,
                 1.0,
             )

@@ -743,6 +743,19 @@ class _Precomputation:
             u_density_size=cfg.glsl_size(cfg.ms_size),
             u_ms_size=cfg.glsl_size(cfg.multiple_size),
         )
+        # the density pass: a spectral phase function's lobes broadened and those then alike
+        # merged, their g compile-time constants (Mars: -8 %)
+        self.density_inputs, self.density_defines = self.ms_inputs, self.ms_defines
+        if self.params.mie_phase is not None:
+            lobes = broadened_lobe_uniforms(self.params, self.ms_wl, MS_MIE_LOBE_G_MAX)
+            spectra = replace(self.ms_inputs.spectra, **lobes)
+            self.density_inputs = replace(self.ms_inputs, spectra=spectra)
+            self.density_defines = {
+                **self.ms_defines,
+                "MIE_LOBES": len(lobes["u_mie_lobe_g"]),
+                "MIE_LOBE_G_VALUES": ", ".join(f"{g:.9e}" for g in lobes["u_mie_lobe_g"]),
+            }
+        self.mie_runs = mie_runs(self.params, self.ms_wl, cfg.ms_size[0])
         w, h, d = self.j_shape
         self.j3d = self._keep(linear_clamped(ctx.texture3d((w, h, d * gm), 4, dtype="f4"), ctx))
         if cfg.orders < 2:
@@ -799,18 +812,10 @@ class _Precomputation:
         nv = self.nu_per
         w, h, d = self.j_shape
         self.j_fbo.viewport = (0, 0, w // nv, h)
-        inputs = replace(self.ms_inputs, u_field=self.field)
-        lobe_defines = {}
-        if self.params.mie_phase is not None:  # its lobes broadened, those then alike merged
-            lobes = broadened_lobe_uniforms(self.params, self.ms_wl, MS_MIE_LOBE_G_MAX)
-            inputs = replace(inputs, spectra=replace(inputs.spectra, **lobes))
-            g_values = ", ".join(f"{g:.9e}" for g in lobes["u_mie_lobe_g"])  # constants: -8 %
-            lobe_defines = {"MIE_LOBES": len(lobes["u_mie_lobe_g"]), "MIE_LOBE_G_VALUES": g_values}
+        inputs = replace(self.density_inputs, u_field=self.field)
         # the layers above the aerosols without J's Mie sum (NO_MIE), each run in one draw
-        runs = mie_runs(self.params, self.ms_wl, self.cfg.ms_size[0])
-        for first, count, negligible in runs:
-            defines = {**self.ms_defines, **lobe_defines, "NU_PER_FRAGMENT": nv}
-            defines["MS_MIE_LOBE_G_MAX"] = MS_MIE_LOBE_G_MAX
+        for first, count, negligible in self.mie_runs:
+            defines = {**self.density_defines, "NU_PER_FRAGMENT": nv}
             if negligible:
                 defines["NO_MIE"] = 1
             prog = _program(self.ctx, "atmosphere/precompute_density.glsl", defines, layered=True)

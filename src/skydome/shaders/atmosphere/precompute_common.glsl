@@ -187,7 +187,8 @@ LitRule lit_rule(float r, float mu, vec4 lit) {
     const int half_n = RAY_SAMPLES / 2;
     vec2 ends = second && !first ? lit.zw : lit.xy;
     q.first = split_ray(q.both ? half_n : RAY_SAMPLES, r, mu, ends.x, ends.y, !q.both);
-    q.second = split_ray(half_n, r, mu, lit.z, lit.w, false);
+    q.second = q.first;  // read only with two lit intervals (twilight rays): made only then
+    if (q.both) q.second = split_ray(half_n, r, mu, lit.z, lit.w, false);
     return q;
 }
 

@@ -7,7 +7,8 @@
 // and with g ~ 0.8 its lobe is narrower than the spacing of the directions, so the plain sum
 // would depend on where v falls between them; normalized, it is a P_M-weighted mean of L around
 // v, exact for smooth L. The Rayleigh phase function is smooth and needs no such care.
-// A spectral phase function's lobes (MIE_LOBES) are broadened to g <= MS_MIE_LOBE_G_MAX: the
+// A spectral phase function's lobes (MIE_LOBES) come broadened to g <= MS_MIE_LOBE_G_MAX
+// (precompute.py; inputs.broadened_lobe_uniforms merges those that then coincide): the
 // directions are ~20 deg apart, and a lobe a few degrees wide (Martian dust's diffraction peak,
 // g ~ 0.97) made the weighted mean jump from one direction to the next as v moved (bands in
 // the orders >= 2); self-normalized, the broadening keeps the energy.
@@ -23,8 +24,6 @@
 // Stored as a logarithm (atmosphere/precomputed_params.glsl).
 #include "atmosphere/precompute_common.glsl"
 
-// MS_MIE_LOBE_G_MAX (precompute.py) is defined by the caller, which also gives the lobes
-// already capped at it and merged where they then coincide (inputs.broadened_lobe_uniforms).
 uniform vec4 u_density_size;  // the grid of J (NU, MU_S, MU, R)
 uniform sampler2D u_field;  // L dw, x = group * N_DIR + direction, y = r_index * MU_S + mu_s_index
 
@@ -146,8 +145,7 @@ void main() {
                     int o = k * NV + t;
                     sum_r[o] += pr * Lw[k];
 #ifdef MIE_LOBES
-                    vec4 pm = mie_phase_group_broadened(c, k, MS_MIE_LOBE_G_MAX)
-                            + twin * mie_phase_group_broadened(c2, k, MS_MIE_LOBE_G_MAX);
+                    vec4 pm = mie_phase_group(c, k) + twin * mie_phase_group(c2, k);
                     norm_m[o] += pm * w_a;
 #endif
                     sum_m[o] += pm * Lw[k];

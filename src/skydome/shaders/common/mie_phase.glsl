@@ -14,29 +14,19 @@
 uniform float u_mie_lobe_g[MIE_LOBES];
 uniform vec4 u_mie_lobe_weight[NUM_GROUPS * MIE_LOBES];  // group-major: [g * MIE_LOBES + j]
 
-// twin: skydome.atmosphere.phase.MiePhaseLobes.phase(nu, wavelengths_nm) nu=-1..1 g=0..1 NUM_GROUPS=2
-vec4 mie_phase_group(float nu, int g) {
-    vec4 p = vec4(0.0);
-    for (int j = 0; j < MIE_LOBES; ++j)
-        p += u_mie_lobe_weight[g * MIE_LOBES + j] * henyey_greenstein_phase(nu, u_mie_lobe_g[j]);
-    return p;
-}
-
-// The same with every lobe's asymmetry at most g_max: lobes narrower than the spacing of a
-// direction quadrature, broadened to what it resolves (the orders >= 2: precompute_density.glsl).
 // MIE_LOBE_G_VALUES (the caller's literals) makes the lobes' g compile-time constants (a g of 0
-// folds to a constant lobe; Mars's density pass -8 % on llvmpipe).
+// folds to a constant lobe; Mars's density pass of the orders >= 2 -8 % on llvmpipe).
 #ifdef MIE_LOBE_G_VALUES
 const float MIE_LOBE_G[MIE_LOBES] = float[MIE_LOBES](MIE_LOBE_G_VALUES);
 #else
 #define MIE_LOBE_G u_mie_lobe_g
 #endif
-vec4 mie_phase_group_broadened(float nu, int g, float g_max) {
+
+// twin: skydome.atmosphere.phase.MiePhaseLobes.phase(nu, wavelengths_nm) nu=-1..1 g=0..1 NUM_GROUPS=2
+vec4 mie_phase_group(float nu, int g) {
     vec4 p = vec4(0.0);
-    for (int j = 0; j < MIE_LOBES; ++j) {
-        float gj = min(MIE_LOBE_G[j], g_max);
-        p += u_mie_lobe_weight[g * MIE_LOBES + j] * henyey_greenstein_phase(nu, gj);
-    }
+    for (int j = 0; j < MIE_LOBES; ++j)
+        p += u_mie_lobe_weight[g * MIE_LOBES + j] * henyey_greenstein_phase(nu, MIE_LOBE_G[j]);
     return p;
 }
 
