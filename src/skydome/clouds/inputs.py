@@ -129,3 +129,13 @@ class QueryInputs(ShaderInputs):
     """``clouds/cloud_shadow_query.glsl``: the query points (km, a texture)."""
 
     u_points: object
+
+
+@dataclass(frozen=True)
+class LightMapInputs(ShaderInputs):
+    """The clouds' light map (``clouds/light_map_warp.glsl``): its warp's length and the
+    clouds' lowest base's radius (km); the map itself for the march (None for the pass that
+    draws it)."""
+
+    u_light_map_warp: tuple[float, float]
+    u_light_map: object = None

@@ -33,10 +33,12 @@ from skydome.clouds.inputs import (
     ColumnInputs,
     CompositeInputs,
     DepthInputs,
+    LightMapInputs,
     QueryInputs,
     TemporalInputs,
     UpsampleInputs,
 )
+from skydome.clouds.light_map import LIGHT_MAP_TEXELS, LIGHT_MAP_WARP_KM, LIGHT_PATH_STEPS
 from skydome.clouds.ms_table import load_ms_table
 from skydome.clouds.noise import cloud_noise
 from skydome.clouds.params import (
@@ -67,7 +69,6 @@ from skydome.core.services import (
     VolumeInputs,
 )
 from skydome.errors import ParameterError
-from skydome.gpu import FullscreenPass
 from skydome.gpu.textures import linear_clamped, release_unbound
 from skydome.physics.constants import J2000_JD
 from skydome.physics.geometry import elevation_deg
@@ -116,6 +117,8 @@ _SEED_CORRECTION: dict[tuple[int, float], tuple[float, ...]] = {}
 #: The sky probe: its equirectangular map's size, and its height above the ground (m).
 PROBE_SIZE = (64, 32)
 PROBE_ALTITUDE_M = 2.0
+#: Samples of each shell crossing of CloudLayer.light_transmittance's paths (by default).
+SHADOW_QUERY_STEPS = 8
 #: Below this Sun elevation (deg) the Moon, when up, lights the clouds instead.
 MOON_KEY_BELOW_DEG = -8.0
 
@@ -190,6 +193,7 @@ class CloudLayer(Layer):
         self._halo = None  # (the halo table, its texture): the cirrus crystals' light
         self._fog = None  # the fog droplets' phase function by channel (their own radius)
         self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
+        self._light_map = None  # (key, texture, framebuffer): the key light through the clouds
         self._outputs: dict = {}
         self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
@@ -396,6 +400,7 @@ class CloudLayer(Layer):
             "LIGHT_EVERY": every,
             "COARSE": float(q["coarse"]),
             "STEP_SPLIT": float(q["split"]),
+            "LIGHT_PATH_STEPS": LIGHT_PATH_STEPS,
         }
         if air.lights().has_moon:
             d["HAS_LIGHT2"] = 1
@@ -552,12 +557,69 @@ class CloudLayer(Layer):
         if aerial is not None:
             extra = (*extra, "AERIAL_TABLES")
             inputs.append(aerial)
+        if not {"CLOUDS_ALONE", "SKY_PROBE"} & set(extra):
+            light_map = self._light_map_inputs(cloud, textures, lights.u_camera_position[2])
+            if light_map is not None:
+                extra = (*extra, "LIGHT_MAP")
+                inputs.append(light_map)
         fpass = self.full_screen_pass(
             frame.ctx, "clouds/clouds_march.glsl", tuple(type(i) for i in inputs),
             frame.camera, self.defines(frame, extra),
         )  # fmt: skip
         fpass.draw(fbo, *inputs)
         return rad, data
+
+    def _lowest_base_km(self, cloud: CloudInputs) -> float | None:
+        """The radius (km) of the lowest base of the clouds' shells that hold any, or None."""
+        shells = cloud.u_cloud_shell
+        bases = [lo for lo, hi in (shells[:2], shells[2:]) if hi > lo]
+        return min(bases) if bases else None
+
+    def _light_map_inputs(self, cloud: CloudInputs, textures: CloudTextures,
+                          camera_radius_km: float) -> LightMapInputs | None:  # fmt: skip
+        """The light map for a march of ``cloud`` from a camera at ``camera_radius_km``
+        (planet-centred), or None where the march goes without it: at any quality but
+        "full" ("best" is the reference it is held to; the interactive mode's small
+        frames light their few pixels' air for less than a map costs), with a key light
+        below the horizon (its rays would leave the clouds' sphere far round the Earth),
+        without clouds aloft (or with a uniform test deck), or from a camera at or above
+        their lowest base."""
+        if self._pass_quality != "full" or self.clouds.uniform or not self.clouds.aloft:
+            return None
+        base_km = self._lowest_base_km(cloud)
+        if base_km is None or cloud.u_light_direction[2] <= 0.0 or camera_radius_km >= base_km:
+            return None
+        return LightMapInputs((LIGHT_MAP_WARP_KM, base_km), self.light_map(cloud, textures))
+
+    def light_map(self, cloud: CloudInputs, textures: CloudTextures):
+        """The clouds' light map (clouds/cloud_light_map.glsl) for ``cloud`` and ``textures``:
+        an R32F texture of LIGHT_MAP_TEXELS a side, bilinear, clamped; drawn when the time,
+        the clouds or the lights change, and kept."""
+        base_km = self._lowest_base_km(cloud)
+        if base_km is None:
+            raise ParameterError("the light map needs clouds in a shell")
+        key = (self._sky_key(), cloud.u_cloud_shell, cloud.u_light_direction,
+               cloud.u_cloud_offset_km, tuple(cloud.u_water_norm))  # fmt: skip
+        if self._light_map is not None and self._light_map[0] == key:
+            return self._light_map[1]
+        ctx = self.graph.ctx
+        if self._light_map is None:
+            n = LIGHT_MAP_TEXELS
+            tex = linear_clamped(ctx.texture((n, n), 1, dtype="f4"), ctx)
+            fbo = ctx.framebuffer(color_attachments=[tex])
+        else:
+            _, tex, fbo = self._light_map
+        lookup = self._air().lookup()
+        inputs = (lookup.inputs, cloud, textures, LightMapInputs((LIGHT_MAP_WARP_KM, base_km)))
+        fpass = self.full_screen_pass(
+            ctx, "clouds/cloud_light_map.glsl", tuple(type(i) for i in inputs), None,
+            {**self._own_defines(), "LIGHT_MAP_TEXELS": LIGHT_MAP_TEXELS,
+             "LIGHT_PATH_STEPS": LIGHT_PATH_STEPS},
+        )  # fmt: skip
+        fbo.viewport = (0, 0, *tex.size)
+        fpass.draw(fbo, *inputs)
+        self._light_map = (key, tex, fbo)
+        return tex
 
     def probe(self, camera, width: int, height: int, altitude_m: float, *,
               test_irradiance: float | None = None, uniform_extinction_per_m: float | None = None):  # fmt: skip
@@ -638,13 +700,17 @@ class CloudLayer(Layer):
         clear = np.frombuffer(data.read(), dtype="f4").reshape(h, w, 4)[::-1, :, 1:4]
         return SkyProbe.from_maps(radiance.astype(np.float64), clear.astype(np.float64))
 
-    def light_transmittance(self, points_m) -> np.ndarray:
+    def light_transmittance(self, points_m, steps: int = SHADOW_QUERY_STEPS) -> np.ndarray:
         """The clouds' transmittance towards the key light (the Sun, or the Moon at night) at
         points of a user's scene: ``points_m`` (..., 3) in metres, east, north and up from the
         place's ground (the tangent plane: within tens of km the curvature is negligible
         here), at this layer's last time. Returns (...) in [0, 1]: 1 in full light, 0 in a
-        cloud's full shadow (a shadow map for compositing a scene under the clouds)."""
+        cloud's full shadow (a shadow map for compositing a scene under the clouds).
+        ``steps``: samples of each crossing of a shell (1-64; the march's light paths take
+        LIGHT_PATH_STEPS)."""
         p = np.asarray(points_m, dtype=np.float64)
+        if not (isinstance(steps, int | np.integer) and 1 <= steps <= 64):
+            raise ParameterError(f"steps = {steps!r} must be an integer in 1-64")
         if p.shape[-1:] != (3,) or not np.all(np.isfinite(p)):
             raise ParameterError("points_m must be finite (..., 3) east, north, up in metres")
         if self.graph is None or self._state is None:
@@ -664,7 +730,8 @@ class CloudLayer(Layer):
         try:
             inputs = (self._air().lookup().inputs, self.cloud_inputs(), self.texture_inputs(),
                       QueryInputs(points))  # fmt: skip
-            t = self._data_pass("clouds/cloud_shadow_query.glsl", inputs, (width, height), 1)
+            t = self._data_pass("clouds/cloud_shadow_query.glsl", inputs, (width, height), 1,
+                                {"QUERY_STEPS": int(steps)})  # fmt: skip
         finally:
             release_unbound(points)
         t = t.reshape(-1)[:n]
@@ -689,20 +756,21 @@ class CloudLayer(Layer):
         tau = self._data_pass("clouds/cloud_columns.glsl", inputs, (grid, grid), 4)[..., :2]
         return tau.astype(np.float64) / self.extinction_scale
 
-    def _data_pass(self, shader: str, inputs: tuple, size: tuple[int, int], components: int):
-        """Draw one of the layer's passes that read only the clouds' density (no camera)
-        into a float texture of ``size`` and read it back: (h, w, components), row 0 first
-        as GL stores it."""
+    def _data_pass(self, shader: str, inputs: tuple, size: tuple[int, int], components: int,
+                   defines: dict | None = None):  # fmt: skip
+        """Draw one of the layer's passes that read only the clouds' density (no camera;
+        ``defines`` besides the layer's own) into a float texture of ``size`` and read it
+        back: (h, w, components), row 0 first as GL stores it."""
         ctx = self.graph.ctx
         out = ctx.texture(size, components, dtype="f4")
         fbo = ctx.framebuffer(color_attachments=[out])
         try:
-            if shader not in self._passes:
-                self._passes[shader] = FullscreenPass(
-                    ctx, shader, self._own_defines(), inputs=tuple(type(i) for i in inputs)
-                )
+            fpass = self.full_screen_pass(
+                ctx, shader, tuple(type(i) for i in inputs), None,
+                {**self._own_defines(), **(defines or {})},
+            )  # fmt: skip
             fbo.viewport = (0, 0, *size)
-            self._passes[shader].draw(fbo, *inputs)
+            fpass.draw(fbo, *inputs)
             data = np.frombuffer(out.read(), dtype=np.float32)
         finally:
             release_unbound(fbo)
@@ -1067,6 +1135,10 @@ class CloudLayer(Layer):
         if self._fog is not None:
             self._fog.release()
             self._fog = None
+        if self._light_map is not None:
+            release_unbound(self._light_map[2])
+            release_unbound(self._light_map[1])
+            self._light_map = None
         if self.weather is not None:
             self.weather.release()
             self.weather = None

@@ -61,8 +61,12 @@ float clouds_transmittance(vec3 p, vec3 L, int steps) {
 #endif
 }
 
-// The same through the fog and the precipitation under the clouds as well.
+// Transmittance towards L from p through the fog and the precipitation under the clouds.
+float ground_layer_transmittance(vec3 p, vec3 L, int steps) {
+    return shell_transmittance(p, L, u_ground_layer.x, max(u_ground_layer.y, u_ground_layer.z), steps);
+}
+
+// The same through the clouds and through the fog and the precipitation under them.
 float light_transmittance(vec3 p, vec3 L, int steps) {
-    return clouds_transmittance(p, L, steps)
-         * shell_transmittance(p, L, u_ground_layer.x, max(u_ground_layer.y, u_ground_layer.z), steps);
+    return clouds_transmittance(p, L, steps) * ground_layer_transmittance(p, L, steps);
 }

@@ -57,6 +57,32 @@ uniform vec4 u_light2_scale;
 #ifdef CLOUDS_ALONE
 uniform vec4 u_test_irradiance;
 #endif
+#ifdef LIGHT_MAP
+#include "clouds/light_map_warp.glsl"
+uniform sampler2D u_light_map;    // the clouds' light map (clouds/cloud_light_map.glsl)
+uniform vec2 u_light_map_warp;    // (its warp's a km, the clouds' lowest base's radius km)
+#endif
+
+// The clouds' transmittance towards the key light L at p (LIGHT_PATH_STEPS samples per shell
+// crossing):
+// with LIGHT_MAP, below the clouds' lowest base, the light map's at the point where the ray
+// towards L leaves that base's sphere (the same crossings); elsewhere marched.
+float clouds_transmittance_at(vec3 p, vec3 L) {
+#ifdef LIGHT_MAP
+    float r = u_light_map_warp.y;
+    if (dot(p, p) < r * r) {
+        vec3 q = p + L * ray_sphere(p, L, r).y;
+        return textureLod(u_light_map, light_map_uv(q.xy, u_light_map_warp.x), 0.0).r;
+    }
+#endif
+    return clouds_transmittance(p, L, LIGHT_PATH_STEPS);
+}
+
+// The same through the fog and the precipitation under the clouds as well.
+float key_light_transmittance(vec3 p) {
+    return clouds_transmittance_at(p, u_light_direction)
+         * ground_layer_transmittance(p, u_light_direction, LIGHT_PATH_STEPS);
+}
 
 layout(location = 0) out vec4 frag_radiance;
 layout(location = 1) out vec4 frag_cloud;
@@ -278,7 +304,7 @@ void march_shell(vec3 o, vec3 d, vec2 seg, float r_lo, float r_hi, float offset,
             if (under) {
                 parts = ground_layer_parts(p, length(p));
                 rain = u_rain_share * parts.y / max(parts.x + parts.y, 1e-9);
-                shadow = clouds_transmittance(p, L, 4);
+                shadow = clouds_transmittance_at(p, L);
                 j *= vec2(shadow, 1.0);
             }
 #ifdef HALOS
@@ -328,8 +354,7 @@ const int PATH_SAMPLES = 12;
 float path_lit_fraction(vec3 o, vec3 d, float length_km) {
     float lit = 0.0;
     for (int k = 0; k < PATH_SAMPLES; ++k)
-        lit += light_transmittance(o + d * ((float(k) + 0.5) / float(PATH_SAMPLES) * length_km),
-                                   u_light_direction, 4);
+        lit += key_light_transmittance(o + d * ((float(k) + 0.5) / float(PATH_SAMPLES) * length_km));
     return lit / float(PATH_SAMPLES);
 }
 
@@ -348,7 +373,7 @@ float ground_shadow(vec3 o, vec3 d, float t_ground) {
             vec2 hit = ray_sphere(o, dk, u_bottom_radius);
             if (hit.x > 0.0) p = o + dk * hit.x;
         }
-        lit += light_transmittance(p, u_light_direction, 4);
+        lit += key_light_transmittance(p);
     }
     return 0.25 * lit;
 }

@@ -1,0 +1,61 @@
+"""The clouds' light map (``shaders/clouds/cloud_light_map.glsl``): the key light's
+transmittance through the clouds' shells along the rays that leave the sphere of their
+lowest base towards it, one value per point of that sphere.
+
+A ray towards the light from any point below the clouds' lowest base crosses the same shells
+as from where it leaves that sphere, so the full-quality march reads the map for the light of
+the air in front of the clouds (12 points a pixel), of the fog and rain under them and of the
+ground in their shadows, where it marched each of those light paths through the shells (4
+samples a crossing: the map holds the same sums). A texel stands for a point of the sphere
+by the point's offsets (km) across the camera's vertical, warped into the unit disk so that
+texels are small near the camera and the disk reaches every distance
+(``shaders/clouds/light_map_warp.glsl``; these are its float64 twins).
+
+The map is bilinear between its texels: a cloud's shadow edge, which the point samples put at
+one place, is spread over a texel (12 m over the camera, 0.2 km at 10 km, 0.7 km at 20 km).
+A shadow's true penumbra, from the Sun's half-degree disk, is about a hundredth of the
+distance from the cloud's edge (10-20 m under a cumulus's base).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Texels a side of the map, and the warp's length (km): a texel spans 2 a / N km over the
+#: camera and (r + a)^2 / a * 2 / N at r km. 512 and 3 km: against the "best" quality (the
+#: light paths marched at every pixel) a full-quality 1280x720 frame of fair-weather cumulus
+#: moved from a mean relative error of 2.79 % to 2.97 % (1024 texels and 10 km: 2.94 %, at
+#: four times the map's cost); the march's light paths cost 25-30 % of that frame, the map
+#: 33 ms (llvmpipe, 2 cores).
+LIGHT_MAP_TEXELS = 512
+LIGHT_MAP_WARP_KM = 3.0
+#: Samples of each shell crossing on the march's light paths through the air (the map's too).
+LIGHT_PATH_STEPS = 4
+
+
+def light_map_uv(xy_km, a_km: float) -> np.ndarray:
+    """Texture coordinates (..., 2) in the light map of a point of the clouds' lowest base
+    at horizontal offsets ``xy_km`` (..., 2) (km, planet-centred, the camera on the z axis)
+    for the warp's length ``a_km``."""
+    xy = np.asarray(xy_km, dtype=np.float64)
+    return 0.5 + 0.5 * xy / (np.linalg.norm(xy, axis=-1, keepdims=True) + a_km)
+
+
+def light_map_xy(uv, a_km: float) -> np.ndarray:
+    """The inverse of :func:`light_map_uv` inside the disk: offsets (..., 2) km."""
+    m = 2.0 * np.asarray(uv, dtype=np.float64) - 1.0
+    return a_km * m / np.maximum(1.0 - np.linalg.norm(m, axis=-1, keepdims=True), 1e-6)
+
+
+def texel_points(texels, base_radius_km: float, a_km: float = LIGHT_MAP_WARP_KM,
+                 size: int = LIGHT_MAP_TEXELS) -> np.ndarray:  # fmt: skip
+    """The points (..., 3) (km, planet-centred) of the sphere of radius ``base_radius_km`` that
+    the texels ``texels`` (..., 2) (column, row) of a map of ``size`` texels stand for (NaN
+    outside the disk or past the sphere's horizon)."""
+    uv = (np.asarray(texels, dtype=np.float64) + 0.5) / size
+    inside = np.linalg.norm(2.0 * uv - 1.0, axis=-1) < 1.0
+    xy = light_map_xy(uv, a_km)
+    z2 = base_radius_km**2 - np.sum(xy * xy, axis=-1)
+    ok = inside & (z2 > 0.0)
+    z = np.sqrt(np.where(ok, z2, np.nan))
+    return np.concatenate([np.where(ok[..., None], xy, np.nan), z[..., None]], axis=-1)
