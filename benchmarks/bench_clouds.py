@@ -6,7 +6,8 @@ Usage: python benchmarks/bench_clouds.py [--repeats 5] [--size 1280x720] [--fram
 Prints the GL device, then:
 - ``full``: ``Sky.render`` of fair-weather cumulus (preset "fair", seed 3) over Valletta at
   2021-06-21 09:00 UTC (the Sun 60 deg up), a 90 deg perspective camera 15 deg up, read
-  back; the sky probe made afresh (``CloudLayer.sky_probe``); the same frame without clouds; the ``best`` quality (every pixel marched) and the
+  back; the sky probe and the light map made afresh (``CloudLayer.sky_probe``,
+  ``CloudLayer.light_map``); the same frame without clouds; the ``best`` quality (every pixel marched) and the
   full frame's error against it;
 - ``interactive``: ``Sky.draw`` into an offscreen framebuffer (no read-back) while the camera
   turns 0.5 deg per frame, median over ``--frames`` frames; then, with the camera still, the
@@ -71,6 +72,15 @@ def main() -> None:
     print(
         f"  the sky probe (made when the sky changes): {probe_ms:.0f} ms, {probe_ms / ms:.1%} of it"
     )
+    cloud, textures = layer.cloud_inputs(), layer.texture_inputs()
+
+    def light_map():
+        layer._light_map = (None, *layer._light_map[1:])  # drawn afresh, as for a new time
+        layer.light_map(cloud, textures)
+        full.graph.ctx.finish()
+
+    map_ms = median_ms(light_map, args.repeats, warmup=1)
+    print(f"  the light map (made when the sky changes): {map_ms:.0f} ms, {map_ms / ms:.1%} of it")
     layer.enabled = False
     bare = median_ms(lambda: full.render(cam, w, h, exposure=None), args.repeats, warmup=1)
     print(f"  the same frame without clouds: {bare:.0f} ms{vs_floor(bare)}")
