@@ -122,14 +122,18 @@ def test_full_quality_frame_with_the_light_map_is_as_accurate_as_marched_paths(s
 
 @pytest.mark.gl
 def test_light_map_only_where_it_serves():
-    # "best" (the reference) and the interactive mode's accumulating frames march every
-    # path; a camera above the clouds' base or a key light below the horizon draws no map.
+    # "best" (the reference) marches every path; the interactive mode's first frame of a
+    # sky marches them too (while the time runs every frame is a first one), its next
+    # frames of the same sky read the map; a camera above the clouds' base or a key light
+    # below the horizon draws no map.
     with _sky(40.0, quality="best") as sky:
         sky.render(_camera(), 64, 36, exposure=None)
         assert sky.layer("clouds")._light_map is None
     with _sky(40.0, quality="interactive") as sky:
         sky.render(_camera(), 64, 36, exposure=None)
         assert sky.layer("clouds")._light_map is None
+        sky.render(_camera(), 64, 36, exposure=None)
+        assert sky.layer("clouds")._light_map is not None
     with _sky(40.0) as sky:
         sky.render(_camera(), 64, 36, altitude_m=5000.0, exposure=None)
         assert sky.layer("clouds")._light_map is None

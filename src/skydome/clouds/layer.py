@@ -194,6 +194,7 @@ class CloudLayer(Layer):
         self._fog = None  # the fog droplets' phase function by channel (their own radius)
         self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
         self._light_map = None  # (key, texture, framebuffer): the key light through the clouds
+        self._interactive_sky = None  # the sky of the interactive mode's last march
         self._outputs: dict = {}
         self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
@@ -578,14 +579,20 @@ class CloudLayer(Layer):
     def _light_map_inputs(self, cloud: CloudInputs, textures: CloudTextures,
                           camera_radius_km: float) -> LightMapInputs | None:  # fmt: skip
         """The light map for a march of ``cloud`` from a camera at ``camera_radius_km``
-        (planet-centred), or None where the march goes without it: at any quality but
-        "full" ("best" is the reference it is held to; the interactive mode's small
-        frames light their few pixels' air for less than a map costs), with a key light
-        below the horizon (its rays would leave the clouds' sphere far round the Earth),
-        without clouds aloft (or with a uniform test deck), or from a camera at or above
-        their lowest base."""
-        if self._pass_quality != "full" or self.clouds.uniform or not self.clouds.aloft:
+        (planet-centred), or None where the march goes without it: at the "best" quality
+        (the reference it is held to); in the interactive mode while the sky changes from
+        frame to frame (the time running: a map a frame would cost its small frames more
+        than it saves them; a still sky's map serves every frame); with a key light below
+        the horizon (its rays would leave the clouds' sphere far round the Earth), without
+        clouds aloft (or with a uniform test deck), or from a camera at or above their
+        lowest base."""
+        if self._pass_quality == "best" or self.clouds.uniform or not self.clouds.aloft:
             return None
+        if self._pass_quality == "interactive":
+            sky = self._sky_key()
+            steady, self._interactive_sky = sky == self._interactive_sky, sky
+            if not steady:
+                return None
         base_km = self._lowest_base_km(cloud)
         if base_km is None or cloud.u_light_direction[2] <= 0.0 or camera_radius_km >= base_km:
             return None
