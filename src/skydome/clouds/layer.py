@@ -194,7 +194,7 @@ class CloudLayer(Layer):
         self._fog = None  # the fog droplets' phase function by channel (their own radius)
         self._under_ratio = (1.0, 1.0, 1.0, 1.0)  # the clouds' sky light on what is under them
         self._light_map = None  # (key, texture, framebuffer): the key light through the clouds
-        self._interactive_sky = None  # the sky of the interactive mode's last march
+        self._interactive_sky = None  # the sky of the interactive mode's last frame
         self._outputs: dict = {}
         self.air: AirService | None = None
         #: Seconds since J2000 (2000-01-01 12:00 UTC) of the last update: the clouds are a pure
@@ -580,19 +580,16 @@ class CloudLayer(Layer):
                           camera_radius_km: float) -> LightMapInputs | None:  # fmt: skip
         """The light map for a march of ``cloud`` from a camera at ``camera_radius_km``
         (planet-centred), or None where the march goes without it: at the "best" quality
-        (the reference it is held to); in the interactive mode while the sky changes from
-        frame to frame (the time running: a map a frame would cost its small frames more
-        than it saves them; a still sky's map serves every frame); with a key light below
-        the horizon (its rays would leave the clouds' sphere far round the Earth), without
-        clouds aloft (or with a uniform test deck), or from a camera at or above their
-        lowest base."""
+        (the reference it is held to); in the interactive mode at a sky's first frame, so
+        while the sky changes from frame to frame (the time running: a map a frame would
+        cost its small frames more than it saves them; a still sky's map serves every
+        frame after its first); with a key light below the horizon (its rays would leave
+        the clouds' sphere far round the Earth), without clouds aloft (or with a uniform
+        test deck), or from a camera at or above their lowest base."""
         if self._pass_quality == "best" or self.clouds.uniform or not self.clouds.aloft:
             return None
-        if self._pass_quality == "interactive":
-            sky = self._sky_key()
-            steady, self._interactive_sky = sky == self._interactive_sky, sky
-            if not steady:
-                return None
+        if self._pass_quality == "interactive" and self._interactive_sky != self._sky_key():
+            return None
         base_km = self._lowest_base_km(cloud)
         if base_km is None or cloud.u_light_direction[2] <= 0.0 or camera_radius_km >= base_km:
             return None
@@ -1041,6 +1038,7 @@ class CloudLayer(Layer):
         )  # fmt: skip
         jittered = replace(cloud, u_frame_jitter=(n % 4) * 0.25 + 0.125)
         cur_rad, cur_data = self.march(small, jittered, textures)
+        self._interactive_sky = self._sky_key()  # the next frame of this sky reads the map
         history = self._history_targets(lw, lh)
         prev, nxt = history[n % 2], history[(n + 1) % 2]
         key = (frame.camera.model, lw, lh, round(frame.altitude_m, 1))
