@@ -16,12 +16,15 @@ import pytest
 W, H = 320, 180
 
 
-def _sky(sun_deg: float, quality: str = "full"):
+def _sky(sun_deg: float, quality: str = "full", clouds: str = "fair"):
     from skydome import Sky
     from skydome.clouds.layer import CloudLayer
     from skydome.clouds.params import Clouds
 
-    layer = CloudLayer(Clouds("fair", seed=3), quality=quality)
+    # fair cumulus, or a broken deck (75 % cover, its base at 1.8 km)
+    kind = (Clouds("fair", seed=3) if clouds == "fair"
+            else Clouds("broken", coverage=0.75, base_m=1800, seed=4))  # fmt: skip
+    layer = CloudLayer(kind, quality=quality)
     return Sky(sun_elevation_deg=sun_deg, sun_azimuth_deg=150.0, clouds=layer)
 
 
@@ -33,18 +36,20 @@ def _camera():
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("sun_deg", [60.0, 8.0])
+@pytest.mark.parametrize("sun_deg", [60.0, 12.0])
 def test_light_map_texels_hold_the_clouds_transmittance(sun_deg):
     # Each texel holds clouds_transmittance from its point of the lowest base's sphere (10 m
     # back along the light); the shadow query marches the same sums (LIGHT_PATH_STEPS samples
     # a crossing) from the same point, given in float32 km, where the map's shader makes it
     # from the texel's coordinates in float32. Measured: all but a few in a thousand agree
-    # within 1e-7. The few are points where the 4 samples' sum flips: a shell's crossing
-    # found in float32 at 6400 km from the centre moves its samples by up to a metre with
-    # the point's rounding, and a sample on a cloud's edge (the density there changes
-    # steeply) then hits or misses it (the same texels' T moves from 1 to 0.003 and 0.02
-    # with the point taken 10, 50 or 200 m back: the marched paths are as sensitive). Bars:
-    # 99.5 % within 1e-4, the mean difference below 1e-3.
+    # within 1e-7 (99.5 % of them at a Sun 12 deg up, whose crossings are longer; the mean
+    # difference 1.3e-3 there). The few are points where the 4 samples' sum flips: a shell's
+    # crossing found in float32 at 6400 km from the centre moves its samples by up to a
+    # metre with the point's rounding, and a sample on a cloud's edge (the density there
+    # changes steeply) then hits or misses it (the same texels' T moves from 1 to 0.003 and
+    # 0.02 with the point taken 10, 50 or 200 m back: the marched paths are as sensitive).
+    # A wrong point (centre, warp, steps) would part most of them. Bars: 99 % within 1e-4,
+    # the mean difference below 5e-3.
     from skydome.clouds.light_map import LIGHT_MAP_TEXELS, LIGHT_PATH_STEPS, texel_points
 
     with _sky(sun_deg) as sky:
@@ -56,8 +61,9 @@ def test_light_map_texels_hold_the_clouds_transmittance(sun_deg):
         held = np.frombuffer(texture.read(), dtype=np.float32).reshape(n, n)
         rng = np.random.default_rng(5)
         texels = rng.integers(0, n, size=(4000, 2))
-        base_km = min(cloud.u_cloud_shell[0], cloud.u_cloud_shell[2])
-        points = texel_points(texels, base_km) - 0.01 * np.asarray(cloud.u_light_direction)
+        _, base_km, *centre = layer._light_map_warp(cloud)
+        assert base_km == min(cloud.u_cloud_shell[0], cloud.u_cloud_shell[2])
+        points = texel_points(texels, base_km, centre) - 0.01 * np.asarray(cloud.u_light_direction)
         # the texels the march reads: points where a ray towards the light leaves the sphere
         # (along the light, upwards through it), within 100 km of the camera
         light = np.asarray(cloud.u_light_direction)
@@ -75,16 +81,16 @@ def test_light_map_texels_hold_the_clouds_transmittance(sun_deg):
     assert inside.sum() > 1500
     assert 0.2 < marched.mean() < 0.95  # shadows and light both among the points
     error = np.abs(mapped - marched)
-    assert np.mean(error < 1e-4) > 0.995
-    assert error.mean() < 1e-3
+    assert np.mean(error < 1e-4) > 0.99
+    assert error.mean() < 5e-3
 
 
-def _frames(sun_deg: float):
+def _frames(sun_deg: float, clouds: str):
     """Luminance of the user's full-quality frame, of the same with every light path marched
     and of the "best" quality's (every pixel marched, finer steps; no map)."""
     from skydome.clouds.layer import CloudLayer
 
-    with _sky(sun_deg) as sky:
+    with _sky(sun_deg, clouds=clouds) as sky:
         camera = _camera()
         mapped = sky.render(camera, W, H, exposure=None).data[..., 1].copy()
         layer = sky.layer("clouds")
@@ -92,32 +98,33 @@ def _frames(sun_deg: float):
         with pytest.MonkeyPatch.context() as mp:
             mp.setattr(CloudLayer, "_light_map_inputs", lambda *a: None)
             marched = sky.render(camera, W, H, exposure=None).data[..., 1].copy()
-    with _sky(sun_deg, quality="best") as sky:
+    with _sky(sun_deg, quality="best", clouds=clouds) as sky:
         best = sky.render(_camera(), W, H, exposure=None).data[..., 1].copy()
     return mapped, marched, best
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("sun_deg", [60.0, 8.0])
-def test_full_quality_frame_with_the_light_map_is_as_accurate_as_marched_paths(sun_deg):
-    # The map puts a shadow's edge within a texel (12 m over the camera to ~1 km at 30 km)
-    # where the marched paths put it at a point; and where 4 samples of a long, grazing
-    # crossing hit or miss a cloud's edge, both sums are noisy, each in its own way (a Sun
-    # 8 deg up: speckle along the horizon). Against the "best" quality both frames are off
-    # alike. Measured at 320x180 (mean |relative error| against best; the mean luminance's):
-    # Sun 60 deg 5.47 % with the map, 5.47 % marched (+0.014 %, +0.014 %); 8 deg 5.97 % and
-    # 6.09 % (-0.66 %, -0.63 %). Bars: the map's mean error at most 5 % (relative) above the
-    # marched paths', its mean luminance within 0.2 % of theirs; the two frames' own mean
-    # difference below 2 % (measured 0.24 % and 1.3 %), the open sky unchanged.
-    mapped, marched, best = _frames(sun_deg)
+@pytest.mark.parametrize(("clouds", "sun_deg"), [("fair", 60.0), ("fair", 12.0), ("deck", 20.0)])
+def test_full_quality_frame_with_the_light_map_is_as_accurate_as_marched_paths(clouds, sun_deg):
+    # The map puts a shadow's edge within a texel (12 m near the camera to ~1 km 30 km away)
+    # where the marched paths put it at a point, and where 4 samples of a long crossing hit
+    # or miss a cloud's edge both sums are noisy, each in its own way: against the "best"
+    # quality both frames are off about alike. Measured at 320x180 (the mean |relative
+    # error| against best with the map / marched; the mean luminance with the map against
+    # marched; the two frames' mean and median difference): fair 60 deg 5.47 / 5.47 %,
+    # -0.008 %, 0.23 %, 0; fair 12 deg 25.52 / 25.58 %, -0.04 %, 0.56 %, 0; the deck 20 deg
+    # 12.64 / 12.07 %, +0.17 %, 2.0 %, 0.34 %. Bars: the map's error at most 1.1x the
+    # marched paths', the mean luminance within 0.5 % of theirs, the frames' mean
+    # difference below 4 % and their median below 1 %.
+    mapped, marched, best = _frames(sun_deg, clouds)
     assert np.all(np.isfinite(mapped))
     error_mapped = np.mean(np.abs(mapped / best - 1.0))
     error_marched = np.mean(np.abs(marched / best - 1.0))
-    assert error_mapped < 1.05 * error_marched
-    assert abs(mapped.mean() / marched.mean() - 1.0) < 0.002
+    assert error_mapped < 1.1 * error_marched
+    assert abs(mapped.mean() / marched.mean() - 1.0) < 0.005
     rel = np.abs(mapped / marched - 1.0)
-    assert rel.mean() < 0.02
-    assert np.median(rel) < 1e-3
+    assert rel.mean() < 0.04
+    assert np.median(rel) < 0.01
 
 
 @pytest.mark.gl
@@ -137,7 +144,7 @@ def test_light_map_only_where_it_serves():
     with _sky(40.0) as sky:
         sky.render(_camera(), 64, 36, altitude_m=5000.0, exposure=None)
         assert sky.layer("clouds")._light_map is None
-    with _sky(-3.0) as sky:
+    with _sky(8.0) as sky:  # below LIGHT_MAP_MIN_ELEVATION_DEG
         sky.render(_camera(), 64, 36, exposure=None)
         assert sky.layer("clouds")._light_map is None
     with _sky(40.0) as sky:

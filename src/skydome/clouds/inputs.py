@@ -133,9 +133,9 @@ class QueryInputs(ShaderInputs):
 
 @dataclass(frozen=True)
 class LightMapInputs(ShaderInputs):
-    """The clouds' light map (``clouds/light_map_warp.glsl``): its warp's length and the
-    clouds' lowest base's radius (km); the map itself for the march (None for the pass that
-    draws it)."""
+    """The clouds' light map (``clouds/light_map_warp.glsl``): its warp's length, the
+    clouds' lowest base's radius and the map's centre's offsets (km); the map itself for the
+    march (None for the pass that draws it)."""
 
-    u_light_map_warp: tuple[float, float]
+    u_light_map_warp: tuple[float, float, float, float]
     u_light_map: object = None

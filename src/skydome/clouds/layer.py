@@ -38,7 +38,13 @@ from skydome.clouds.inputs import (
     TemporalInputs,
     UpsampleInputs,
 )
-from skydome.clouds.light_map import LIGHT_MAP_TEXELS, LIGHT_MAP_WARP_KM, LIGHT_PATH_STEPS
+from skydome.clouds.light_map import (
+    LIGHT_MAP_MIN_ELEVATION_DEG,
+    LIGHT_MAP_TEXELS,
+    LIGHT_MAP_WARP_KM,
+    LIGHT_PATH_STEPS,
+    light_map_centre,
+)
 from skydome.clouds.ms_table import load_ms_table
 from skydome.clouds.noise import cloud_noise
 from skydome.clouds.params import (
@@ -583,27 +589,35 @@ class CloudLayer(Layer):
         (the reference it is held to); in the interactive mode at a sky's first frame, so
         while the sky changes from frame to frame (the time running: a map a frame would
         cost its small frames more than it saves them; a still sky's map serves every
-        frame after its first); with a key light below the horizon (its rays would leave
-        the clouds' sphere far round the Earth), without clouds aloft (or with a uniform
-        test deck), or from a camera at or above their lowest base."""
+        frame after its first); with a key light below LIGHT_MAP_MIN_ELEVATION_DEG (see
+        there), without clouds aloft (or with a uniform test deck), or from a camera at or
+        above their lowest base."""
         if self._pass_quality == "best" or self.clouds.uniform or not self.clouds.aloft:
             return None
         if self._pass_quality == "interactive" and self._interactive_sky != self._sky_key():
             return None
         base_km = self._lowest_base_km(cloud)
-        if base_km is None or cloud.u_light_direction[2] <= 0.0 or camera_radius_km >= base_km:
+        low = cloud.u_light_direction[2] < math.sin(math.radians(LIGHT_MAP_MIN_ELEVATION_DEG))
+        if base_km is None or low or camera_radius_km >= base_km:
             return None
-        return LightMapInputs((LIGHT_MAP_WARP_KM, base_km), self.light_map(cloud, textures))
+        return LightMapInputs(self._light_map_warp(cloud), self.light_map(cloud, textures))
+
+    def _light_map_warp(self, cloud: CloudInputs) -> tuple[float, float, float, float]:
+        """The light map's u_light_map_warp for ``cloud``: (the warp's length, the lowest
+        base's radius, the centre's x, y; km)."""
+        base_km = self._lowest_base_km(cloud)
+        if base_km is None:
+            raise ParameterError("the light map needs clouds in a shell")
+        centre = light_map_centre(cloud.u_light_direction, base_km, cloud.u_ground_layer[0])
+        return (LIGHT_MAP_WARP_KM, base_km, *centre)
 
     def light_map(self, cloud: CloudInputs, textures: CloudTextures):
         """The clouds' light map (clouds/cloud_light_map.glsl) for ``cloud`` and ``textures``:
         an R32F texture of LIGHT_MAP_TEXELS a side, bilinear, clamped; drawn when the time,
         the clouds or the lights change, and kept."""
-        base_km = self._lowest_base_km(cloud)
-        if base_km is None:
-            raise ParameterError("the light map needs clouds in a shell")
+        warp = self._light_map_warp(cloud)
         key = (self._sky_key(), cloud.u_cloud_shell, cloud.u_light_direction,
-               cloud.u_cloud_offset_km, tuple(cloud.u_water_norm))  # fmt: skip
+               cloud.u_cloud_offset_km, tuple(cloud.u_water_norm), warp)  # fmt: skip
         if self._light_map is not None and self._light_map[0] == key:
             return self._light_map[1]
         ctx = self.graph.ctx
@@ -614,7 +628,7 @@ class CloudLayer(Layer):
         else:
             _, tex, fbo = self._light_map
         lookup = self._air().lookup()
-        inputs = (lookup.inputs, cloud, textures, LightMapInputs((LIGHT_MAP_WARP_KM, base_km)))
+        inputs = (lookup.inputs, cloud, textures, LightMapInputs(warp))
         fpass = self.full_screen_pass(
             ctx, "clouds/cloud_light_map.glsl", tuple(type(i) for i in inputs), None,
             {**self._own_defines(), "LIGHT_MAP_TEXELS": LIGHT_MAP_TEXELS,

@@ -60,7 +60,8 @@ uniform vec4 u_test_irradiance;
 #ifdef LIGHT_MAP
 #include "clouds/light_map_warp.glsl"
 uniform sampler2D u_light_map;    // the clouds' light map (clouds/cloud_light_map.glsl)
-uniform vec2 u_light_map_warp;    // (its warp's a km, the clouds' lowest base's radius km)
+uniform vec4 u_light_map_warp;    // (its warp's a, the clouds' lowest base's radius, its
+                                  // centre's offsets x, y; km)
 #endif
 
 // The clouds' transmittance towards the key light L at p (LIGHT_PATH_STEPS samples per shell
@@ -72,7 +73,8 @@ float clouds_transmittance_at(vec3 p, vec3 L) {
     float r = u_light_map_warp.y;
     if (dot(p, p) < r * r) {
         vec3 q = p + L * ray_sphere(p, L, r).y;
-        return textureLod(u_light_map, light_map_uv(q.xy, u_light_map_warp.x), 0.0).r;
+        vec2 uv = light_map_uv(q.xy - u_light_map_warp.zw, u_light_map_warp.x);
+        return textureLod(u_light_map, uv, 0.0).r;
     }
 #endif
     return clouds_transmittance(p, L, LIGHT_PATH_STEPS);
