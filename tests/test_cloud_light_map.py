@@ -150,3 +150,19 @@ def test_light_map_only_where_it_serves():
     with _sky(40.0) as sky:
         sky.render(_camera(), 64, 36, exposure=None)
         assert sky.layer("clouds")._light_map is not None
+
+
+@pytest.mark.gl
+def test_shadow_query_steps_checked():
+    # light_transmittance's steps: an integer in 1-64, else one line naming it
+    from skydome.errors import ParameterError
+
+    with _sky(40.0) as sky:
+        sky.render(_camera(), 32, 18, exposure=None)
+        layer = sky.layer("clouds")
+        for bad in (0, 65, 2.5, True, "8"):
+            with pytest.raises(ParameterError, match="steps"):
+                layer.light_transmittance([[0.0, 0.0, 0.0]], steps=bad)
+        one, many = (layer.light_transmittance([[0.0, 0.0, 0.0]], steps=s) for s in (1, 64))
+    assert one.shape == many.shape == (1,)
+    assert 0.0 <= one[0] <= 1.0 and 0.0 <= many[0] <= 1.0

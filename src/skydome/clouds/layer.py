@@ -6,7 +6,9 @@ Moon once the Sun is well down) and the sky, into the clouds' own radiance, tran
 mean distance; ``clouds_composite.glsl`` puts them over what lies behind (the atmosphere and
 the space layers), seen through the air in front of them, and takes the direct light off the
 ground in their shadows. The atmosphere's tables give the light: the Sun's and the Moon's
-irradiance at each cloud, the sky's, and the aerial perspective.
+irradiance at each cloud, the sky's, and the aerial perspective. Once per time and light,
+``cloud_light_map.glsl`` draws the light map (skydome.clouds.light_map) from which the
+full-quality march reads the key light's way through the clouds from the air under them.
 """
 
 from __future__ import annotations
@@ -727,7 +729,9 @@ class CloudLayer(Layer):
         ``steps``: samples of each crossing of a shell (1-64; the march's light paths take
         LIGHT_PATH_STEPS)."""
         p = np.asarray(points_m, dtype=np.float64)
-        if not (isinstance(steps, int | np.integer) and 1 <= steps <= 64):
+        if isinstance(steps, bool) or not (
+            isinstance(steps, int | np.integer) and 1 <= steps <= 64
+        ):
             raise ParameterError(f"steps = {steps!r} must be an integer in 1-64")
         if p.shape[-1:] != (3,) or not np.all(np.isfinite(p)):
             raise ParameterError("points_m must be finite (..., 3) east, north, up in metres")
