@@ -4,8 +4,8 @@ full-quality march reads for the light of the air, the fog and the ground under 
 where it marched each of those paths.
 
 The map's texels are held to the shadow query (CloudLayer.light_transmittance, the same sums
-marched from the same points), and a user's full-quality frame with the map to the same frame
-with every light path marched (the reference: the map switched off for it).
+marched from the same points), and a user's full-quality frame with the map to the "best"
+quality beside the same frame with every light path marched (the map switched off for it).
 """
 
 from __future__ import annotations
@@ -132,7 +132,7 @@ def test_light_map_only_where_it_serves():
     # "best" (the reference) marches every path; the interactive mode's first frame of a
     # sky marches them too (while the time runs every frame is a first one), its next
     # frames of the same sky read the map; a camera above the clouds' base or a key light
-    # below the horizon draws no map.
+    # below LIGHT_MAP_MIN_ELEVATION_DEG (10 deg) draws no map.
     with _sky(40.0, quality="best") as sky:
         sky.render(_camera(), 64, 36, exposure=None)
         assert sky.layer("clouds")._light_map is None
