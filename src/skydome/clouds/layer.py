@@ -42,6 +42,7 @@ from skydome.clouds.inputs import (
 )
 from skydome.clouds.light_map import (
     LIGHT_MAP_MIN_ELEVATION_DEG,
+    LIGHT_MAP_MIN_MARCH_TEXELS,
     LIGHT_MAP_TEXELS,
     LIGHT_MAP_WARP_KM,
     LIGHT_PATH_STEPS,
@@ -567,7 +568,9 @@ class CloudLayer(Layer):
             extra = (*extra, "AERIAL_TABLES")
             inputs.append(aerial)
         if not {"CLOUDS_ALONE", "SKY_PROBE"} & set(extra):
-            light_map = self._light_map_inputs(cloud, textures, lights.u_camera_position[2])
+            light_map = self._light_map_inputs(
+                cloud, textures, lights.u_camera_position[2], tw * th
+            )
             if light_map is not None:
                 extra = (*extra, "LIGHT_MAP")
                 inputs.append(light_map)
@@ -585,10 +588,13 @@ class CloudLayer(Layer):
         return min(bases) if bases else None
 
     def _light_map_inputs(self, cloud: CloudInputs, textures: CloudTextures,
-                          camera_radius_km: float) -> LightMapInputs | None:  # fmt: skip
-        """The light map for a march of ``cloud`` from a camera at ``camera_radius_km``
-        (planet-centred), or None where the march goes without it: at the "best" quality
-        (the reference it is held to); in the interactive mode at a sky's first frame, so
+                          camera_radius_km: float, texels: int) -> LightMapInputs | None:  # fmt: skip
+        """The light map for a march of ``cloud`` over ``texels`` from a camera at
+        ``camera_radius_km`` (planet-centred), or None where the march goes without it: at
+        the "best" quality (the reference it is held to); for a march of fewer than
+        LIGHT_MAP_MIN_MARCH_TEXELS at full quality (see there; whether a map is drawn
+        already does not matter: a frame is the same whatever came before it); in the
+        interactive mode at a sky's first frame, so
         while the sky changes from frame to frame (the time running: a map a frame would
         cost its small frames more than it saves them; a still sky's map serves every
         frame after its first); with a key light below LIGHT_MAP_MIN_ELEVATION_DEG (see
@@ -602,7 +608,15 @@ class CloudLayer(Layer):
         low = cloud.u_light_direction[2] < math.sin(math.radians(LIGHT_MAP_MIN_ELEVATION_DEG))
         if base_km is None or low or camera_radius_km >= base_km:
             return None
+        if self._pass_quality == "full" and texels < LIGHT_MAP_MIN_MARCH_TEXELS:
+            return None
         return LightMapInputs(self._light_map_warp(cloud), self.light_map(cloud, textures))
+
+    def _light_map_key(self, cloud: CloudInputs) -> tuple:
+        """What the light map of ``cloud`` depends on."""
+        return (self._sky_key(), cloud.u_cloud_shell, cloud.u_light_direction,
+                cloud.u_cloud_offset_km, tuple(cloud.u_water_norm),
+                self._light_map_warp(cloud))  # fmt: skip
 
     def _light_map_warp(self, cloud: CloudInputs) -> tuple[float, float, float, float]:
         """The light map's u_light_map_warp for ``cloud``: (the warp's length, the lowest
@@ -617,9 +631,8 @@ class CloudLayer(Layer):
         """The clouds' light map (clouds/cloud_light_map.glsl) for ``cloud`` and ``textures``:
         an R32F texture of LIGHT_MAP_TEXELS a side, bilinear, clamped; drawn when the time,
         the clouds or the lights change, and kept."""
-        warp = self._light_map_warp(cloud)
-        key = (self._sky_key(), cloud.u_cloud_shell, cloud.u_light_direction,
-               cloud.u_cloud_offset_km, tuple(cloud.u_water_norm), warp)  # fmt: skip
+        key = self._light_map_key(cloud)
+        warp = key[-1]
         if self._light_map is not None and self._light_map[0] == key:
             return self._light_map[1]
         ctx = self.graph.ctx
