@@ -289,11 +289,7 @@ def broadened_lobe_uniforms(
     w = phase.weights_at(wavelengths_nm)  # (wavelengths, lobes)
     merged = np.zeros((w.shape[0], merged_g.size))
     np.add.at(merged, (slice(None), lobe_of.ravel()), w)
-    groups = merged.reshape(-1, 4, merged_g.size)  # (group, 4, lobe)
-    return {
-        "u_mie_lobe_g": [float(g) for g in merged_g],
-        "u_mie_lobe_weight": [float(v) for v in np.transpose(groups, (0, 2, 1)).ravel()],
-    }
+    return _lobe_uniforms(merged_g, merged)
 
 
 def mie_lobe_uniforms(params: AtmosphereParams, wavelengths_nm) -> dict[str, object]:
@@ -302,9 +298,15 @@ def mie_lobe_uniforms(params: AtmosphereParams, wavelengths_nm) -> dict[str, obj
     phase = params.mie_phase
     if phase is None:
         return {}
-    w = phase.weights_at(wavelengths_nm)  # (wavelengths, lobes)
-    groups = w.reshape(-1, 4, w.shape[1])  # (group, 4, lobe)
+    return _lobe_uniforms(phase.lobe_g, phase.weights_at(wavelengths_nm))
+
+
+def _lobe_uniforms(lobe_g, weights) -> dict[str, object]:
+    """The lobes' ``u_mie_lobe_g`` and their ``weights`` (wavelengths, lobes) as
+    ``u_mie_lobe_weight``'s group-major vec4s (for each group of 4 wavelengths, each lobe's
+    weights at them)."""
+    groups = np.asarray(weights).reshape(-1, 4, len(lobe_g))  # (group, 4, lobe)
     return {
-        "u_mie_lobe_g": [float(g) for g in phase.lobe_g],
+        "u_mie_lobe_g": [float(g) for g in lobe_g],
         "u_mie_lobe_weight": [float(v) for v in np.transpose(groups, (0, 2, 1)).ravel()],
     }

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from skydome.physics.geometry import ray_sphere
+
 #: Texels a side of the map, and the warp's length (km): a texel spans 2 a / N km at the
 #: centre and (r + a)^2 / a * 2 / N at r km from it. 512 and 3 km: against the "best" quality
 #: (the light paths marched at every pixel) a full-quality 1280x720 frame of fair-weather
@@ -52,10 +54,8 @@ def light_map_centre(light, base_radius_km: float, ground_radius_km: float) -> t
     """The map's centre (x, y) (km, planet-centred, the camera on the z axis): where the ray
     towards the unit ``light`` from the ground under the camera (radius ``ground_radius_km``)
     leaves the sphere of the clouds' lowest base (``base_radius_km``)."""
-    lx, ly, lz = (float(v) for v in light)
-    b = ground_radius_km * lz
-    t = -b + np.sqrt(b * b + base_radius_km**2 - ground_radius_km**2)
-    return (t * lx, t * ly)
+    t = float(ray_sphere((0.0, 0.0, ground_radius_km), light, base_radius_km)[1])
+    return (t * float(light[0]), t * float(light[1]))
 
 
 def light_map_uv(xy_km, a_km: float) -> np.ndarray:

@@ -1,11 +1,11 @@
 // The clouds' light map (clouds/light_map_warp.glsl; skydome.clouds.light_map), LIGHT_MAP_TEXELS
 // a side: for each texel, the point of the sphere of the clouds' lowest base (u_light_map_warp.y
 // km) at its offsets from the map's centre (.zw), and the clouds' transmittance towards the
-// key light from there
-// (clouds/cloud_paths.glsl's clouds_transmittance, LIGHT_PATH_STEPS samples per shell
-// crossing, as the march's light paths take them). The point is taken 10 m back along the
-// light, inside the sphere: on it, rounding may put it outside, and the lower shell's
-// crossing would be lost. Texels outside the disk, or past the sphere's horizon, hold 1.
+// key light from there (clouds/cloud_paths.glsl's clouds_transmittance, LIGHT_PATH_STEPS
+// samples per shell crossing, as the march's light paths take them). The point is taken 10 m
+// back along the light, inside the sphere: on it, rounding may put it outside, and the lower
+// shell's crossing would be lost. Texels outside the disk, or past the sphere's horizon,
+// hold 1.
 #include "atmosphere/precomputed_lookup.glsl"
 #include "clouds/cloud_paths.glsl"
 #include "clouds/light_map_warp.glsl"

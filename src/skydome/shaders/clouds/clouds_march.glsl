@@ -65,9 +65,8 @@ uniform vec4 u_light_map_warp;    // (its warp's a, the clouds' lowest base's ra
 #endif
 
 // The clouds' transmittance towards the key light L at p (LIGHT_PATH_STEPS samples per shell
-// crossing):
-// with LIGHT_MAP, below the clouds' lowest base, the light map's at the point where the ray
-// towards L leaves that base's sphere (the same crossings); elsewhere marched.
+// crossing): with LIGHT_MAP, below the clouds' lowest base, the light map's at the point where
+// the ray towards L leaves that base's sphere (the same crossings); elsewhere marched.
 float clouds_transmittance_at(vec3 p, vec3 L) {
 #ifdef LIGHT_MAP
     float r = u_light_map_warp.y;
