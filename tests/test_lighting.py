@@ -129,6 +129,28 @@ def test_the_suns_illuminance_is_the_tables_direct_beam(valletta):
     assert light.sun.angular_radius_deg == pytest.approx(0.269, abs=0.002)  # March: 16.1'
 
 
+@pytest.mark.gl
+def test_a_high_places_illuminance_is_its_grounds_as_drawn():
+    # `skydome illuminance --place Paranal` (2635 m) gives the light at the place's ground,
+    # where a render of it stands: its direct beam equals the drawn Sun's light
+    # (Sky.lighting's disk at the airless elevation) within 1 %, as at the sea's shore
+    # above. At sea level (--altitude 0) the beam crosses the boundary layer's aerosols
+    # and 27 % more air: 16 % less light than at the place (before the place's ground was
+    # the default, the CLI, the batch's manifest and place_illuminance said that).
+    from skydome import Sky
+
+    when = "2018-06-21T18:00Z"
+    out = json.loads(run_cli("illuminance", "--place", "Paranal", "--time", when, "--json").stdout)
+    assert out["altitude_m"] == 2635.0
+    with Sky("Paranal", when) as sky:
+        light = sky.lighting(size=(64, 32))
+        elevation_true = math.degrees(math.asin(sky.state.sun.direction_true[2]))
+    drawn = light.sun.illuminance_lux * math.sin(math.radians(elevation_true))
+    assert out["direct_horizontal_lux"] == pytest.approx(drawn, rel=0.01)
+    sea = run_cli("illuminance", "--place", "Paranal", "--time", when, "--altitude", "0", "--json")
+    assert json.loads(sea.stdout)["direct_horizontal_lux"] < 0.9 * drawn
+
+
 def test_bad_settings_are_refused():
     from skydome.lighting import sky_lighting
 

@@ -183,7 +183,7 @@ def test_direct_sunlight_factor_through_the_partial_phase_vs_de421():
         state = state_at(obs, t)
         el = elevation_deg(state.sun.direction_true)
         scale = (AU_KM / state.sun.distance_km) ** 2
-        (full,) = horizontal_illuminance(el, sun_scale=scale)
+        (full,) = horizontal_illuminance(el, altitude_m=state.ground_m, sun_scale=scale)
         factor = out["direct_horizontal_lux"] / full.direct_horizontal_lux - CORONA_FRACTION
         sep, rs, rm = _de421_disks(_jd(t))
         ref = 1.0 - float(luminous_hidden_fraction(sep, rs, rm))

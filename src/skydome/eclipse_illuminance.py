@@ -63,14 +63,21 @@ def place_illuminance(
     *,
     atmosphere: Any = "earth",
     config=None,
-    altitude_m: float = 0.0,
+    altitude_m: float | None = None,
 ) -> dict[str, float]:
     """Horizontal illuminance (lx) from the Sun and the sky at ``observer`` (an
     ``skydome.astro.Observer``) and ``time``, with the zenith luminance (cd/m^2), the Sun's
     airless elevation (deg) and ``eclipse_fraction``: the fraction of the Sun's
-    limb-darkened luminous flux the Moon hides (0 without an eclipse)."""
+    limb-darkened luminous flux the Moon hides (0 without an eclipse).
+
+    ``altitude_m``: the height (m) above sea level, the atmosphere's ground, where the light
+    is measured; by default the place's ground (its elevation, 0 below sea level), the
+    height a render of the place counts from (Paranal's 2635 m hold 27 % less air above
+    them than the sea's shore)."""
     params = preset(atmosphere) if isinstance(atmosphere, str) else atmosphere
     state = state_at(observer, time)
+    if altitude_m is None:
+        altitude_m = state.ground_m
     sun = state.sun
     sun_el = float(elevation_deg(sun.direction_true))
     sun_scale = (AU_KM / sun.distance_km) ** 2

@@ -30,7 +30,11 @@ def register(app: typer.Typer) -> None:
             "Z, the --place's local time (its IANA time zone), UTC with --lat/--lon or --utc.",
         ),
         altitude: float = typer.Option(
-            0.0, "--altitude", help="Observer altitude above the ground, metres."
+            None,
+            "--altitude",
+            help="Observer altitude above sea level (the atmosphere's ground), metres; default: "
+            "the place's ground, its elevation (0 for a Sun alone, and under a --weather, whose "
+            "clouds count from the ground).",
         ),
         as_json: bool = typer.Option(False, "--json", help="Print a JSON object."),
         flags=None,
@@ -55,7 +59,11 @@ def register(app: typer.Typer) -> None:
         sun_elevation = pts.sun_elevation_deg
         params, clouds, config = weathered_air_from_flags(flags)
         weather = weather_from_flags(flags)
-        check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
+        if altitude is not None:
+            check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
+        elif pts.abstract or clouds is not None:
+            altitude = 0.0
+        # else a place's light is its ground's (place_illuminance), as a render counts from there
         console = Console(soft_wrap=True)
         with precompute_progress(console) as report:
             from skydome.atmosphere.tables import load_tables
@@ -102,7 +110,7 @@ def register(app: typer.Typer) -> None:
         what = "" if weather is None else f", weather {weather.preset}"
         console.print(
             f"atmosphere {params.name}{what} (visibility {visibility:.3g} km), Sun at "
-            f"{sun_elevation:g} deg, altitude {altitude:g} m"
+            f"{sun_elevation:g} deg, altitude {res['altitude_m']:g} m"
         )
         res = SimpleNamespace(**res)
         console.print(f"direct horizontal illuminance (Sun):  {res.direct_horizontal_lux:12.5g} lx")
