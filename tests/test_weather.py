@@ -200,6 +200,38 @@ def test_weather_darkens_the_ground_light():
 
 
 @pytest.mark.gl
+@pytest.mark.gl
+def test_a_places_light_under_a_weather_is_its_own_skys():
+    """At a place and time the CLI's light under a weather is the place's sky's, as a render
+    (and the batch manifest) take it: its ground, its Sun's distance, its clouds; the same
+    numbers as ``ground_illuminance`` of that sky (the manifest's columns), to rounding. A
+    radiation fog lets through 30-100 % of the clear sky's light there too (above), and
+    --altitude, which such a sky cannot honour, is refused in one line."""
+    from skydome import Sky
+    from skydome.core.cameras import EquirectCamera
+    from skydome.weather_illuminance import ground_illuminance
+
+    when = "2021-06-21T10:00Z"
+    res = run_cli("illuminance", "--place", "Valletta", "--time", when, "--weather", "fog",
+                  "--json")  # fmt: skip
+    assert res.returncode == 0, res.stderr
+    got = json.loads(res.stdout)
+    with Sky("Valletta", when, weather="fog", night=False, light_pollution=None) as sky:
+        sky.render(EquirectCamera(), 16, 8, exposure=None)
+        manifest = ground_illuminance(sky)
+    assert got["altitude_m"] == 56.0
+    for key in ("direct_horizontal_lux", "diffuse_horizontal_lux", "zenith_luminance_cd_m2"):
+        assert got[key] == pytest.approx(manifest[key], rel=1e-9), key
+    assert got["total_horizontal_lux"] == pytest.approx(manifest["global_horizontal_lux"])
+    clear = json.loads(run_cli("illuminance", "--place", "Valletta", "--time", when,
+                               "--json").stdout)  # fmt: skip
+    assert 0.3 < got["total_horizontal_lux"] / clear["total_horizontal_lux"] < 1.0
+    bad = run_cli("illuminance", "--place", "Valletta", "--time", when, "--weather", "fog",
+                  "--altitude", "100")  # fmt: skip
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
+    assert "--altitude" in bad.stderr
+
+
 @pytest.mark.parametrize("visibility_km", [0.2, 1.0])
 def test_koschmieder_in_fog(visibility_km):
     """A black target at the visibility distance (a depth image through Sky) shows 2 % +-

@@ -7,9 +7,13 @@ seen from the ground, clouds, fog and precipitation marched over the clear sky) 
 diffuse illuminance and the zenith luminance; the direct illuminance is the clear sky's times
 the clouds' and the weather's transmittance towards the Sun at the observer
 (``CloudLayer.light_transmittance``; the droplets' forward peak counts as direct light).
+At a place and time the sky is the place's (:func:`place_weather_illuminance`), its light its
+ground's, a solar eclipse included (:func:`ground_illuminance`, the batch manifest's too).
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 
@@ -17,9 +21,13 @@ from skydome.atmosphere.illuminance import horizontal_illuminance
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.core.cameras import EquirectCamera
 from skydome.description import SkyDescription
+from skydome.eclipse_illuminance import place_illuminance
+from skydome.physics.geometry import elevation_deg
 from skydome.sky import Sky
 from skydome.spectra import SRGB_LUMINANCE
 from skydome.weather import Weather
+
+__all__ = ["ground_illuminance", "place_weather_illuminance", "weather_illuminance"]
 
 
 def weather_illuminance(
@@ -56,3 +64,74 @@ def weather_illuminance(
         "zenith_luminance_cd_m2": zenith,
         "sun_transmittance": through,
     }
+
+
+def _ground_light(sky: Sky) -> dict[str, float]:
+    """The light at the ground of ``sky`` (a place's: its elevation; else altitude 0) with
+    the keys of :func:`weather_illuminance` and ``eclipse_fraction``: a clear sky's from the
+    tables (at a place and time ``place_illuminance``, an eclipse included; a Sun alone
+    ``horizontal_illuminance``); under its clouds, fog or precipitation the diffuse light and
+    the zenith from the cloud layer's sky probe (the uneclipsed part), the direct light the
+    clear sky's times their transmittance towards the Sun. The cloud layer's probe must have
+    been drawn (a frame rendered)."""
+    d = sky.description
+    air, _, config = d.effective
+    if d.abstract:
+        (res,) = horizontal_illuminance(d.sun_elevation_deg, atmosphere=air, config=config)
+        clear, eclipse = res.to_dict(), 0.0
+    else:
+        clear = place_illuminance(d.observer, d.time, atmosphere=air, config=config)
+        eclipse = float(clear.get("eclipse_fraction", 0.0))
+    out = {
+        "sun_elevation_deg": float(elevation_deg(sky.state.sun.direction_true)),
+        "altitude_m": float(clear["altitude_m"]),
+        "direct_horizontal_lux": float(clear["direct_horizontal_lux"]),
+        "diffuse_horizontal_lux": float(clear["diffuse_horizontal_lux"]),
+        "zenith_luminance_cd_m2": float(clear["zenith_luminance_cd_m2"]),
+    }
+    clouds = next((la for la in sky.layers if la.name == "clouds"), None)
+    if clouds is not None:
+        probe = clouds.sky_probe()
+        through = float(clouds.light_transmittance(np.array([0.0, 0.0, 0.0])))
+        luminance = np.asarray(SRGB_LUMINANCE, float)
+        keep = 1.0 - eclipse
+        out["direct_horizontal_lux"] *= through
+        out["diffuse_horizontal_lux"] = float(luminance @ probe.irradiance[:3]) * keep
+        out["zenith_luminance_cd_m2"] = (
+            float(luminance @ probe.radiance[0, :, :3].mean(axis=0)) * keep
+        )
+        out["sun_transmittance"] = through
+    out["total_horizontal_lux"] = out["direct_horizontal_lux"] + out["diffuse_horizontal_lux"]
+    out["eclipse_fraction"] = eclipse
+    return out
+
+
+def ground_illuminance(sky: Sky) -> dict[str, float]:
+    """Horizontal illuminance at the ground (lx) under ``sky``, as ``skydome illuminance``
+    computes it (the batch manifest's columns): ``direct_horizontal_lux`` (the Sun),
+    ``diffuse_horizontal_lux`` (the sky), ``global_horizontal_lux`` (their sum),
+    ``zenith_luminance_cd_m2`` and ``eclipse_fraction`` (see :func:`_ground_light`; a sky
+    with clouds must have drawn a frame)."""
+    light = _ground_light(sky)
+    return {
+        "direct_horizontal_lux": light["direct_horizontal_lux"],
+        "diffuse_horizontal_lux": light["diffuse_horizontal_lux"],
+        "global_horizontal_lux": light["total_horizontal_lux"],
+        "zenith_luminance_cd_m2": light["zenith_luminance_cd_m2"],
+        "eclipse_fraction": light["eclipse_fraction"],
+    }
+
+
+def place_weather_illuminance(
+    observer, time: Any, weather: Weather, atmosphere: AtmosphereParams
+) -> dict[str, float]:
+    """The light at the ground of a place (``observer``, its elevation) at ``time`` under
+    ``weather``: the keys of :func:`weather_illuminance` and ``eclipse_fraction``, from the
+    place's own sky (its Sun at its distance, a solar eclipse, the clouds counted from the
+    place's ground), as a render of it draws them."""
+    description = SkyDescription.of(
+        observer, time, atmosphere, weather=weather, night=False, light_pollution=None
+    )
+    with Sky(description) as sky:
+        sky.render(EquirectCamera(), 16, 8, exposure=None)
+        return _ground_light(sky)

@@ -22,13 +22,11 @@ from pathlib import Path
 import numpy as np
 
 from skydome.astro.places import time_zone
-from skydome.atmosphere.illuminance import horizontal_illuminance
 from skydome.batch.jobs import Job
-from skydome.eclipse_illuminance import place_illuminance
 from skydome.io.atomic import atomic_write
 from skydome.io.outputs import WRITERS
 from skydome.sky import Sky
-from skydome.spectra import SRGB_LUMINANCE
+from skydome.weather_illuminance import ground_illuminance
 
 __all__ = ["HELD_SKIES", "JobRunner", "file_sha256", "ground_illuminance", "run_job"]
 
@@ -46,44 +44,6 @@ def file_sha256(path: str | os.PathLike) -> str:
         for block in iter(lambda: f.read(1 << 20), b""):
             h.update(block)
     return h.hexdigest()
-
-
-def ground_illuminance(sky: Sky) -> dict[str, float]:
-    """Horizontal illuminance at the ground (lx) under ``sky``, as ``skydome illuminance``
-    computes it: ``direct_horizontal_lux`` (the Sun), ``diffuse_horizontal_lux`` (the sky),
-    ``global_horizontal_lux`` (their sum), ``zenith_luminance_cd_m2`` and
-    ``eclipse_fraction``. A clear sky's from the tables (at a place and time
-    ``skydome.eclipse_illuminance.place_illuminance``, an eclipse included; a Sun alone
-    ``horizontal_illuminance``); under clouds or a weather's fog as
-    ``skydome.weather_illuminance``: the diffuse light from the cloud layer's sky probe,
-    the direct light the clear sky's times the clouds' transmittance towards the Sun."""
-    d = sky.description
-    air, _, config = d.effective
-    if d.abstract:
-        (res,) = horizontal_illuminance(d.sun_elevation_deg, atmosphere=air, config=config)
-        clear, eclipse = res.to_dict(), 0.0
-    else:
-        clear = place_illuminance(d.observer, d.time, atmosphere=air, config=config)
-        eclipse = float(clear.get("eclipse_fraction", 0.0))
-    direct = float(clear["direct_horizontal_lux"])
-    diffuse = float(clear["diffuse_horizontal_lux"])
-    zenith = float(clear["zenith_luminance_cd_m2"])
-    clouds = next((la for la in sky.layers if la.name == "clouds"), None)
-    if clouds is not None:
-        probe = clouds.sky_probe()
-        through = float(clouds.light_transmittance(np.array([0.0, 0.0, 0.0])))
-        luminance = np.asarray(SRGB_LUMINANCE, float)
-        keep = 1.0 - eclipse
-        direct *= through
-        diffuse = float(luminance @ probe.irradiance[:3]) * keep
-        zenith = float(luminance @ probe.radiance[0, :, :3].mean(axis=0)) * keep
-    return {
-        "direct_horizontal_lux": direct,
-        "diffuse_horizontal_lux": diffuse,
-        "global_horizontal_lux": direct + diffuse,
-        "zenith_luminance_cd_m2": zenith,
-        "eclipse_fraction": eclipse,
-    }
 
 
 def _write_file(path: Path, fmt: str, data: np.ndarray, metadata: dict) -> str:

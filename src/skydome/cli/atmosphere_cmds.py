@@ -61,9 +61,14 @@ def register(app: typer.Typer) -> None:
         weather = weather_from_flags(flags)
         if altitude is not None:
             check_range("--altitude", altitude, 0.0, params.atmosphere_height_m, "m")
-        elif pts.abstract or clouds is not None:
+            if clouds is not None and not pts.abstract:
+                raise ParameterError(
+                    "--altitude with a --weather at a place: its light is the place's ground's, "
+                    "under clouds that count from there; drop --altitude"
+                )
+        elif pts.abstract:
             altitude = 0.0
-        # else a place's light is its ground's (place_illuminance), as a render counts from there
+        # else a place's light is its ground's (its elevation), as a render of it stands there
         console = Console(soft_wrap=True)
         with precompute_progress(console) as report:
             from skydome.atmosphere.tables import load_tables
@@ -71,34 +76,34 @@ def register(app: typer.Typer) -> None:
 
             load_tables(shared_context(), params, config, progress=report)
         eclipse = {}
-        if not pts.abstract:
-            from skydome.cli.describe import report_time
-            from skydome.eclipse_illuminance import place_illuminance
-
-            report_time(pts.time, pts.zone)
-            placed = place_illuminance(
-                pts.observer, pts.time, atmosphere=params, config=config, altitude_m=altitude
-            )
-            sun_elevation = placed["sun_elevation_deg"]
-            eclipse = {"eclipse_fraction": placed.pop("eclipse_fraction")}
-            placed.pop("sky_eclipse_ratio", None)
-        if clouds is None and not pts.abstract:
-            res = placed
-        elif clouds is None:
+        if pts.abstract and clouds is None:
             (res,) = horizontal_illuminance(
                 sun_elevation, altitude_m=altitude, atmosphere=params, config=config
             )
             res = res.to_dict()
-        else:
+        elif pts.abstract:
             from skydome.weather_illuminance import weather_illuminance
 
             res = weather_illuminance(
                 sun_elevation, altitude, weather, atmosphere_from_flags(flags)
             )
-            if eclipse:  # under clouds: every light scaled by the Sun's uneclipsed part
-                keep = 1.0 - eclipse["eclipse_fraction"]
-                res = {k: v * keep if k.endswith(("_lux", "_cd_m2", "luminance")) else v
-                       for k, v in res.items()}  # fmt: skip
+        else:
+            from skydome.cli.describe import report_time
+            from skydome.eclipse_illuminance import place_illuminance
+            from skydome.weather_illuminance import place_weather_illuminance
+
+            report_time(pts.time, pts.zone)
+            if clouds is None:
+                res = place_illuminance(
+                    pts.observer, pts.time, atmosphere=params, config=config, altitude_m=altitude
+                )
+            else:
+                res = place_weather_illuminance(
+                    pts.observer, pts.time, weather, atmosphere_from_flags(flags)
+                )
+            sun_elevation = res["sun_elevation_deg"]
+            eclipse = {"eclipse_fraction": res.pop("eclipse_fraction")}
+            res.pop("sky_eclipse_ratio", None)
         res = {**res, **eclipse}
         visibility = ground_visibility_km(params, clouds)
         if as_json:
@@ -118,7 +123,7 @@ def register(app: typer.Typer) -> None:
             f"diffuse horizontal illuminance (sky): {res.diffuse_horizontal_lux:12.5g} lx"
         )
         console.print(f"total horizontal illuminance:         {res.total_horizontal_lux:12.5g} lx")
-        if eclipse:
+        if eclipse.get("eclipse_fraction", 0.0) > 0.0:
             console.print(
                 f"solar eclipse: {100 * res.eclipse_fraction:.4g} % of the Sun's flux hidden"
             )
