@@ -3,7 +3,7 @@
 :class:`PrecomputeConfig` holds every knob that changes the precomputed tables: their sizes,
 the wavelengths, the number of scattering orders and the quadratures. ``key()`` is a stable
 hash of all of them, for the on-disk cache. The defaults are the "default quality" of the
-library: 3.8 s of precomputation on a 2-core llvmpipe (16 wavelengths, 4 orders), 25 MB of
+library: 1.8 s of precomputation on a 2-core llvmpipe (16 wavelengths, 4 orders), 25 MB of
 tables (``memory_bytes``), within 1-2% of a Monte Carlo reference (tests/test_precompute.py).
 
 Table sizes follow Bruneton's order ``(r, mu, mu_s, nu)``; the 4D tables are stored as 3D
