@@ -28,6 +28,7 @@ from skydome.atmosphere.tables import shared_tables
 from skydome.gpu import shared_context
 from skydome.physics.constants import AU_KM, M_PER_KM
 from skydome.physics.geometry import elevation_deg
+from skydome.physics.refraction import refraction_flattening
 from skydome.scene.state import state_at
 from skydome.spectra import SRGB_LUMINANCE
 
@@ -81,9 +82,15 @@ def place_illuminance(
     sun = state.sun
     sun_el = float(elevation_deg(sun.direction_true))
     sun_scale = (AU_KM / sun.distance_km) ** 2
+    # the direct beam along the refracted ray, as the Sun is seen and drawn (its apparent
+    # elevation), dimmed as the refraction flattens its disk; the sky lit from the airless
+    # direction
+    seen_el = float(sun.elevation_deg)
     (res,) = horizontal_illuminance(
-        sun_el, altitude_m=altitude_m, atmosphere=params, config=config, sun_scale=sun_scale
-    )
+        sun_el, altitude_m=altitude_m, atmosphere=params, config=config, sun_scale=sun_scale,
+        beam_elevation_deg=seen_el,
+        beam_scale=refraction_flattening(seen_el, state.refraction_scale),
+    )  # fmt: skip
     out = res.to_dict()
     ecl = state.solar_eclipse
     out["eclipse_fraction"] = 0.0 if ecl is None else float(ecl.hidden_fraction)

@@ -10,6 +10,7 @@ from skydome.astro._series import vsop
 from skydome.physics.refraction import (
     refract_altitudes_tabulated,
     refract_enu,
+    refraction_flattening,
     refraction_scale,
 )
 
@@ -205,6 +206,32 @@ def test_refraction():
     for f in (F.refraction_bennett, F.refraction_saemundsson):
         v = f(hh)
         assert np.all(np.isfinite(v)) and np.all(v >= 0) and np.all(v[hh < -2] == 0)
+
+
+def test_refraction_flattens_a_low_sun_as_the_almanac_says():
+    # The derivative of the apparent altitude by the true one: from the Nautical Almanac's
+    # table above, 34.5' at 0 and 31.4' at 15' apparent, 1 / (1 + 3.1' / 15') = 0.829 at
+    # 7.5' (the table's 0.1' roundings: +-0.005); the setting Sun's disk is flattened so,
+    # its vertical diameter about a fifth short.
+    assert refraction_flattening(0.125) == pytest.approx(1.0 / (1.0 + 3.1 / 15.0), abs=0.006)
+    # Saemundsson's law (true -> apparent; fitted apart from Bennett's) gives the same
+    # derivative, 1 + dR_S/dh at the true altitude, within 2e-3 from 0.5 to 80 deg (the laws
+    # agree to 4" in value, their slopes to 1.2e-3 at 1 deg).
+    for h_app in (0.5, 1.0, 2.0, 3.7, 6.0, 10.0, 20.0, 45.0, 80.0):
+        h_true = h_app - float(F.refraction_bennett(h_app)) / 60.0
+        step = 0.01
+        dr = float(
+            F.refraction_saemundsson(h_true + step) - F.refraction_saemundsson(h_true - step)
+        )
+        assert refraction_flattening(h_app) == pytest.approx(
+            1.0 + dr / (60.0 * 2.0 * step), abs=2e-3
+        ), h_app
+    # none without air, at the zenith, or for a body below the law's range
+    assert refraction_flattening(3.7, 0.0) == 1.0
+    assert refraction_flattening(90.0) == 1.0 and refraction_flattening(-5.0) == 1.0
+    assert refraction_flattening(3.7, 0.5) == pytest.approx(
+        1.0 - 0.5 * (1.0 - refraction_flattening(3.7)), abs=1e-3
+    )
 
 
 def test_tabulated_refraction_is_the_law_to_a_hundredth_of_an_arcsecond():
