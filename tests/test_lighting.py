@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from skydome.errors import ParameterError
-from skydome.lighting import AXES, DIAGONALS
+from skydome.lighting import AXES, DIAGONALS, map_samples
 from skydome.physics import spherical_harmonics as sh
 from skydome.spectra import SRGB_LUMINANCE
 from tests.cli_helpers import run_cli
@@ -174,6 +174,19 @@ def test_a_low_suns_illuminance_is_its_drawn_disks():
     assert 3.0 < out["sun_elevation_deg"] < seen < 4.0
     drawn = light.sun.illuminance_lux * math.sin(math.radians(seen))
     assert out["direct_horizontal_lux"] == pytest.approx(drawn, rel=0.01)
+    # A Sun alone at --sun-elevation 3 is the apparent elevation, as render draws it (the
+    # air lit from 2.76 deg): the same holds, and the sky's light is the drawn map's (its
+    # radiance times cos(zenith) summed over the upper half of a 256 x 128 map: within 1 %,
+    # 0.05 % seen; lit from the airless 3 deg, as before, it was 6.7 % above)
+    out = json.loads(run_cli("illuminance", "--sun-elevation", "3", "--json").stdout)
+    with Sky(sun_elevation_deg=3.0) as sky:
+        light = sky.lighting(size=(256, 128))
+    drawn = light.sun.illuminance_lux * math.sin(math.radians(3.0))
+    assert out["direct_horizontal_lux"] == pytest.approx(drawn, rel=0.01)
+    radiance, dirs, omega = map_samples(light.sky_map)
+    up = dirs[:, 2] > 0.0
+    level = float(np.sum((radiance @ SRGB_LUMINANCE * omega * dirs[:, 2])[up]))
+    assert out["diffuse_horizontal_lux"] == pytest.approx(level, rel=0.01)
 
 
 def test_bad_settings_are_refused():

@@ -32,7 +32,7 @@ from skydome.physics.refraction import refraction_flattening
 from skydome.scene.state import state_at
 from skydome.spectra import SRGB_LUMINANCE
 
-__all__ = ["CORONA_FRACTION", "place_illuminance"]
+__all__ = ["CORONA_FRACTION", "place_illuminance", "state_illuminance"]
 
 #: The corona's irradiance over the Sun's: 2 int_1^inf B(rho) rho drho for Baumbach's B
 #: (skydome.astro.eclipses.baumbach_corona).
@@ -75,8 +75,18 @@ def place_illuminance(
     is measured; by default the place's ground (its elevation, 0 below sea level), the
     height a render of the place counts from (Paranal's 2635 m hold 27 % less air above
     them than the sea's shore)."""
+    return state_illuminance(
+        state_at(observer, time), atmosphere=atmosphere, config=config, altitude_m=altitude_m
+    )
+
+
+def state_illuminance(
+    state, *, atmosphere: Any = "earth", config=None, altitude_m: float | None = None
+) -> dict[str, float]:
+    """:func:`place_illuminance` for the lights of a ``scene.state.SkyState``: a place's at
+    an instant, or an abstract Sun's (``abstract_state``: its elevation the apparent one, as
+    ``render --sun-elevation`` draws it); ``altitude_m`` by default the state's ground."""
     params = preset(atmosphere) if isinstance(atmosphere, str) else atmosphere
-    state = state_at(observer, time)
     if altitude_m is None:
         altitude_m = state.ground_m
     sun = state.sun

@@ -1,6 +1,8 @@
 """Illuminance on the ground under a weather's clouds, fog, rain or snow.
 
-The clear sky's is the tables' (``skydome.atmosphere.illuminance``); under a weather the
+The clear sky's is the tables' (``skydome.eclipse_illuminance.state_illuminance``, for the
+sky's own lights: its Sun's apparent elevation the direct beam's, the airless one the sky's);
+under a weather the
 light is what the sky that is drawn gives: a sky with that weather (``Sky``) is set up for
 the Sun's elevation, and its cloud layer's probe (``CloudLayer.sky_probe``: the whole sky
 seen from the ground, clouds, fog and precipitation marched over the clear sky) gives the
@@ -17,11 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from skydome.atmosphere.illuminance import horizontal_illuminance
 from skydome.atmosphere.params import AtmosphereParams
 from skydome.core.cameras import EquirectCamera
 from skydome.description import SkyDescription
-from skydome.eclipse_illuminance import place_illuminance
+from skydome.eclipse_illuminance import state_illuminance
 from skydome.physics.geometry import elevation_deg
 from skydome.sky import Sky
 from skydome.spectra import SRGB_LUMINANCE
@@ -38,13 +39,14 @@ def weather_illuminance(
 ) -> dict[str, float]:
     """Direct, diffuse and total horizontal illuminance (lx) and the zenith luminance
     (cd/m^2) at ``altitude_m`` above the ground under ``weather`` (the keys of
-    ``Illuminance.to_dict``, photopic), for a Sun at ``sun_elevation_deg``."""
+    ``Illuminance.to_dict``, photopic), for a Sun at ``sun_elevation_deg`` (its apparent
+    elevation, as ``render --sun-elevation`` draws it)."""
     description = SkyDescription.of(
         sun_elevation_deg=sun_elevation_deg, atmosphere=atmosphere, weather=weather, night=False
     )
     air, _, config = description.effective
-    (clear,) = horizontal_illuminance(
-        sun_elevation_deg, altitude_m=altitude_m, atmosphere=air, config=config
+    clear = state_illuminance(
+        description.state(), atmosphere=air, config=config, altitude_m=altitude_m
     )
     with Sky(description) as sky:
         sky.render(EquirectCamera(), 16, 8, altitude_m=altitude_m, exposure=None)
@@ -53,7 +55,7 @@ def weather_illuminance(
         through = float(clouds.light_transmittance(np.array([0.0, 0.0, altitude_m])))
     luminance = np.asarray(SRGB_LUMINANCE, float)
     diffuse = float(luminance @ probe.irradiance[:3])
-    direct = clear.direct_horizontal_lux * through
+    direct = clear["direct_horizontal_lux"] * through
     zenith = float(luminance @ probe.radiance[0, :, :3].mean(axis=0))
     return {
         "sun_elevation_deg": float(sun_elevation_deg),
@@ -69,19 +71,14 @@ def weather_illuminance(
 def _ground_light(sky: Sky) -> dict[str, float]:
     """The light at the ground of ``sky`` (a place's: its elevation; else altitude 0) with
     the keys of :func:`weather_illuminance` and ``eclipse_fraction``: a clear sky's from the
-    tables (at a place and time ``place_illuminance``, an eclipse included; a Sun alone
-    ``horizontal_illuminance``); under its clouds, fog or precipitation the diffuse light and
+    tables (``eclipse_illuminance.state_illuminance`` of its lights, an eclipse included);
+    under its clouds, fog or precipitation the diffuse light and
     the zenith from the cloud layer's sky probe (the uneclipsed part), the direct light the
     clear sky's times their transmittance towards the Sun. The cloud layer's probe must have
     been drawn (a frame rendered)."""
-    d = sky.description
-    air, _, config = d.effective
-    if d.abstract:
-        (res,) = horizontal_illuminance(d.sun_elevation_deg, atmosphere=air, config=config)
-        clear, eclipse = res.to_dict(), 0.0
-    else:
-        clear = place_illuminance(d.observer, d.time, atmosphere=air, config=config)
-        eclipse = float(clear.get("eclipse_fraction", 0.0))
+    air, _, config = sky.description.effective
+    clear = state_illuminance(sky.state, atmosphere=air, config=config)
+    eclipse = float(clear["eclipse_fraction"])
     out = {
         "sun_elevation_deg": float(elevation_deg(sky.state.sun.direction_true)),
         "altitude_m": float(clear["altitude_m"]),

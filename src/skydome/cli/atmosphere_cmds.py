@@ -46,7 +46,6 @@ def register(app: typer.Typer) -> None:
         snow."""
         from rich.console import Console
 
-        from skydome.atmosphere.illuminance import horizontal_illuminance
         from skydome.cli.describe import place_time_sun
         from skydome.errors import ParameterError
         from skydome.weather_effects import ground_visibility_km
@@ -77,10 +76,15 @@ def register(app: typer.Typer) -> None:
             load_tables(shared_context(), params, config, progress=report)
         eclipse = {}
         if pts.abstract and clouds is None:
-            (res,) = horizontal_illuminance(
-                sun_elevation, altitude_m=altitude, atmosphere=params, config=config
-            )
-            res = res.to_dict()
+            from skydome.eclipse_illuminance import state_illuminance
+            from skydome.scene.state import abstract_state
+
+            # the Sun at --sun-elevation as render draws it: the apparent elevation
+            sun = abstract_state(sun_elevation, pts.sun_azimuth_deg)
+            res = state_illuminance(sun, atmosphere=params, config=config, altitude_m=altitude)
+            res.update(sun_elevation_deg=sun_elevation)
+            for key in ("eclipse_fraction", "sun_distance_au"):
+                res.pop(key)
         elif pts.abstract:
             from skydome.weather_illuminance import weather_illuminance
 

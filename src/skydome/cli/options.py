@@ -48,8 +48,8 @@ FLAGS: dict[str, Flag] = {
                 "Read a time without an offset as UTC, not as the --place's local time."),
     # the Sun without a place
     "sun_elevation": Flag(float, None, ("--sun-elevation",),
-                          "Sun elevation above the horizon, degrees (-90..90; default 30), "
-                          "without a place and time."),
+                          "Sun elevation above the horizon as seen (refracted), degrees "
+                          "(-90..90; default 30), without a place and time."),
     "sun_azimuth": Flag(float, None, ("--sun-azimuth",),
                         "Sun azimuth from north through east, degrees (default 180), without a "
                         "place."),
