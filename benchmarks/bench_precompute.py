@@ -9,7 +9,11 @@ directions, cameras at 0 and 10 km and Suns from 60 to -12 degrees, of the defau
 of variants (each undoing one shortcut), against a reference run with every shortcut undone
 (larger tables, more nodes, orders >= 2 at all 16 wavelengths; minutes on a CPU rasterizer).
 
+With ``--split`` each stage's time is split into its passes (the GPU finished before and
+after each) and the rest (read-backs, NumPy), the least of the runs.
+
     python benchmarks/bench_precompute.py [--runs 3] [--orders 4] [--spectral accurate]
+    python benchmarks/bench_precompute.py --split --runs 5
     python benchmarks/bench_precompute.py --accuracy
 """
 
@@ -145,6 +149,50 @@ def monte_carlo(ctx, base: PrecomputeConfig) -> None:
     pa.release()
 
 
+def split_stages(ctx, params, config: PrecomputeConfig, runs: int) -> None:
+    """Each stage's time, its passes' and the rest's, the least of ``runs`` calls (after one
+    untimed): the passes are timed with the GPU finished before and after each draw, so the
+    rest is what the CPU does alone (the passes' time includes their overlap with it)."""
+    from skydome.atmosphere import precompute as pc
+    from skydome.gpu import FullscreenPass
+
+    current = ["-"]
+    passes: dict[str, float] = {}
+    draw, stage_run = FullscreenPass.draw, pc._Stages.run
+
+    def timed_draw(self, *args, **kwargs):
+        ctx.finish()
+        t = time.perf_counter()
+        draw(self, *args, **kwargs)
+        ctx.finish()
+        passes[current[0]] = passes.get(current[0], 0.0) + time.perf_counter() - t
+
+    def named_run(self, stage, *args):
+        current[0] = stage
+        return stage_run(self, stage, *args)
+
+    FullscreenPass.draw, pc._Stages.run = timed_draw, named_run
+    try:
+        precompute(ctx, params, config).release()
+        best: dict[str, tuple[float, float]] = {}
+        walls = []
+        for _ in range(runs):
+            passes.clear()
+            t0 = time.perf_counter()
+            pa = precompute(ctx, params, config)
+            walls.append(time.perf_counter() - t0)
+            for stage, t in pa.timings.items():
+                if stage != "total" and (stage not in best or t < best[stage][0]):
+                    best[stage] = (t, passes.get(stage, 0.0))
+            pa.release()
+    finally:
+        FullscreenPass.draw, pc._Stages.run = draw, stage_run
+    print(f"{'stage (least of runs)':<22} {'all ms':>7} {'passes':>7} {'rest':>6}")
+    for stage, (t, g) in best.items():
+        print(f"{stage:<22} {t * 1e3:>7.0f} {g * 1e3:>7.0f} {(t - g) * 1e3:>6.0f}")
+    print(f"{'the call (least)':<22} {min(walls) * 1e3:>7.0f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=3)
@@ -153,6 +201,9 @@ def main() -> None:
     ap.add_argument("--atmosphere", default="earth")
     ap.add_argument(
         "--accuracy", action="store_true", help="also measure the error of each shortcut"
+    )
+    ap.add_argument(
+        "--split", action="store_true", help="also split each stage into its passes and the rest"
     )
     args = ap.parse_args()
     ctx = shared_context()
@@ -163,6 +214,8 @@ def main() -> None:
         f"{args.orders} orders, median of {args.runs} runs, {gl_info(ctx).describe()}"
     )
     time_config(ctx, params, config, args.runs)
+    if args.split:
+        split_stages(ctx, params, config, args.runs)
     if args.accuracy:
         monte_carlo(ctx, config)
         accuracy(ctx, params, config)
