@@ -55,7 +55,7 @@ def horizontal_illuminance(
     params' solar irradiance (e.g. (1 AU / distance)^2).
 
     ``beam_elevation_deg`` (one per Sun elevation; default: the same): the elevation the
-    direct beam arrives from, the refracted (apparent) one at a place: its transmittance
+    direct beam arrives from, the refracted (apparent) one: its transmittance
     and its cosine on the surface are that direction's (the straight ray at the apparent
     elevation stands for the bent one, whose air mass is a function of the apparent elevation:
     Kasten & Young 1989), while the sky is lit by the Sun's airless direction, as the tables
