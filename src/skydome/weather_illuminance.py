@@ -44,40 +44,24 @@ def weather_illuminance(
     description = SkyDescription.of(
         sun_elevation_deg=sun_elevation_deg, atmosphere=atmosphere, weather=weather, night=False
     )
-    air, _, config = description.effective
-    clear = state_illuminance(
-        description.state(), atmosphere=air, config=config, altitude_m=altitude_m
-    )
     with Sky(description) as sky:
         sky.render(EquirectCamera(), 16, 8, altitude_m=altitude_m, exposure=None)
-        clouds = sky.layer("clouds")
-        probe = clouds.sky_probe()
-        through = float(clouds.light_transmittance(np.array([0.0, 0.0, altitude_m])))
-    luminance = np.asarray(SRGB_LUMINANCE, float)
-    diffuse = float(luminance @ probe.irradiance[:3])
-    direct = clear["direct_horizontal_lux"] * through
-    zenith = float(luminance @ probe.radiance[0, :, :3].mean(axis=0))
-    return {
-        "sun_elevation_deg": float(sun_elevation_deg),
-        "altitude_m": float(altitude_m),
-        "direct_horizontal_lux": direct,
-        "diffuse_horizontal_lux": diffuse,
-        "total_horizontal_lux": direct + diffuse,
-        "zenith_luminance_cd_m2": zenith,
-        "sun_transmittance": through,
-    }
+        out = _ground_light(sky, altitude_m)
+    out.pop("eclipse_fraction")  # a Sun alone has none
+    out["sun_elevation_deg"] = float(sun_elevation_deg)
+    return out
 
 
-def _ground_light(sky: Sky) -> dict[str, float]:
-    """The light at the ground of ``sky`` (a place's: its elevation; else altitude 0) with
-    the keys of :func:`weather_illuminance` and ``eclipse_fraction``: a clear sky's from the
-    tables (``eclipse_illuminance.state_illuminance`` of its lights, an eclipse included);
-    under its clouds, fog or precipitation the diffuse light and
-    the zenith from the cloud layer's sky probe (the uneclipsed part), the direct light the
-    clear sky's times their transmittance towards the Sun. The cloud layer's probe must have
-    been drawn (a frame rendered)."""
+def _ground_light(sky: Sky, altitude_m: float | None = None) -> dict[str, float]:
+    """The light under ``sky`` at ``altitude_m`` above sea level (default: its ground, a
+    place's elevation) with the keys of :func:`weather_illuminance` and ``eclipse_fraction``:
+    a clear sky's from the tables (``eclipse_illuminance.state_illuminance`` of its lights,
+    an eclipse included); under its clouds, fog or precipitation the diffuse light and the
+    zenith from the cloud layer's sky probe (the uneclipsed part), the direct light the
+    clear sky's times their transmittance towards the Sun there. The cloud layer's probe
+    must have been drawn (a frame rendered from there)."""
     air, _, config = sky.description.effective
-    clear = state_illuminance(sky.state, atmosphere=air, config=config)
+    clear = state_illuminance(sky.state, atmosphere=air, config=config, altitude_m=altitude_m)
     eclipse = float(clear["eclipse_fraction"])
     out = {
         "sun_elevation_deg": float(elevation_deg(sky.state.sun.direction_true)),
@@ -89,7 +73,9 @@ def _ground_light(sky: Sky) -> dict[str, float]:
     clouds = next((la for la in sky.layers if la.name == "clouds"), None)
     if clouds is not None:
         probe = clouds.sky_probe()
-        through = float(clouds.light_transmittance(np.array([0.0, 0.0, 0.0])))
+        # the point above the ground (the clouds count from it)
+        above_ground_m = clear["altitude_m"] - sky.state.ground_m
+        through = float(clouds.light_transmittance(np.array([0.0, 0.0, above_ground_m])))
         luminance = np.asarray(SRGB_LUMINANCE, float)
         keep = 1.0 - eclipse
         out["direct_horizontal_lux"] *= through
