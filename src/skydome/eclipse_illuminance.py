@@ -1,7 +1,10 @@
-"""Illuminance on the ground at a place and time, a solar eclipse included.
+"""Illuminance on the ground at a place and time (or under an abstract Sun), a solar
+eclipse included.
 
-Without an eclipse this is :func:`skydome.atmosphere.illuminance.horizontal_illuminance` for
-the Sun's airless elevation at its true distance. In a solar eclipse
+Without an eclipse this is :func:`skydome.atmosphere.illuminance.horizontal_illuminance` at
+the place's ground, the Sun at its true distance: the sky lit from the Sun's airless
+elevation, the direct beam along the refracted ray (the apparent elevation's path and
+cosine), dimmed as refraction flattens the disk, as the renderer draws it. In a solar eclipse
 (``skydome.scene.eclipses``), the direct sunlight is the uneclipsed part of the Sun's
 limb-darkened flux, and the sky's light is the renderer's: the uneclipsed Sun's sky
 radiance times, per direction, the sunlit weight of the view ray
