@@ -8,7 +8,7 @@ Prints the GL device, then:
   2021-06-21 09:00 UTC (the Sun 60 deg up), a 90 deg perspective camera 15 deg up, read
   back; the sky probe and the light map made afresh (``CloudLayer.sky_probe``,
   ``CloudLayer.light_map``); the same frame without clouds; the ``best`` quality (every pixel marched) and the
-  full frame's error against it;
+  full frame's error against it; the full frame with 2 x 2 rays a pixel (``supersample=2``);
 - ``interactive``: ``Sky.draw`` into an offscreen framebuffer (no read-back) while the camera
   turns 0.5 deg per frame, median over ``--frames`` frames; then, with the camera still, the
   relative error of the accumulated frame's luminance after 16 frames (``refine=False``)
@@ -95,6 +95,8 @@ def main() -> None:
         f"median {np.median(rel):.1%}, 95th percentile {np.percentile(rel, 95):.1%}"
     )
     best.graph.release()
+    ss_ms = median_ms(lambda: full.render(cam, w, h, exposure=None, supersample=2), 1, warmup=1)
+    print(f"full {w}x{h}, 2 x 2 rays a pixel (supersample=2): {ss_ms:.0f} ms{vs_floor(ss_ms)}")
 
     inter = sky_with("interactive")
     tex = ctx.texture((w, h), 4, dtype="f1")

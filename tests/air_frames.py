@@ -102,12 +102,13 @@ class AirFrames:
         depth_m=None,
         shadow_length_m=None,
         directions: bool = False,
+        supersample: int = 1,
     ) -> Frame:
         self.layer.output_directions = directions
         state = self.state(sun_direction, sun_scale, light2_direction, light2_scale)
         frame = self.graph.render(
             state, camera, width, height, altitude_m=altitude_m, depth_m=depth_m,
-            shadow_length_m=shadow_length_m,
+            shadow_length_m=shadow_length_m, supersample=supersample,
         )  # fmt: skip
         frame.info["sun_direction"] = state.sun.direction.tolist()
         return frame

@@ -53,6 +53,23 @@ def test_render_png_and_exr(tmp_path):
     assert 100 < np.median(lum) < 50_000
 
 
+def test_render_supersample(tmp_path):
+    # n x n rays a pixel, their mean: the frame at the asked size, the same sky (the mean
+    # luminance of a clear sky is smooth at this scale: within 1 %); a bad n writes nothing.
+    one, two = tmp_path / "one.npy", tmp_path / "two.npy"
+    common = ("render", "--sun-elevation", "20", "--size", "48x24", "--spectral", "fast")
+    assert run(*common, "-o", str(one)).returncode == 0
+    res = run(*common, "--supersample", "2", "-o", str(two))
+    assert res.returncode == 0, res.stderr
+    a, b = np.load(one), np.load(two)
+    assert b.shape == (24, 48, 4)
+    assert b[..., :3].mean() == pytest.approx(a[..., :3].mean(), rel=0.01)
+    bad = tmp_path / "bad.png"
+    res = run(*common, "--supersample", "5", "-o", str(bad))
+    assert res.returncode == 2 and not bad.exists()
+    assert res.stderr.strip().count("\n") == 0 and "--supersample 5" in res.stderr
+
+
 def test_equirect_and_cubemap_sizes(tmp_path):
     out = tmp_path / "env.npy"
     assert (

@@ -134,3 +134,59 @@ def test_depth_and_shadow_maps_through_the_users_path():
         shaded = sky.render(cam, 32, 18, altitude_m=1500.0, shadow_length_m=shadow, exposure=None)
         open_sky = sky.render(cam, 32, 18, altitude_m=1500.0, exposure=None)
         assert np.all(shaded.luminance[:9] < open_sky.luminance[:9])
+
+
+def test_supersampled_frames_are_the_mean_of_their_rays():
+    # supersample n: the frame drawn at n x the size, each pixel the mean of its n x n rays,
+    # and so each per-pixel output (the transmittance to a scene). Checked against the big
+    # frame averaged here, by hand; the depth image is one value per pixel for all its rays.
+    r = precomputed_frames()
+    cam = PerspectiveCamera(fov_deg=70, yaw_deg=120, pitch_deg=5)
+    depth = np.full((12, 20), np.inf)
+    depth[8:] = 8e3
+    f = r.render(cam, 20, 12, sun_direction=SUN, depth_m=depth, supersample=3)
+    big = r.render(cam, 60, 36, sun_direction=SUN, depth_m=np.kron(depth, np.ones((3, 3))))
+    by_hand = big.data.astype(np.float64).reshape(12, 3, 20, 3, 4).mean(axis=(1, 3))
+    np.testing.assert_allclose(f.data, by_hand, rtol=1e-6, atol=1e-9)
+    t = big.info["transmittance"].astype(np.float64).reshape(12, 3, 20, 3, 3).mean(axis=(1, 3))
+    np.testing.assert_allclose(f.info["transmittance"], t, rtol=1e-6, atol=1e-9)
+    assert f.data.shape == (12, 20, 4) and f.info["supersample"] == 3
+    assert "supersample" not in big.info
+
+
+def test_supersample_errors_name_the_problem():
+    r = precomputed_frames()
+    for bad in (0, 5, 1.5, True):
+        with pytest.raises(ParameterError, match="supersample"):
+            r.render(PerspectiveCamera(), 16, 8, sun_direction=SUN, supersample=bad)
+    d = np.tile([[[0.0, 1.0, 0.2]]], (4, 6, 1))
+    with pytest.raises(ParameterError, match="DirectionsCamera"):
+        r.render(DirectionsCamera(d), 0, 0, sun_direction=SUN, supersample=2)
+
+
+def test_supersampling_the_user_path_converges_on_clouds_at_the_horizon():
+    # The reason for it: a broken deck near the horizon at sunset, one ray per pixel (the
+    # march at half the resolution), is a speckle of lit and shaded cloud, detail finer than
+    # a pixel. More rays a pixel converge on the pixel's mean: against 16 rays a pixel
+    # (supersample 4), 2 x 2 leave less error than 1 and keep the mean (measured: the rms
+    # of ln L 0.34 -> 0.26 at 1-10 deg above the horizon, 0.12 -> 0.05 above 20 deg; the
+    # band's mean 8 % low with one ray, 2 % with 2 x 2).
+    from skydome import Sky
+    from skydome.clouds.layer import CloudLayer
+    from skydome.clouds.params import Clouds
+
+    deck = CloudLayer(Clouds("broken", coverage=0.75, base_m=1800, seed=4))
+    with Sky(sun_elevation_deg=2.0, sun_azimuth_deg=300.0, clouds=deck) as sky:
+        cam = PerspectiveCamera(fov_deg=90, yaw_deg=300, pitch_deg=6)
+        frames = {n: sky.render(cam, 160, 90, exposure=None, supersample=n) for n in (1, 2, 4)}
+    elevation = np.degrees(np.arctan((45 - (np.arange(90) + 0.5)) / 80)) + 6
+    horizon, high = (elevation > 1) & (elevation < 10), elevation > 20
+    ref = frames[4].luminance
+
+    def rms_ln(n, rows):
+        return np.sqrt(np.mean((np.log(frames[n].luminance[rows]) - np.log(ref[rows])) ** 2))
+
+    assert rms_ln(2, horizon) < 0.85 * rms_ln(1, horizon)
+    assert rms_ln(2, high) < 0.6 * rms_ln(1, high)
+    assert frames[2].luminance[horizon].mean() == pytest.approx(ref[horizon].mean(), rel=0.04)
+    assert frames[2].info["supersample"] == 2

@@ -5,6 +5,7 @@ line on stderr and exits with status 2.
 """
 
 import math
+import numbers
 
 
 class SkydomeError(Exception):
@@ -51,6 +52,17 @@ def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -
             raise ParameterError(f"{name} {v:g}{u} is outside the valid range {lo:g} to {hi:g}{u}")
         raise ParameterError(f"{name} = {value}{u} is outside the valid range [{lo}, {hi}]{u}")
     return v
+
+
+def check_integer(name: str, value, lo: int, hi: int, meaning: str = "") -> int:
+    """Return ``int(value)`` if it is an integer (not a bool) in [lo, hi], else raise
+    ParameterError naming the range (``meaning``: words after it, e.g. what it counts)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= value <= hi:
+        raise ParameterError(
+            f"{name} = {value!r} must be an integer in [{lo}, {hi}]"
+            + (f" ({meaning})" if meaning else "")
+        )
+    return int(value)
 
 
 #: The fastest wind (m/s) a sky takes: past the strongest gusts on record (~113 m/s).

@@ -350,6 +350,7 @@ class Sky:
         shadow_length_m=None,
         metering: str = DEFAULT_METERING,
         glare: str | None = DEFAULT_GLARE,
+        supersample: int = 1,
     ) -> Frame:
         """A frame in cd/m^2 (read back once). Without a ``camera``, a 90 deg perspective one
         aimed by ``look`` (:func:`aim_camera`; default: :func:`default_look`). ``exposure``:
@@ -370,7 +371,11 @@ class Sky:
         1.25 cd/m^2 (Krawczyk et al. 2005), and the eye's mesopic colours below 5 cd/m^2;
         brighter scenes as "average"). ``glare``: "eye" (default: the eye's point spread
         function, CIE 146:2002), "lens" (a camera lens's veiling glare) or "off"; on the
-        image only, ``frame.data`` is the same."""
+        image only, ``frame.data`` is the same.
+
+        ``supersample`` (1-4): n x n rays a pixel, each pixel their mean (n^2 times the
+        work): for stills where detail is finer than a pixel, above all clouds near the
+        horizon, which one ray a pixel shows as a speckle of lit and shaded cloud."""
         self._check_alive()
         check_camera(camera, optional=True)
         cam = camera or self.camera(look or default_look(self.state))
@@ -388,6 +393,7 @@ class Sky:
             shadow_length_m=shadow_length_m,
             metering=metering,
             glare=glare,
+            supersample=supersample,
         )
         frame.info.update(self.state.summary())
         if self.state.time is not None:

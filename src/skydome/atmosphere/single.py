@@ -7,8 +7,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from skydome.atmosphere.inputs import (
     AirGeometry,
     AirSpectra,
@@ -24,7 +22,7 @@ from skydome.atmosphere.transmittance import TransmittanceTable
 from skydome.core.cameras import CameraInputs
 from skydome.core.layer import DrawContext
 from skydome.core.services import AirLights
-from skydome.errors import ParameterError
+from skydome.errors import check_integer
 from skydome.gpu import FullscreenPass
 from skydome.gpu.inputs import ShaderInputs
 from skydome.spectra import wavelengths
@@ -86,15 +84,7 @@ class SingleScatteringSky:
     @staticmethod
     def check_samples(view_samples) -> int:
         """``view_samples`` if it is an integer in [1, MAX_VIEW_SAMPLES], else ParameterError."""
-        if (
-            isinstance(view_samples, bool)
-            or not isinstance(view_samples, (int, np.integer))
-            or not 1 <= view_samples <= MAX_VIEW_SAMPLES
-        ):
-            raise ParameterError(
-                f"samples = {view_samples} must be an integer in [1, {MAX_VIEW_SAMPLES}]"
-            )
-        return int(view_samples)
+        return check_integer("samples", view_samples, 1, MAX_VIEW_SAMPLES)
 
     def _defines(self, camera) -> dict[str, object]:
         return {

@@ -61,6 +61,13 @@ def register(app: typer.Typer) -> None:
         roll: float = typer.Option(
             0.0, "--roll", help="Camera roll about the view direction, degrees."
         ),
+        supersample: int = typer.Option(
+            1,
+            "--supersample",
+            help="Rays a pixel side, n (n x n rays a pixel, their mean; n^2 times the work; "
+            "at most 4): antialiases detail finer than a pixel, above all clouds "
+            "near the horizon.",
+        ),
         model: str = typer.Option(
             "precomputed",
             "--model",
@@ -109,6 +116,7 @@ def register(app: typer.Typer) -> None:
             YAW_RANGE_DEG,
             make_camera,
         )
+        from skydome.core.tiles import MAX_SUPERSAMPLE
         from skydome.description import SKY_MODELS
         from skydome.display import TONEMAPS, ev100_to_scale, scale_to_ev100
         from skydome.display.exposure import METERINGS
@@ -141,6 +149,7 @@ def register(app: typer.Typer) -> None:
         if flags.pitch is not None:
             check_range("--pitch", flags.pitch, *PITCH_RANGE_DEG, "deg")
         check_range("--roll", roll, *ROLL_RANGE_DEG, "deg")
+        check_int("--supersample", supersample, 1, MAX_SUPERSAMPLE)
         if flags.yaw is not None:
             check_range("--yaw", flags.yaw, *YAW_RANGE_DEG, "deg")
         description = sky_description(
@@ -188,6 +197,7 @@ def register(app: typer.Typer) -> None:
                 tonemap=flags.tonemap if want_ldr else None,
                 metering=flags.metering,
                 glare=flags.glare,
+                supersample=supersample,
             )
         scale = ev100_to_scale(frame.info["exposure_ev100"])
         metadata = {

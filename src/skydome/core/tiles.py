@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from skydome.errors import ParameterError
+from skydome.errors import ParameterError, check_integer
 
 #: Frames larger than this on a side are drawn in tiles of this size.
 TILE_SIZE = 2048
@@ -52,3 +52,30 @@ def input_texture(ctx, image: np.ndarray):
     channels = 1 if image.ndim == 2 else image.shape[2]
     data = np.ascontiguousarray(image[::-1], dtype="f4")
     return ctx.texture((tw, th), channels, data.tobytes(), dtype="f4")
+
+
+#: The most rays a side of a pixel a supersampled frame draws (16 a pixel).
+MAX_SUPERSAMPLE = 4
+
+
+def check_supersample(supersample) -> int:
+    """Validate a supersampling factor (rays per pixel side, 1 = none); returns it."""
+    return check_integer("supersample", supersample, 1, MAX_SUPERSAMPLE, "rays per pixel side")
+
+
+def block_mean(image: np.ndarray, n: int) -> np.ndarray:
+    """An (H n, W n, ...) image reduced to (H, W, ...) by the mean of each n x n block (a box
+    filter: what a pixel of n x n sensor sites measures; radiance averages, so a point
+    source's flux is kept), in float64, returned as the input's dtype."""
+    if n == 1:
+        return image
+    h, w = image.shape[0] // n, image.shape[1] // n
+    blocks = image.reshape(h, n, w, n, *image.shape[2:])
+    return blocks.mean(axis=(1, 3), dtype=np.float64).astype(image.dtype)
+
+
+def repeat_pixels(image: np.ndarray, n: int) -> np.ndarray:
+    """An (H, W, ...) per-pixel input made (H n, W n, ...): each value for its n x n rays."""
+    if n == 1:
+        return image
+    return np.repeat(np.repeat(image, n, axis=0), n, axis=1)

@@ -40,7 +40,15 @@ from skydome.core.cameras import (
 from skydome.core.frame import Frame
 from skydome.core.layer import STAGES, DrawContext, Layer
 from skydome.core.services import AirService, VolumeInputs
-from skydome.core.tiles import TILE_SIZE, frame_tiles, input_image, input_texture
+from skydome.core.tiles import (
+    TILE_SIZE,
+    block_mean,
+    check_supersample,
+    frame_tiles,
+    input_image,
+    input_texture,
+    repeat_pixels,
+)
 from skydome.display.exposure import (
     DEFAULT_KEY,
     DEFAULT_METERING,
@@ -394,6 +402,7 @@ class FrameGraph:
         shadow_length_m=None,
         metering: str = DEFAULT_METERING,
         glare: str | None = DEFAULT_GLARE,
+        supersample: int = 1,
     ) -> Frame:
         """Draw a whole frame and read it back: a Frame in cd/m^2.
 
@@ -410,10 +419,19 @@ class FrameGraph:
         ``eye`` also shows a dark-adapted eye's colours (the mesopic blend of night vision,
         without its blur and noise) below 5 cd/m^2. ``glare`` ("off", "eye", "lens"): the
         point spread function on the image (``display.glare``); ``Frame.data`` is the same.
+        ``supersample`` n > 1: n x n rays a pixel (the frame drawn at n times the size, each
+        pixel the mean of its n x n: antialiased, n^2 times the work); the depth and shadow
+        images stay one value a pixel.
         """
         self.make_current()
         metering = check_metering(metering)
         glare = check_glare(glare)
+        n = check_supersample(supersample)
+        if n > 1 and isinstance(camera, DirectionsCamera):
+            raise ParameterError(
+                "supersample needs a camera that makes its rays; a DirectionsCamera's are "
+                "given one a pixel (pass more directions instead)"
+            )
         w, h = camera.frame_size(width, height)
         used_altitude_m = effective_altitude_m(altitude_m)
         inputs = {}
@@ -426,6 +444,12 @@ class FrameGraph:
             inputs["shadow_map"] = input_image(
                 "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM, posinf=1e30
             )
+        if n > 1:
+            inputs = {name: repeat_pixels(image, n) for name, image in inputs.items()}
+            drawn = camera.frame_size(w * n, h * n)
+            if drawn != (w * n, h * n):  # every camera scales so; a guard for new ones
+                raise ParameterError(f"camera {camera.name} cannot draw {n}x its frame")
+            w, h = drawn
         t0 = time.perf_counter()
         self.update(state)
         tile_side = min(TILE_SIZE, max(w, h))
@@ -459,6 +483,12 @@ class FrameGraph:
             finally:
                 for tex in tile_inputs.textures():
                     tex.release()
+        if n > 1:
+            data = block_mean(data, n)
+            outputs = {name: block_mean(image, n) for name, image in outputs.items()}
+            w, h = w // n, h // n
+        # the frame as one drawn texture (its exposure measured there), or only as `data`
+        last = last if len(tiles) == 1 and n == 1 else None
         render_ms = (time.perf_counter() - t0) * 1e3
         info = {
             "render_ms": render_ms,
@@ -466,6 +496,8 @@ class FrameGraph:
             "camera": camera.name,
             "altitude_m": used_altitude_m,
         }
+        if n > 1:
+            info["supersample"] = n
         if used_altitude_m != float(altitude_m):  # raised to the lowest camera height
             info["altitude_requested_m"] = float(altitude_m)
         for layer in self.layers:
@@ -476,13 +508,13 @@ class FrameGraph:
         frame = Frame(data, info)
         weighting = metering_weighting(metering, _field_deg(camera))
         scale, adapted = self._exposure_scale(
-            exposure, compensation_ev, last if len(tiles) == 1 else None, data, metering, weighting
+            exposure, compensation_ev, last, data, metering, weighting
         )
         if tonemap is not None:
             if scale is None:
                 raise ParameterError("a tone-mapped image needs an exposure ('auto' or a scale)")
             # The exposure pass has measured the frame already when it set an auto exposure.
-            measured = exposure == "auto" and len(tiles) == 1 and weighting in ("average", "eye")
+            measured = exposure == "auto" and last is not None and weighting in ("average", "eye")
             if glare != "off" and w * h > MAX_GLARE_PIXELS:
                 # one texture of the whole frame and its pyramid: not for giant frames
                 info["glare_skipped"] = f"the frame has more than {MAX_GLARE_PIXELS} pixels"
@@ -491,7 +523,7 @@ class FrameGraph:
             if exposure == "auto" and metering == "eye":
                 auto_key = 2.0**compensation_ev * eye_key(adapted)
             frame.image, scale = self._display_image(
-                last if len(tiles) == 1 else data, state, camera, (w, h), tonemap, scale, measured,
+                last if last is not None else data, state, camera, (w, h), tonemap, scale, measured,
                 metering=metering, glare=glare, adaptation=adapted, auto_key=auto_key,
             )  # fmt: skip
             info["tonemap"] = tonemap
