@@ -159,6 +159,8 @@ def test_supersample_errors_name_the_problem():
     for bad in (0, 5, 1.5, True):
         with pytest.raises(ParameterError, match="supersample"):
             r.render(PerspectiveCamera(), 16, 8, sun_direction=SUN, supersample=bad)
+    with pytest.raises(ParameterError, match=r"supersample 4 would draw 16400x32 pixels"):
+        r.render(EquirectCamera(), 4100, 8, sun_direction=SUN, supersample=4)
     d = np.tile([[[0.0, 1.0, 0.2]]], (4, 6, 1))
     with pytest.raises(ParameterError, match="DirectionsCamera"):
         r.render(DirectionsCamera(d), 0, 0, sun_direction=SUN, supersample=2)

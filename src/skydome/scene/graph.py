@@ -30,6 +30,7 @@ import numpy as np
 
 from skydome.core.basis import SpectralBasis
 from skydome.core.cameras import (
+    MAX_SIDE,
     Camera,
     DirectionsCamera,
     EquirectCamera,
@@ -445,6 +446,11 @@ class FrameGraph:
                 "shadow_length_m", shadow_length_m, (w, h), 1 / M_PER_KM, posinf=1e30
             )
         if n > 1:
+            if max(w, h) * n > MAX_SIDE:
+                raise ParameterError(
+                    f"supersample {n} would draw {w * n}x{h * n} pixels, more than {MAX_SIDE} "
+                    "a side: ask for fewer rays a pixel or a smaller frame"
+                )
             inputs = {name: repeat_pixels(image, n) for name, image in inputs.items()}
             drawn = camera.frame_size(w * n, h * n)
             if drawn != (w * n, h * n):  # every camera scales so; a guard for new ones
