@@ -187,18 +187,21 @@ def register(app: typer.Typer) -> None:
                 roll_deg=roll,
             )
             want_ldr = any(not WRITERS[p.suffix.lower()].hdr for p in paths)
-            frame = sky.render(
-                cam,
-                width,
-                height,
-                altitude_m=flags.altitude,
-                exposure="auto" if ev is None else ev,
-                compensation_ev=flags.compensation,
-                tonemap=flags.tonemap if want_ldr else None,
-                metering=flags.metering,
-                glare=flags.glare,
-                supersample=supersample,
-            )
+            rays = f", {supersample}x{supersample} rays a pixel" if supersample > 1 else ""
+            # a spinner on a terminal (nothing when the output is piped)
+            with console.status(f"rendering {width}x{height}{rays}..."):
+                frame = sky.render(
+                    cam,
+                    width,
+                    height,
+                    altitude_m=flags.altitude,
+                    exposure="auto" if ev is None else ev,
+                    compensation_ev=flags.compensation,
+                    tonemap=flags.tonemap if want_ldr else None,
+                    metering=flags.metering,
+                    glare=flags.glare,
+                    supersample=supersample,
+                )
         scale = ev100_to_scale(frame.info["exposure_ev100"])
         metadata = {
             **frame.info,
