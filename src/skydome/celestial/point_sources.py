@@ -302,7 +302,9 @@ class PointSources:
             channels: (N, 4) each source's illuminance in the frame's output channels
                 (lux-equivalent: for ``rgbs``, the colour per unit luminance from
                 ``frame.basis.colour(...)`` times the illuminance in lux).
-            psf_sigma_px: the PSF's Gaussian sigma in frame pixels (0.05-32).
+            psf_sigma_px: the PSF's Gaussian sigma in frame pixels (0.05-32): in a
+                supersampled frame, pixels of the frame asked for (``frame.pixel_scale``
+                drawn pixels each), so that its stars look as at one ray a pixel.
             seeing_fwhm_arcsec: the seeing disk's FWHM (arcsec, 0-3600), added in
                 quadrature with the frame's scale at each source.
             occluder: None or a list of up to MAX_OCCLUDERS ``(direction, radius_rad)``
@@ -319,6 +321,8 @@ class PointSources:
         sigma = float(psf_sigma_px)
         if not 0.05 <= sigma <= 32.0:
             raise ParameterError(f"psf_sigma_px = {psf_sigma_px!r} must lie in [0.05, 32] pixels")
+        if frame is not None:
+            sigma *= frame.pixel_scale  # in drawn pixels
         seeing = float(seeing_fwhm_arcsec)
         if not 0.0 <= seeing <= 3600.0:
             raise ParameterError(

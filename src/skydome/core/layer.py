@@ -72,6 +72,9 @@ class DrawContext:
     ``volume_inputs``: what the volume layers give one another for this tile.
     ``target``: the texture ``fbo`` draws into; ``depth_map``: a user's scene distances
     (km, <= 0 where there is none) as a texture of this tile, or None.
+    ``pixel_scale``: drawn pixels per pixel of the frame asked for (a supersampled frame's
+    n; ``frame_size`` is the drawn one): a size given in the frame's pixels, such as a
+    point source's PSF, is this many drawn pixels.
     """
 
     ctx: object
@@ -88,6 +91,7 @@ class DrawContext:
     volume_inputs: VolumeInputs | None = None
     target: object = None
     depth_map: object = None
+    pixel_scale: int = 1
 
 
 class Layer:

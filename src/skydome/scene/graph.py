@@ -271,9 +271,11 @@ class FrameGraph:
         tile: tuple[int, int, int, int],
         altitude_m: float,
         inputs: TileInputs | None = None,
+        pixel_scale: int = 1,
     ):
         """Draw every enabled layer into one tile; returns the texture holding it (GL rows).
-        ``inputs``: the tile's per-pixel inputs (textures of this tile's size)."""
+        ``inputs``: the tile's per-pixel inputs (textures of this tile's size);
+        ``pixel_scale``: a supersampled frame's n (``DrawContext.pixel_scale``)."""
         inputs = inputs or TileInputs()
         x0, y0, tw, th = tile
         self.generation += 1
@@ -286,6 +288,7 @@ class FrameGraph:
             return DrawContext(
                 ctx, camera, frame_size, tile, fbos[i], view, altitude_m, self.basis, behind,
                 volume_inputs=volume, target=texs[i], depth_map=inputs.depth_map,
+                pixel_scale=pixel_scale,
             )  # fmt: skip
 
         current = 0
@@ -472,7 +475,9 @@ class FrameGraph:
                 }
             )
             try:
-                last = self.draw_tile(camera, (w, h), (x0, y0, tw, th), altitude_m, tile_inputs)
+                last = self.draw_tile(
+                    camera, (w, h), (x0, y0, tw, th), altitude_m, tile_inputs, pixel_scale=n
+                )
                 data[rows, x0 : x0 + tw] = self._read_tile(last, tw, th)
                 # a name several volume layers give is the product of theirs (the air's
                 # and the clouds' transmittances to a user's scene)
