@@ -23,7 +23,6 @@ from skydome.atmosphere.params import AtmosphereParams
 from skydome.core.cameras import EquirectCamera
 from skydome.description import SkyDescription
 from skydome.eclipse_illuminance import state_illuminance
-from skydome.physics.geometry import elevation_deg
 from skydome.sky import Sky
 from skydome.spectra import SRGB_LUMINANCE
 from skydome.weather import Weather
@@ -64,7 +63,7 @@ def _ground_light(sky: Sky, altitude_m: float | None = None) -> dict[str, float]
     clear = state_illuminance(sky.state, atmosphere=air, config=config, altitude_m=altitude_m)
     eclipse = float(clear["eclipse_fraction"])
     out = {
-        "sun_elevation_deg": float(elevation_deg(sky.state.sun.direction_true)),
+        "sun_elevation_deg": float(clear["sun_elevation_deg"]),  # the airless one
         "altitude_m": float(clear["altitude_m"]),
         "direct_horizontal_lux": float(clear["direct_horizontal_lux"]),
         "diffuse_horizontal_lux": float(clear["diffuse_horizontal_lux"]),
